@@ -1,0 +1,272 @@
+//! The built-in models and methods as the command presents them: names,
+//! parameters with defaults, coordinates, default initial data, invariants.
+
+use veselov::mechanics::{GalerkinScheme, Method};
+use veselov::sem::SemRule;
+
+/// A method as chosen in a scenario: fixed-step variational or variable-step SEM.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Choice {
+    /// A fixed-step (forced) variational integrator.
+    Fixed(Method),
+    /// A variable-step symplectic-energy-momentum integrator; `dt` is the first step.
+    Variable(SemRule),
+}
+
+/// A model parameter with its default.
+pub struct Param {
+    /// Key in `[model] params`.
+    pub name: &'static str,
+    /// Default value.
+    pub default: f64,
+    /// Meaning and unit.
+    pub doc: &'static str,
+}
+
+/// A built-in model as listed by `veselov models`.
+pub struct ModelInfo {
+    /// Scenario name.
+    pub name: &'static str,
+    /// One-line description with the Lagrangian.
+    pub summary: &'static str,
+    /// Coordinate names.
+    pub coordinates: &'static [&'static str],
+    /// Parameters.
+    pub params: &'static [Param],
+    /// Default initial data, as documented.
+    pub default_initial: &'static str,
+    /// Invariants reported as momentum-map columns.
+    pub symmetries: &'static [&'static str],
+    /// Reference used by `veselov verify`.
+    pub reference: &'static str,
+}
+
+/// Every built-in model.
+pub const MODELS: &[ModelInfo] = &[
+    ModelInfo {
+        name: "harmonic",
+        summary: "harmonic oscillator, L = ½ m v² − ½ m ω² q²",
+        coordinates: &["q"],
+        params: &[
+            Param { name: "mass", default: 1.0, doc: "mass m" },
+            Param { name: "omega", default: 1.0, doc: "angular frequency ω (rad per time unit)" },
+        ],
+        default_initial: "q = [1.0], p = [0.0]",
+        symmetries: &[],
+        reference: "exact solution",
+    },
+    ModelInfo {
+        name: "pendulum",
+        summary: "simple pendulum, L = ½ m ℓ² θ̇² + m g ℓ cos θ (θ = 0 hangs down)",
+        coordinates: &["theta"],
+        params: &[
+            Param { name: "mass", default: 1.0, doc: "bob mass m" },
+            Param { name: "length", default: 1.0, doc: "rod length ℓ" },
+            Param { name: "gravity", default: 1.0, doc: "gravitational acceleration g" },
+        ],
+        default_initial: "q = [1.0] (rad), p = [0.0]",
+        symmetries: &[],
+        reference: "exact solution (Jacobi elliptic functions)",
+    },
+    ModelInfo {
+        name: "kepler",
+        summary: "Kepler problem, L = ½|v|² + 1/|q| (GM = 1; orbits of semi-major axis 1 have period 2π)",
+        coordinates: &["x", "y"],
+        params: &[Param { name: "eccentricity", default: 0.5, doc: "eccentricity e ∈ [0, 1) of the default orbit" }],
+        default_initial: "pericentre of the orbit with eccentricity e: q = [1 − e, 0], p = [0, √((1+e)/(1−e))]",
+        symmetries: &["angular"],
+        reference: "exact solution (Kepler's equation) from the default initial data; otherwise a fine Gauss s = 5 run",
+    },
+    ModelInfo {
+        name: "henon-heiles",
+        summary: "Hénon–Heiles, L = ½|v|² − ½(x² + y²) − x²y + y³/3",
+        coordinates: &["x", "y"],
+        params: &[],
+        default_initial: "q = [0, 0.1], p = [√(2(1/8 − V(q))), 0] (energy 1/8)",
+        symmetries: &[],
+        reference: "fine Gauss s = 5 run",
+    },
+    ModelInfo {
+        name: "double-pendulum",
+        summary: "planar double pendulum (non-separable: mass matrix depends on θ₁ − θ₂)",
+        coordinates: &["theta1", "theta2"],
+        params: &[
+            Param { name: "m1", default: 1.0, doc: "upper mass" },
+            Param { name: "m2", default: 1.0, doc: "lower mass" },
+            Param { name: "l1", default: 1.0, doc: "upper rod length" },
+            Param { name: "l2", default: 1.0, doc: "lower rod length" },
+            Param { name: "gravity", default: 1.0, doc: "gravitational acceleration g" },
+        ],
+        default_initial: "q = [0.5, -0.5] (rad), p = [0, 0]",
+        symmetries: &[],
+        reference: "fine Gauss s = 5 run",
+    },
+    ModelInfo {
+        name: "damped-oscillator",
+        summary: "damped oscillator, L = ½ m v² − ½ k q², force F = −d v (seed 004, Example 7.2 in one dimension)",
+        coordinates: &["q"],
+        params: &[
+            Param { name: "mass", default: 1.0, doc: "mass m" },
+            Param { name: "stiffness", default: 1.0, doc: "spring constant k" },
+            Param { name: "damping", default: 0.1, doc: "damping coefficient d (d > 0 dissipates)" },
+        ],
+        default_initial: "q = [1.0], p = [0.0]",
+        symmetries: &[],
+        reference: "fine Gauss s = 5 run",
+    },
+    ModelInfo {
+        name: "van-der-pol",
+        summary: "two coupled van der Pol oscillators (seed 004 §7.1), L = ½|v|² − ½[q₁² + (1+ρ)q₂²] − λ(q₁−q₂)², F = ((ε−q₁²)v₁, (ε−q₂²)v₂)",
+        coordinates: &["q1", "q2"],
+        params: &[
+            Param { name: "epsilon", default: 0.5, doc: "anti-damping strength ε" },
+            Param { name: "rho", default: 0.02, doc: "detuning ρ" },
+            Param { name: "lambda", default: 0.8, doc: "coupling λ" },
+        ],
+        default_initial: "q = [−0.5, −0.25], p = [0, 4] (the paper's)",
+        symmetries: &[],
+        reference: "fine Gauss s = 5 run",
+    },
+    ModelInfo {
+        name: "damped-kepler",
+        summary: "Kepler problem with linear drag F = −c v: the orbit spirals in",
+        coordinates: &["x", "y"],
+        params: &[
+            Param { name: "eccentricity", default: 0.5, doc: "eccentricity of the initial osculating orbit" },
+            Param { name: "drag", default: 0.01, doc: "drag coefficient c ≥ 0" },
+        ],
+        default_initial: "pericentre of the orbit with eccentricity e (as for kepler)",
+        symmetries: &["angular"],
+        reference: "fine Gauss s = 5 run",
+    },
+    ModelInfo {
+        name: "custom",
+        summary: "any Lagrangian given as an expression: keys coordinates, lagrangian, force (optional), constants, symmetries",
+        coordinates: &[],
+        params: &[],
+        default_initial: "required: [initial] q and p or v",
+        symmetries: &[],
+        reference: "fine Gauss s = 5 run",
+    },
+];
+
+/// Look up a model by name.
+pub fn model(name: &str) -> Option<&'static ModelInfo> {
+    MODELS.iter().find(|m| m.name == name)
+}
+
+/// A method as listed by `veselov methods`.
+pub struct MethodInfo {
+    /// Scenario name.
+    pub name: &'static str,
+    /// Keys it takes.
+    pub keys: &'static str,
+    /// Order and properties.
+    pub properties: &'static str,
+}
+
+/// Every method.
+pub const METHODS: &[MethodInfo] = &[
+    MethodInfo {
+        name: "midpoint",
+        keys: "dt",
+        properties: "order 2; symplectic; conserves momentum maps of linear symmetries; = galerkin-gauss s = 1",
+    },
+    MethodInfo {
+        name: "trapezoid",
+        keys: "dt",
+        properties: "order 2; symplectic; = galerkin-lobatto s = 2 (Störmer–Verlet for separable L)",
+    },
+    MethodInfo {
+        name: "alpha",
+        keys: "dt, alpha ∈ [0, 1] (required)",
+        properties: "order 2 for α = ½, else 1; symplectic",
+    },
+    MethodInfo {
+        name: "galerkin-lobatto",
+        keys: "dt, stages = 2..10 (default 3)",
+        properties: "order 2s − 2; symplectic; = Lobatto IIIA–IIIB",
+    },
+    MethodInfo {
+        name: "galerkin-gauss",
+        keys: "dt, stages = 1..10 (default 2)",
+        properties: "order 2s; symplectic; = Gauss collocation",
+    },
+    MethodInfo {
+        name: "sem-midpoint",
+        keys: "dt (first step; later steps follow from the energy equation)",
+        properties: "variable step, order 2; discrete energy and Noether momenta exact; the default SEM rule",
+    },
+    MethodInfo {
+        name: "sem-averaged",
+        keys: "dt, stages = Gauss nodes of the potential average (default 2)",
+        properties: "variable step, order 2; Lee-type average, robust for Kepler-like potentials",
+    },
+    MethodInfo {
+        name: "sem-trapezoid",
+        keys: "dt",
+        properties: "variable step, order 2; degenerates on every oscillator orbit (reference only)",
+    },
+    MethodInfo {
+        name: "sem-leftpoint",
+        keys: "dt",
+        properties: "variable step, order 1; the paper's (3.18); fails at turning points (reference only)",
+    },
+];
+
+/// Translate `[method]` into a [`Choice`], or explain what is wrong with which key.
+pub fn choice(name: &str, stages: Option<usize>, alpha: Option<f64>) -> Result<Choice, (String, String)> {
+    let rule = match name {
+        "sem-midpoint" => Some(SemRule::Midpoint),
+        "sem-trapezoid" => Some(SemRule::Trapezoid),
+        "sem-leftpoint" => Some(SemRule::LeftPoint),
+        "sem-averaged" => Some(SemRule::Averaged(stages.unwrap_or(2))),
+        _ => None,
+    };
+    let Some(rule) = rule else {
+        return method(name, stages, alpha).map(Choice::Fixed);
+    };
+    if alpha.is_some() {
+        return Err(("method.alpha".into(), format!("method `{name}` has no α")));
+    }
+    if stages.is_some() && name != "sem-averaged" {
+        return Err(("method.stages".into(), format!("method `{name}` has no stages")));
+    }
+    if let SemRule::Averaged(s) = rule
+        && !(1..=10).contains(&s)
+    {
+        return Err(("method.stages".into(), format!("sem-averaged needs 1 ≤ stages ≤ 10, got {s}")));
+    }
+    Ok(Choice::Variable(rule))
+}
+
+/// Translate a fixed-step `[method]` into a [`Method`], or explain what is wrong with which key.
+pub fn method(name: &str, stages: Option<usize>, alpha: Option<f64>) -> Result<Method, (String, String)> {
+    let no_stages = |m: Method| match stages {
+        Some(_) => Err(("method.stages".to_string(), format!("method `{name}` has no stages"))),
+        None => Ok(m),
+    };
+    let no_alpha = |m: Method| match alpha {
+        Some(_) => Err(("method.alpha".to_string(), format!("method `{name}` has no α"))),
+        None => Ok(m),
+    };
+    let m = match name {
+        "midpoint" => no_alpha(no_stages(Method::Midpoint)?)?,
+        "trapezoid" => no_alpha(no_stages(Method::Trapezoid)?)?,
+        "alpha" => {
+            let a = alpha.ok_or(("method.alpha".to_string(), "method `alpha` needs `alpha` in [0, 1]".to_string()))?;
+            no_stages(Method::Alpha(a))?
+        }
+        "galerkin-lobatto" => no_alpha(Method::GalerkinLobatto(stages.unwrap_or(3)))?,
+        "galerkin-gauss" => no_alpha(Method::GalerkinGauss(stages.unwrap_or(2)))?,
+        other => {
+            let names: Vec<&str> = METHODS.iter().map(|m| m.name).collect();
+            return Err(("method.name".to_string(), format!("unknown method `{other}`, expected one of: {}", names.join(", "))));
+        }
+    };
+    GalerkinScheme::new(m).map_err(|e| {
+        let key = if matches!(m, Method::Alpha(_)) { "method.alpha" } else { "method.stages" };
+        (key.to_string(), e.to_string())
+    })?;
+    Ok(m)
+}

@@ -1,0 +1,144 @@
+//! Custom systems from expressions: the Lagrangian and symmetry generators of
+//! a scenario, parsed once and evaluated generically over the AD scalar, so
+//! every derivative the integrators need stays exact.
+//!
+//! Variables: the coordinate names, `<name>_dot` for velocities, `t`, and the
+//! constants of `[model] constants`.
+
+use nalgebra::SVector;
+use veselov::ad::Scalar;
+use veselov::expr::{Expr, SymbolTable};
+use veselov::mechanics::{Force, Lagrangian, Symmetry};
+
+use crate::error::CliError;
+use crate::scenario::LoadedScenario;
+
+/// Largest number of coordinates of a custom system.
+pub const MAX_DIMENSION: usize = 6;
+const MAX_SLOTS: usize = 2 * MAX_DIMENSION + 1;
+
+fn symbols(scenario: &LoadedScenario, coordinates: &[String], with_velocities: bool) -> Result<SymbolTable, CliError> {
+    let mut table = SymbolTable::new();
+    let key = |e: veselov::expr::ExprError| scenario.key_error("model.coordinates", e.to_string());
+    for c in coordinates {
+        let valid = c.chars().next().is_some_and(|ch| ch.is_ascii_alphabetic() || ch == '_')
+            && c.chars().all(|ch| ch.is_ascii_alphanumeric() || ch == '_');
+        if !valid || c == "t" {
+            return Err(scenario.key_error("model.coordinates", format!("`{c}` is not a valid coordinate name (letters, digits, _; not `t`)")));
+        }
+        table.variable(c).map_err(key)?;
+    }
+    if with_velocities {
+        for c in coordinates {
+            table.variable(&format!("{c}_dot")).map_err(key)?;
+        }
+    } else {
+        // Keep slot positions aligned with the Lagrangian's table.
+        for c in coordinates {
+            table.variable(&format!("{c}_dot__unused")).map_err(key)?;
+        }
+    }
+    table.variable("t").map_err(key)?;
+    for (name, value) in &scenario.scenario.model.constants {
+        table
+            .constant(name, *value)
+            .map_err(|e| scenario.key_error(&format!("model.constants.{name}"), e.to_string()))?;
+    }
+    Ok(table)
+}
+
+/// A Lagrangian given as an expression in `N` coordinates.
+#[derive(Debug, Clone)]
+pub struct CustomLagrangian<const N: usize> {
+    expr: Expr,
+}
+
+impl<const N: usize> CustomLagrangian<N> {
+    /// Parse `[model] lagrangian` over `coordinates`.
+    pub fn new(scenario: &LoadedScenario, coordinates: &[String]) -> Result<Self, CliError> {
+        let table = symbols(scenario, coordinates, true)?;
+        let source = scenario.scenario.model.lagrangian.as_deref().unwrap_or_default();
+        let expr = Expr::parse(source, &table).map_err(|e| scenario.key_error("model.lagrangian", format!("\n{e}")))?;
+        Ok(Self { expr })
+    }
+}
+
+impl<const N: usize> Lagrangian<N> for CustomLagrangian<N> {
+    fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
+        let mut vars = [D::from(0.0); MAX_SLOTS];
+        vars[..N].copy_from_slice(q.as_slice());
+        vars[N..2 * N].copy_from_slice(v.as_slice());
+        vars[2 * N] = t;
+        self.expr.eval(&vars[..2 * N + 1])
+    }
+}
+
+/// A symmetry generator `ξ_Q(q)` given as one expression per coordinate.
+#[derive(Debug, Clone)]
+pub struct CustomSymmetry<const N: usize> {
+    name: String,
+    components: Vec<Expr>,
+}
+
+impl<const N: usize> CustomSymmetry<N> {
+    /// Parse `[model] symmetries.<name>`.
+    pub fn new(scenario: &LoadedScenario, name: &str, generator: &[String], coordinates: &[String]) -> Result<Self, CliError> {
+        let key = format!("model.symmetries.{name}");
+        if generator.len() != N {
+            return Err(scenario.key_error(&key, format!("expected {N} expressions (one per coordinate), got {}", generator.len())));
+        }
+        let table = symbols(scenario, coordinates, false)?;
+        let components = generator
+            .iter()
+            .enumerate()
+            .map(|(i, src)| Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("{key}[{i}]"), format!("\n{e}"))))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self {
+            name: name.to_string(),
+            components,
+        })
+    }
+}
+
+impl<const N: usize> Symmetry<N> for CustomSymmetry<N> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn generator<D: Scalar>(&self, q: &SVector<D, N>) -> SVector<D, N> {
+        let mut vars = [D::from(0.0); MAX_SLOTS];
+        vars[..N].copy_from_slice(q.as_slice());
+        SVector::from_fn(|i, _| self.components[i].eval(&vars[..2 * N + 1]))
+    }
+}
+
+/// A generalised force `F(t, q, v)` given as one expression per coordinate.
+#[derive(Debug, Clone)]
+pub struct CustomForce<const N: usize> {
+    components: Vec<Expr>,
+}
+
+impl<const N: usize> CustomForce<N> {
+    /// Parse `[model] force`.
+    pub fn new(scenario: &LoadedScenario, force: &[String], coordinates: &[String]) -> Result<Self, CliError> {
+        if force.len() != N {
+            return Err(scenario.key_error("model.force", format!("expected {N} expressions (one per coordinate), got {}", force.len())));
+        }
+        let table = symbols(scenario, coordinates, true)?;
+        let components = force
+            .iter()
+            .enumerate()
+            .map(|(i, src)| Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("model.force[{i}]"), format!("\n{e}"))))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self { components })
+    }
+}
+
+impl<const N: usize> Force<N> for CustomForce<N> {
+    fn force<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> SVector<D, N> {
+        let mut vars = [D::from(0.0); MAX_SLOTS];
+        vars[..N].copy_from_slice(q.as_slice());
+        vars[N..2 * N].copy_from_slice(v.as_slice());
+        vars[2 * N] = t;
+        SVector::from_fn(|i, _| self.components[i].eval(&vars[..2 * N + 1]))
+    }
+}

@@ -1,0 +1,114 @@
+//! The figures of a run, drawn from its trajectory table (so `veselov plot`
+//! can redraw them from the CSV alone).
+
+use std::path::Path;
+
+use crate::error::CliError;
+use crate::output::Table;
+use crate::plot::{Figure, Scale, Series, draw};
+
+fn plot_err(e: crate::plot::PlotError) -> CliError {
+    CliError::Io {
+        path: e.path.clone(),
+        message: e.message,
+    }
+}
+
+/// Energy error, momentum errors, phase portrait and (in 2-D) the orbit.
+pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(), CliError> {
+    let Some(t) = table.column("t") else { return Ok(()) };
+    let file = |name: &str| dir.join(format!("{name}.{format}"));
+    if let Some(e) = table.column("energy") {
+        let e0 = e.first().copied().unwrap_or(0.0);
+        let err: Vec<f64> = e.iter().map(|x| (x - e0).abs()).collect();
+        let fig = Figure {
+            title: "Energy error",
+            x_label: "time t",
+            y_label: "|E(t) − E(0)|",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Log,
+            series: vec![Series { label: "energy", x: &t, y: &err }],
+            markers: false,
+            equal_aspect: false,
+        };
+        draw(&file("energy_error"), &fig).map_err(plot_err)?;
+    }
+    let momenta: Vec<(String, Vec<f64>)> = table
+        .header
+        .iter()
+        .filter(|h| h.starts_with("J_"))
+        .filter_map(|h| {
+            let c = table.column(h)?;
+            let c0 = c.first().copied().unwrap_or(0.0);
+            Some((h.clone(), c.iter().map(|x| (x - c0).abs()).collect()))
+        })
+        .collect();
+    if !momenta.is_empty() {
+        let fig = Figure {
+            title: "Momentum-map errors",
+            x_label: "time t",
+            y_label: "|J(t) − J(0)|",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Log,
+            series: momenta.iter().map(|(name, y)| Series { label: name, x: &t, y }).collect(),
+            markers: false,
+            equal_aspect: false,
+        };
+        draw(&file("momentum_error"), &fig).map_err(plot_err)?;
+    }
+    if let (Some(q0), Some(p0)) = (table.column("q0"), table.column("p0")) {
+        let fig = Figure {
+            title: "Phase portrait",
+            x_label: "q0",
+            y_label: "p0",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: vec![Series { label: "(q0, p0)", x: &q0, y: &p0 }],
+            markers: false,
+            equal_aspect: false,
+        };
+        draw(&file("phase"), &fig).map_err(plot_err)?;
+    }
+    if n == 2
+        && let (Some(q0), Some(q1)) = (table.column("q0"), table.column("q1"))
+    {
+        let fig = Figure {
+            title: "Orbit in the configuration plane",
+            x_label: "q0",
+            y_label: "q1",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: vec![Series { label: "orbit", x: &q0, y: &q1 }],
+            markers: false,
+            equal_aspect: true,
+        };
+        draw(&file("orbit"), &fig).map_err(plot_err)?;
+    }
+    Ok(())
+}
+
+/// Log-log plot of a convergence study with a reference slope.
+pub fn draw_convergence(path: &Path, dt: &[f64], err: &[f64], order: usize, fitted: Option<f64>) -> Result<(), CliError> {
+    // Reference line h^order through the smallest-h point with a usable error.
+    let anchor = dt.iter().zip(err).filter(|(_, e)| **e > 0.0 && e.is_finite()).min_by(|a, b| a.0.total_cmp(b.0));
+    let reference: Vec<f64> = match anchor {
+        Some((&h0, &e0)) => dt.iter().map(|h| e0 * (h / h0).powi(order as i32)).collect(),
+        None => vec![f64::NAN; dt.len()],
+    };
+    let measured = match fitted {
+        Some(p) => format!("measured (fitted order {p:.2})"),
+        None => "measured".to_string(),
+    };
+    let slope = format!("slope {order}");
+    let fig = Figure {
+        title: "Convergence at the final time",
+        x_label: "time step dt",
+        y_label: "max error in (q, p)",
+        x_scale: Scale::Log,
+        y_scale: Scale::Log,
+        series: vec![Series { label: &measured, x: dt, y: err }, Series { label: &slope, x: dt, y: &reference }],
+        markers: true,
+        equal_aspect: false,
+    };
+    draw(path, &fig).map_err(plot_err)
+}

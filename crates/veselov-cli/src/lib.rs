@@ -1,0 +1,15 @@
+//! The `veselov` command as a library: scenario files, the built-in catalogue,
+//! the run and verify jobs, output writers and plots. The binary in `main.rs`
+//! only parses the command line.
+
+pub mod catalog;
+pub mod custom;
+pub mod error;
+pub mod figures;
+pub mod output;
+pub mod plot;
+pub mod progress;
+pub mod run;
+pub mod scenario;
+pub mod systems;
+pub mod verify;

@@ -1,0 +1,146 @@
+//! The `veselov` command: run variational-integrator scenarios from TOML files.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use veselov_cli::error::CliError;
+use veselov_cli::scenario::LoadedScenario;
+use veselov_cli::{catalog, figures, output, run, systems, verify};
+
+/// Structure-preserving variational integrators.
+#[derive(Parser)]
+#[command(name = "veselov", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario file and write trajectory.csv, summary.json and plots.
+    Run {
+        /// The scenario (TOML).
+        scenario: PathBuf,
+        /// Output directory (overrides [output] dir).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress bar or final report.
+        #[arg(long)]
+        quiet: bool,
+        /// Overwrite a non-empty output directory.
+        #[arg(long)]
+        force: bool,
+    },
+    /// List the built-in models with their parameters and defaults.
+    Models,
+    /// List the methods with their keys, orders and properties.
+    Methods,
+    /// Convergence study of the scenario's method.
+    Verify {
+        /// The scenario (TOML).
+        scenario: PathBuf,
+        /// Comma-separated time steps, e.g. 0.1,0.05,0.025.
+        #[arg(long, value_delimiter = ',', required = true)]
+        dt: Vec<f64>,
+        /// Output directory (default: the scenario's output directory + /verify).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Overwrite a non-empty output directory.
+        #[arg(long)]
+        force: bool,
+        /// Print nothing.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Redraw the plots of a run from its trajectory.csv.
+    Plot {
+        /// A run's output directory.
+        dir: PathBuf,
+        /// svg or png.
+        #[arg(long, default_value = "svg")]
+        format: String,
+    },
+}
+
+fn list_models() {
+    for m in catalog::MODELS {
+        println!("{}\n    {}", m.name, m.summary);
+        if !m.coordinates.is_empty() {
+            println!("    coordinates: {}", m.coordinates.join(", "));
+        }
+        for p in m.params {
+            println!("    params.{} = {} ({})", p.name, p.default, p.doc);
+        }
+        println!("    default initial: {}", m.default_initial);
+        if !m.symmetries.is_empty() {
+            println!("    momentum maps: {}", m.symmetries.join(", "));
+        }
+        println!("    verify reference: {}", m.reference);
+    }
+}
+
+fn list_methods() {
+    for m in catalog::METHODS {
+        println!("{}\n    keys: {}\n    {}", m.name, m.keys, m.properties);
+    }
+    println!("\nSeparable built-in models (harmonic, pendulum, kepler, henon-heiles) use fixed-point stage");
+    println!("iteration with a Newton fallback; other systems use Newton with the exact Jacobian.");
+}
+
+fn plot_dir(dir: &std::path::Path, format: &str) -> Result<(), CliError> {
+    if format != "svg" && format != "png" {
+        return Err(CliError::Setup(format!(
+            "--format: unknown plot format `{format}`, expected svg or png"
+        )));
+    }
+    let table = output::Table::read_csv(&dir.join("trajectory.csv"))?;
+    let n = table.header.iter().filter(|h| h.starts_with('q')).count();
+    figures::draw_all(dir, &table, n, format)
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run {
+            scenario,
+            out,
+            quiet,
+            force,
+        } => LoadedScenario::load(&scenario).and_then(|s| systems::dispatch(&s, run::RunJob { out, quiet, force })),
+        Command::Models => {
+            list_models();
+            Ok(())
+        }
+        Command::Methods => {
+            list_methods();
+            Ok(())
+        }
+        Command::Verify {
+            scenario,
+            dt,
+            out,
+            force,
+            quiet,
+        } => LoadedScenario::load(&scenario).and_then(|s| {
+            systems::dispatch(
+                &s,
+                verify::VerifyJob {
+                    dts: dt,
+                    out,
+                    force,
+                    quiet,
+                },
+            )
+        }),
+        Command::Plot { dir, format } => plot_dir(&dir, &format),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,264 @@
+//! Scenario files: the TOML schema, parsing with key-level errors, and validation.
+//!
+//! Every table rejects unknown keys. Errors name the file, the key and what was
+//! expected; parse errors also show the line and column.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::error::CliError;
+
+/// A whole scenario file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// The system.
+    pub model: ModelSpec,
+    /// The integrator.
+    pub method: MethodSpec,
+    /// Horizon.
+    pub time: TimeSpec,
+    /// Initial data; optional for built-in models (each has a documented default).
+    pub initial: Option<InitialSpec>,
+    /// Outputs.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// `[model]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// Built-in model name, or `"custom"`.
+    pub name: String,
+    /// Model parameters (built-in models; defaults listed by `veselov models`).
+    #[serde(default)]
+    pub params: BTreeMap<String, f64>,
+    /// Custom systems: coordinate names.
+    pub coordinates: Option<Vec<String>>,
+    /// Custom systems: the Lagrangian expression.
+    pub lagrangian: Option<String>,
+    /// Custom systems: a generalised force, one expression per coordinate.
+    pub force: Option<Vec<String>>,
+    /// Custom systems: symmetry generators `ξ_Q(q)`, one expression per coordinate.
+    #[serde(default)]
+    pub symmetries: BTreeMap<String, Vec<String>>,
+    /// Custom systems: named constants usable in the expressions.
+    #[serde(default)]
+    pub constants: BTreeMap<String, f64>,
+}
+
+/// `[method]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MethodSpec {
+    /// `midpoint | trapezoid | alpha | galerkin-lobatto | galerkin-gauss`.
+    pub name: String,
+    /// Stages of the Galerkin methods.
+    pub stages: Option<usize>,
+    /// α of the α-rule.
+    pub alpha: Option<f64>,
+    /// Time step.
+    pub dt: f64,
+}
+
+/// `[time]`: exactly one of `t_end` and `steps`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    /// Final time (the run takes `ceil(t_end/dt)` steps, so it ends at the first step time ≥ t_end).
+    pub t_end: Option<f64>,
+    /// Number of steps.
+    pub steps: Option<u64>,
+    /// Initial time (default 0).
+    #[serde(default)]
+    pub t0: f64,
+}
+
+/// `[initial]`: `q` and exactly one of `p` and `v`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// Positions.
+    pub q: Vec<f64>,
+    /// Momenta.
+    pub p: Option<Vec<f64>>,
+    /// Velocities.
+    pub v: Option<Vec<f64>>,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Output directory (default `out/<scenario file stem>`; `--out` overrides).
+    pub dir: Option<PathBuf>,
+    /// Keep every k-th step (default 1).
+    #[serde(default = "one")]
+    pub every: u64,
+    /// `csv` and/or `npy` (default `["csv"]`).
+    #[serde(default = "default_formats")]
+    pub formats: Vec<String>,
+    /// Draw plots (default true).
+    #[serde(default = "yes")]
+    pub plots: bool,
+    /// `svg` (default) or `png`.
+    #[serde(default = "default_plot_format")]
+    pub plot_format: String,
+}
+
+fn one() -> u64 {
+    1
+}
+fn yes() -> bool {
+    true
+}
+fn default_formats() -> Vec<String> {
+    vec!["csv".to_string()]
+}
+fn default_plot_format() -> String {
+    "svg".to_string()
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            dir: None,
+            every: 1,
+            formats: default_formats(),
+            plots: true,
+            plot_format: default_plot_format(),
+        }
+    }
+}
+
+/// A scenario with the path it came from.
+#[derive(Debug, Clone)]
+pub struct LoadedScenario {
+    /// Source file.
+    pub path: PathBuf,
+    /// Parsed content.
+    pub scenario: Scenario,
+}
+
+impl LoadedScenario {
+    /// Read and parse `path`, then check the values that do not depend on the model.
+    pub fn load(path: &Path) -> Result<Self, CliError> {
+        let text = std::fs::read_to_string(path).map_err(|e| CliError::Io {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        Self::parse(path, &text)
+    }
+
+    /// Parse scenario text attributed to `path`.
+    pub fn parse(path: &Path, text: &str) -> Result<Self, CliError> {
+        let scenario: Scenario = toml::from_str(text).map_err(|e| CliError::Parse {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        let loaded = Self {
+            path: path.to_path_buf(),
+            scenario,
+        };
+        loaded.check()?;
+        Ok(loaded)
+    }
+
+    /// An error about `key` in this file.
+    pub fn key_error(&self, key: &str, message: impl Into<String>) -> CliError {
+        CliError::Key {
+            file: self.path.clone(),
+            key: key.to_string(),
+            message: message.into(),
+        }
+    }
+
+    fn finite(&self, key: &str, values: &[f64]) -> Result<(), CliError> {
+        for (i, v) in values.iter().enumerate() {
+            if !v.is_finite() {
+                let k = if values.len() > 1 { format!("{key}[{i}]") } else { key.to_string() };
+                return Err(self.key_error(&k, format!("expected a finite number, got {v}")));
+            }
+        }
+        Ok(())
+    }
+
+    fn check(&self) -> Result<(), CliError> {
+        let s = &self.scenario;
+        let dt = s.method.dt;
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(self.key_error("method.dt", format!("expected a finite number > 0, got {dt}")));
+        }
+        match (s.time.t_end, s.time.steps) {
+            (Some(_), Some(_)) => return Err(self.key_error("time", "give either `t_end` or `steps`, not both")),
+            (None, None) => return Err(self.key_error("time", "missing `t_end` or `steps`")),
+            (Some(t), None) if !(t.is_finite() && t > s.time.t0) => {
+                return Err(self.key_error("time.t_end", format!("expected a finite number > t0 = {}, got {t}", s.time.t0)));
+            }
+            (None, Some(0)) => return Err(self.key_error("time.steps", "expected at least 1 step")),
+            _ => {}
+        }
+        self.finite("time.t0", &[s.time.t0])?;
+        if let Some(init) = &s.initial {
+            self.finite("initial.q", &init.q)?;
+            match (&init.p, &init.v) {
+                (Some(_), Some(_)) => return Err(self.key_error("initial", "give either `p` or `v`, not both")),
+                (None, None) => return Err(self.key_error("initial", "missing `p` or `v`")),
+                (Some(p), None) => self.finite("initial.p", p)?,
+                (None, Some(v)) => self.finite("initial.v", v)?,
+            }
+        }
+        for (k, v) in &s.model.params {
+            self.finite(&format!("model.params.{k}"), &[*v])?;
+        }
+        for (k, v) in &s.model.constants {
+            self.finite(&format!("model.constants.{k}"), &[*v])?;
+        }
+        if s.output.every == 0 {
+            return Err(self.key_error("output.every", "expected an integer ≥ 1"));
+        }
+        for f in &s.output.formats {
+            if f != "csv" && f != "npy" {
+                return Err(self.key_error("output.formats", format!("unknown format `{f}`, expected \"csv\" or \"npy\"")));
+            }
+        }
+        if s.output.plot_format != "svg" && s.output.plot_format != "png" {
+            return Err(self.key_error(
+                "output.plot_format",
+                format!("unknown plot format `{}`, expected \"svg\" or \"png\"", s.output.plot_format),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Number of steps and the time step.
+    pub fn steps(&self) -> u64 {
+        let s = &self.scenario;
+        match (s.time.steps, s.time.t_end) {
+            (Some(n), _) => n,
+            (None, Some(t_end)) => {
+                let n = (t_end - s.time.t0) / s.method.dt;
+                // Tolerate round-off in t_end/dt (e.g. 1.0/0.1 = 9.999999999999998).
+                let r = n.round();
+                let n = if (n - r).abs() <= 1e-9 * r.max(1.0) { r } else { n.ceil() };
+                n.max(1.0) as u64
+            }
+            (None, None) => 1,
+        }
+    }
+
+    /// The output directory: `--out`, else `output.dir`, else `out/<stem>`.
+    pub fn output_dir(&self, cli_out: Option<&Path>) -> PathBuf {
+        if let Some(o) = cli_out {
+            return o.to_path_buf();
+        }
+        if let Some(d) = &self.scenario.output.dir {
+            return d.clone();
+        }
+        let stem = self.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
+        PathBuf::from("out").join(stem)
+    }
+}

@@ -1,0 +1,419 @@
+//! End-to-end tests of the `veselov` binary.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A fresh, empty temporary directory for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("veselov-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn veselov() -> Command {
+    Command::cargo_bin("veselov").expect("binary built")
+}
+
+/// Write `text` as a scenario file in `dir` and return its path.
+fn scenario(dir: &Path, text: &str) -> PathBuf {
+    let p = dir.join("scenario.toml");
+    std::fs::write(&p, text).expect("write scenario");
+    p
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    serde_json::from_str(&text).expect("valid JSON")
+}
+
+/// Replace the `[time]` table of an example with a short horizon.
+fn shorten(text: &str, steps: usize) -> String {
+    let mut out = String::new();
+    let mut skip = false;
+    for line in text.lines() {
+        if line.starts_with('[') {
+            skip = line.trim() == "[time]";
+            if skip {
+                out.push_str(&format!("[time]\nsteps = {steps}\n"));
+                continue;
+            }
+        }
+        if !skip {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    out
+}
+
+#[test]
+fn every_example_runs() {
+    let examples = std::fs::read_dir(workspace_root().join("examples")).expect("examples dir");
+    let mut count = 0;
+    for entry in examples {
+        let path = entry.expect("entry").path();
+        if path.extension().and_then(|e| e.to_str()) != Some("toml") {
+            continue;
+        }
+        let name = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("example")
+            .to_string();
+        let dir = temp_dir(&format!("example-{name}"));
+        let text = shorten(&std::fs::read_to_string(&path).expect("read example"), 40);
+        let file = scenario(&dir, &text);
+        let out = dir.join("out");
+        veselov()
+            .args(["run", "--quiet", "--out"])
+            .arg(&out)
+            .arg(&file)
+            .assert()
+            .success();
+        let s = summary(&out);
+        assert_eq!(s["status"], "ok", "{name}: {s}");
+        assert_eq!(s["steps"], 40, "{name}");
+        let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("trajectory.csv");
+        assert!(
+            csv.starts_with("t,q0,"),
+            "{name}: {}",
+            csv.lines().next().unwrap_or_default()
+        );
+        assert!(out.join("energy_error.svg").exists(), "{name}: no energy plot");
+        assert!(out.join("phase.svg").exists(), "{name}: no phase plot");
+        count += 1;
+    }
+    assert!(count >= 5, "only {count} examples found");
+}
+
+#[test]
+fn run_writes_npy_json_and_momentum_columns() {
+    let dir = temp_dir("kepler-npy");
+    let text = shorten(
+        &std::fs::read_to_string(workspace_root().join("examples/kepler.toml")).expect("example"),
+        100,
+    );
+    let file = scenario(&dir, &text);
+    let out = dir.join("out");
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .success();
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
+    assert_eq!(csv.lines().next(), Some("t,q0,q1,p0,p1,energy,J_angular"));
+    let npy = std::fs::read(out.join("trajectory.npy")).expect("npy");
+    assert_eq!(&npy[..6], b"\x93NUMPY");
+    let rows = csv.lines().count() - 1;
+    let header_len = 10 + u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    assert_eq!(npy.len() - header_len, rows * 7 * 8);
+    let s = summary(&out);
+    for key in [
+        "status",
+        "model",
+        "method",
+        "order",
+        "dt",
+        "steps",
+        "t_final",
+        "energy_initial",
+        "energy_error_max",
+        "momentum_error_max",
+        "newton_iterations_mean",
+        "wall_seconds",
+    ] {
+        assert!(s.get(key).is_some(), "summary lacks {key}: {s}");
+    }
+    assert_eq!(s["order"], 4);
+    assert!(s["momentum_error_max"]["angular"].as_f64().expect("number") < 1e-13);
+    assert!(out.join("orbit.svg").exists() && out.join("momentum_error.svg").exists());
+    // `veselov plot` redraws from the CSV.
+    std::fs::remove_file(out.join("orbit.svg")).expect("remove");
+    veselov().arg("plot").arg(&out).assert().success();
+    assert!(out.join("orbit.svg").exists());
+}
+
+#[test]
+fn custom_kepler_matches_built_in_kepler() {
+    let dir = temp_dir("custom-vs-builtin");
+    let common = "[method]\nname = \"galerkin-gauss\"\nstages = 3\ndt = 0.02\n[time]\nsteps = 300\n\
+                  [initial]\nq = [0.4, 0.0]\np = [0.0, 1.8708286933869707]\n";
+    let builtin = scenario(
+        &dir,
+        &format!("[model]\nname = \"kepler\"\nparams = {{ eccentricity = 0.6 }}\n{common}"),
+    );
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("a"))
+        .arg(&builtin)
+        .assert()
+        .success();
+    let custom = scenario(
+        &dir,
+        &format!(
+            "[model]\nname = \"custom\"\ncoordinates = [\"x\", \"y\"]\nlagrangian = \"0.5*(x_dot^2 + y_dot^2) + 1/sqrt(x^2 + y^2)\"\n\
+             symmetries = {{ angular = [\"-y\", \"x\"] }}\n{common}"
+        ),
+    );
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("b"))
+        .arg(&custom)
+        .assert()
+        .success();
+    let read = |d: &str| std::fs::read_to_string(dir.join(d).join("trajectory.csv")).expect("csv");
+    let (a, b) = (read("a"), read("b"));
+    assert_eq!(a.lines().next(), b.lines().next());
+    let mut worst = 0.0_f64;
+    for (la, lb) in a.lines().skip(1).zip(b.lines().skip(1)) {
+        for (x, y) in la.split(',').zip(lb.split(',')) {
+            let (x, y): (f64, f64) = (x.parse().expect("number"), y.parse().expect("number"));
+            worst = worst.max((x - y).abs());
+        }
+    }
+    // Fixed-point (built-in) and Newton (custom) solve the same equations to
+    // round-off; over 300 steps through pericentre the difference stays tiny.
+    assert!(worst < 1e-11, "trajectories differ by {worst:e}");
+}
+
+/// Run a scenario that must fail, returning stderr.
+fn failing(name: &str, text: &str) -> String {
+    let dir = temp_dir(name);
+    let file = scenario(&dir, text);
+    let out = veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("out"))
+        .arg(&file)
+        .assert()
+        .failure();
+    String::from_utf8_lossy(&out.get_output().stderr).into_owned()
+}
+
+const KEPLER: &str = "[model]\nname = \"kepler\"\n[method]\nname = \"midpoint\"\ndt = 0.01\n[time]\nsteps = 10\n";
+
+#[test]
+fn bad_input_gives_one_clear_message() {
+    let cases: &[(&str, String, &[&str])] = &[
+        ("unknown-key", format!("{KEPLER}[output]\ncolour = \"red\"\n"), &["scenario.toml", "colour"]),
+        ("unknown-model", KEPLER.replace("\"kepler\"", "\"kepplr\""), &["model.name", "kepplr", "expected one of"]),
+        ("unknown-method", KEPLER.replace("\"midpoint\"", "\"rk4\""), &["method.name", "rk4"]),
+        ("unknown-param", KEPLER.replace("name = \"kepler\"", "name = \"kepler\"\nparams = { ecc = 0.2 }"), &["model.params.ecc", "eccentricity"]),
+        ("wrong-type", KEPLER.replace("dt = 0.01", "dt = \"small\""), &["dt", "scenario.toml"]),
+        ("missing-key", KEPLER.replace("dt = 0.01\n", ""), &["dt"]),
+        ("dt-zero", KEPLER.replace("dt = 0.01", "dt = 0.0"), &["method.dt", "> 0"]),
+        ("dt-negative", KEPLER.replace("dt = 0.01", "dt = -1.0"), &["method.dt"]),
+        ("dt-nan", KEPLER.replace("dt = 0.01", "dt = nan"), &["method.dt"]),
+        ("dimension", format!("{KEPLER}[initial]\nq = [1.0, 0.0, 0.0]\np = [0.0, 1.0]\n"), &["initial.q", "expected 2 values"]),
+        ("non-finite-initial", format!("{KEPLER}[initial]\nq = [1.0, inf]\np = [0.0, 1.0]\n"), &["initial.q[1]", "finite"]),
+        ("bad-eccentricity", KEPLER.replace("name = \"kepler\"", "name = \"kepler\"\nparams = { eccentricity = 1.5 }"), &["eccentricity", "[0, 1)"]),
+        ("stages-on-midpoint", KEPLER.replace("dt = 0.01", "dt = 0.01\nstages = 3"), &["method.stages"]),
+        ("too-many-stages", KEPLER.replace("\"midpoint\"", "\"galerkin-gauss\"\nstages = 99"), &["method.stages"]),
+        (
+            "parse-error",
+            "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2 - (x^2\"\n[method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 5\n[initial]\nq = [1.0]\np = [0.0]\n".into(),
+            &["model.lagrangian", "column", "^"],
+        ),
+        (
+            "unknown-variable",
+            "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*y_dot^2\"\n[method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 5\n[initial]\nq = [1.0]\np = [0.0]\n".into(),
+            &["model.lagrangian", "y_dot"],
+        ),
+        (
+            "degenerate-lagrangian",
+            "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"x*x_dot - 0.5*x^2\"\n[method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 5\n[initial]\nq = [1.0]\np = [0.0]\n".into(),
+            &["model.lagrangian", "not finite"],
+        ),
+    ];
+    for (name, text, needles) in cases {
+        let err = failing(name, text);
+        assert_eq!(
+            err.lines().filter(|l| l.starts_with("error:")).count(),
+            1,
+            "{name}: {err}"
+        );
+        for n in *needles {
+            assert!(err.contains(n), "{name}: message lacks `{n}`:\n{err}");
+        }
+    }
+}
+
+#[test]
+fn unwritable_or_non_empty_output_directory_is_refused() {
+    let dir = temp_dir("outdir");
+    let file = scenario(&dir, KEPLER);
+    // A path below a regular file cannot be created.
+    std::fs::write(dir.join("blocker"), "x").expect("write");
+    let out = veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("blocker/out"))
+        .arg(&file)
+        .assert()
+        .failure();
+    assert!(String::from_utf8_lossy(&out.get_output().stderr).contains("blocker"));
+    // First run succeeds; a second into the same directory is refused; --force overwrites.
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("o"))
+        .arg(&file)
+        .assert()
+        .success();
+    let out = veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("o"))
+        .arg(&file)
+        .assert()
+        .failure();
+    assert!(String::from_utf8_lossy(&out.get_output().stderr).contains("not empty"));
+    veselov()
+        .args(["run", "--quiet", "--force", "--out"])
+        .arg(dir.join("o"))
+        .arg(&file)
+        .assert()
+        .success();
+}
+
+#[test]
+fn failure_mid_run_keeps_partial_results() {
+    // L = ½ẋ² + √(1 − x²): leaves the domain |x| < 1 after a few steps.
+    let text = "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2 + sqrt(1 - x^2)\"\n\
+                [method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 200\n[initial]\nq = [0.0]\np = [2.0]\n";
+    let dir = temp_dir("midway");
+    let file = scenario(&dir, text);
+    let out = dir.join("out");
+    let res = veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .failure();
+    let err = String::from_utf8_lossy(&res.get_output().stderr).into_owned();
+    assert!(err.contains("step"), "{err}");
+    let s = summary(&out);
+    assert_eq!(s["status"], "error");
+    assert!(s["error"].as_str().expect("message").contains("step"));
+    let steps = s["steps"].as_u64().expect("steps");
+    assert!(steps > 0 && steps < 200, "{s}");
+    let rows = std::fs::read_to_string(out.join("trajectory.csv"))
+        .expect("csv")
+        .lines()
+        .count()
+        - 1;
+    assert_eq!(rows as u64, steps + 1);
+}
+
+#[test]
+fn listing_commands_describe_models_and_methods() {
+    let out = veselov().arg("models").assert().success();
+    let text = String::from_utf8_lossy(&out.get_output().stdout).into_owned();
+    for needle in [
+        "kepler",
+        "eccentricity = 0.5",
+        "pendulum",
+        "henon-heiles",
+        "double-pendulum",
+        "custom",
+    ] {
+        assert!(text.contains(needle), "models output lacks {needle}");
+    }
+    let out = veselov().arg("methods").assert().success();
+    let text = String::from_utf8_lossy(&out.get_output().stdout).into_owned();
+    for needle in [
+        "midpoint",
+        "galerkin-gauss",
+        "order 2s",
+        "galerkin-lobatto",
+        "order 2s − 2",
+    ] {
+        assert!(text.contains(needle), "methods output lacks {needle}");
+    }
+}
+
+#[test]
+fn verify_measures_the_order() {
+    let dir = temp_dir("verify");
+    let text = "[model]\nname = \"pendulum\"\n[method]\nname = \"galerkin-gauss\"\nstages = 2\ndt = 0.1\n[time]\nt_end = 2.0\n";
+    let file = scenario(&dir, text);
+    let out = dir.join("v");
+    veselov()
+        .args(["verify", "--quiet", "--dt", "0.2,0.1,0.05,0.025", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .success();
+    let s = summary(&out);
+    let p = s["order_fitted"].as_f64().expect("fitted order");
+    assert!((p - 4.0).abs() < 0.2, "{s}");
+    assert_eq!(s["reference"], "exact solution");
+    assert!(out.join("convergence.csv").exists() && out.join("convergence.svg").exists());
+    // A step that does not divide the horizon is refused, naming the flag.
+    let res = veselov()
+        .args(["verify", "--quiet", "--dt", "0.3", "--out"])
+        .arg(dir.join("w"))
+        .arg(&file)
+        .assert()
+        .failure();
+    assert!(String::from_utf8_lossy(&res.get_output().stderr).contains("--dt"));
+}
+
+#[test]
+fn variable_step_run_reports_steps_and_discrete_energy() {
+    let dir = temp_dir("sem");
+    let text = shorten(
+        &std::fs::read_to_string(workspace_root().join("examples/kepler_sem.toml")).expect("example"),
+        500,
+    );
+    let file = scenario(&dir, &text);
+    let out = dir.join("out");
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .success();
+    let s = summary(&out);
+    assert_eq!(s["status"], "ok", "{s}");
+    assert!(s["discrete_energy_error_max"].as_f64().expect("number") < 1e-12, "{s}");
+    assert!(s["h_min"].as_f64().expect("number") > 0.0);
+    assert_eq!(s["fallback_steps"], 0);
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
+    assert_eq!(
+        csv.lines().next(),
+        Some("t,q0,q1,p0,p1,energy,J_angular,h,discrete_energy")
+    );
+    // A forced model cannot use an energy-conserving method.
+    let forced = "[model]\nname = \"van-der-pol\"\n[method]\nname = \"sem-midpoint\"\ndt = 0.01\n[time]\nsteps = 10\n";
+    let err = failing("sem-forced", forced);
+    assert!(err.contains("method.name") && err.contains("forced"), "{err}");
+}
+
+#[test]
+fn forced_run_reports_work_and_energy_balance() {
+    let dir = temp_dir("forced");
+    let text = shorten(
+        &std::fs::read_to_string(workspace_root().join("examples/van_der_pol.toml")).expect("example"),
+        200,
+    );
+    let file = scenario(&dir, &text);
+    let out = dir.join("out");
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .success();
+    let s = summary(&out);
+    let work = s["work_of_forces"].as_f64().expect("work");
+    let balance = s["energy_balance_error_max"].as_f64().expect("balance");
+    assert!(work.abs() > 1e-3, "{s}");
+    // Order-4 method, h = 0.01: the discrete energy balance holds to O(h⁴).
+    assert!(balance < 1e-6, "{s}");
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
+    assert!(csv.lines().next().expect("header").ends_with(",energy,work"));
+}

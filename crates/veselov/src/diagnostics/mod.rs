@@ -1,0 +1,12 @@
+//! Diagnostics that show structure is kept: energy and momentum error series,
+//! the symplecticity defect of a one-step map, and convergence-order fits.
+
+pub mod conservation;
+pub mod order;
+pub mod reference;
+pub mod symplectic;
+
+pub use conservation::{ConservationSeries, energy_series, max_abs_deviation, momentum_series};
+pub use order::{OrderFit, fit_order};
+pub use reference::rk4_reference;
+pub use symplectic::symplecticity_defect;

@@ -1,0 +1,70 @@
+//! Convergence-order fit: least-squares slope of `log(error)` against `log(h)`.
+
+/// Result of a convergence-order fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrderFit {
+    /// Fitted order (slope of log error vs log h).
+    pub order: f64,
+    /// Fitted log-constant: `error ≈ exp(intercept) · h^order`.
+    pub intercept: f64,
+    /// Indices of the points used.
+    pub used: Vec<usize>,
+}
+
+/// Fit `error ≈ C h^p` by least squares in log-log coordinates over the
+/// asymptotic range.
+///
+/// Points with `error ≤ floor` are masked as round-off plateau, and so is every
+/// point with a smaller `h` than the first masked one (once the floor is
+/// reached the errors no longer carry the truncation error). Points whose error
+/// is not finite are masked too. Returns `None` with fewer than two usable
+/// points.
+pub fn fit_order(h: &[f64], error: &[f64], floor: f64) -> Option<OrderFit> {
+    let mut idx: Vec<usize> = (0..h.len().min(error.len())).collect();
+    idx.sort_by(|&a, &b| h[b].total_cmp(&h[a]));
+    let mut used = Vec::new();
+    for &i in &idx {
+        if !(error[i].is_finite() && h[i].is_finite() && h[i] > 0.0) {
+            continue;
+        }
+        if error[i] <= floor {
+            break;
+        }
+        used.push(i);
+    }
+    if used.len() < 2 {
+        return None;
+    }
+    let n = used.len() as f64;
+    let xs: Vec<f64> = used.iter().map(|&i| h[i].ln()).collect();
+    let ys: Vec<f64> = used.iter().map(|&i| error[i].ln()).collect();
+    let mx = xs.iter().sum::<f64>() / n;
+    let my = ys.iter().sum::<f64>() / n;
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    if sxx == 0.0 {
+        return None;
+    }
+    let order = sxy / sxx;
+    used.sort_unstable();
+    Some(OrderFit {
+        order,
+        intercept: my - order * mx,
+        used,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn recovers_slope_and_masks_plateau() {
+        let h: Vec<f64> = (0..8).map(|k| 0.5_f64.powi(k)).collect();
+        let e: Vec<f64> = h.iter().map(|h| (3.0 * h.powi(4)).max(1e-6)).collect();
+        let fit = fit_order(&h, &e, 2e-6).expect("enough points");
+        assert!((fit.order - 4.0).abs() < 1e-12, "{fit:?}");
+        assert!(fit.used.len() < 8);
+        assert!(fit_order(&h[..1], &e[..1], 0.0).is_none());
+    }
+}

@@ -1,0 +1,143 @@
+//! Typed errors. Every failure is a value that carries the context needed to
+//! act on it: which input was at fault, or at which step and time a solve failed.
+
+use thiserror::Error;
+
+/// Result alias used throughout the crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Everything that can go wrong in Veselov.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum Error {
+    /// An input value is NaN or infinite.
+    #[error("non-finite value in `{what}` (component {index}: {value})")]
+    NonFinite {
+        /// Name of the input (e.g. `q0`, `p0`, `h`).
+        what: String,
+        /// Index of the first offending component.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// Two objects that must agree in dimension do not.
+    #[error("dimension mismatch in `{what}`: expected {expected}, got {got}")]
+    DimensionMismatch {
+        /// What was being checked.
+        what: String,
+        /// Expected dimension.
+        expected: usize,
+        /// Received dimension.
+        got: usize,
+    },
+    /// A step size that is not strictly positive and finite.
+    #[error("time step must be positive and finite, got h = {h}")]
+    InvalidStep {
+        /// The offending step.
+        h: f64,
+    },
+    /// A parameter outside its admissible range.
+    #[error("invalid value for `{name}` = {value}: {reason}")]
+    InvalidParameter {
+        /// Parameter name.
+        name: String,
+        /// Its value, formatted.
+        value: String,
+        /// What was expected.
+        reason: String,
+    },
+    /// The velocity Hessian ∂²L/∂v² is singular (degenerate Lagrangian) where it must be inverted.
+    #[error("singular velocity Hessian ∂²L/∂v² at t = {t} (|pivot| = {pivot:e}): the Lagrangian is degenerate here")]
+    SingularVelocityHessian {
+        /// Time at which the Hessian was evaluated.
+        t: f64,
+        /// Smallest pivot magnitude met in the factorisation.
+        pivot: f64,
+    },
+    /// A linear system inside a solver was singular.
+    #[error("singular Jacobian in {context} (|pivot| = {pivot:e})")]
+    SingularJacobian {
+        /// Where it happened.
+        context: String,
+        /// Smallest pivot magnitude.
+        pivot: f64,
+    },
+    /// Newton's method did not converge.
+    #[error(
+        "Newton did not converge at step {step} (t = {t}): residual {residual:e} after {iterations} iterations ({reason})"
+    )]
+    NewtonFailure {
+        /// Step index (0-based) of the failed step.
+        step: usize,
+        /// Time at the start of the failed step.
+        t: f64,
+        /// Residual norm at the last iterate.
+        residual: f64,
+        /// Iterations performed.
+        iterations: usize,
+        /// Why it stopped: stalled, diverged, non-finite, iteration limit.
+        reason: String,
+    },
+    /// The energy equation of a variable-step (SEM) step has no admissible root.
+    #[error("no admissible time step at step {step} (t = {t}): {reason}")]
+    NoStepRoot {
+        /// Step index.
+        step: usize,
+        /// Time at the start of the step.
+        t: f64,
+        /// What the bracket search saw.
+        reason: String,
+    },
+    /// The energy equation is degenerate here (its h-derivative vanishes: `c(q, p) ≈ 0`).
+    #[error("degenerate energy equation at step {step} (t = {t}): {reason}")]
+    DegenerateStep {
+        /// Step index.
+        step: usize,
+        /// Time at the start of the step.
+        t: f64,
+        /// Details.
+        reason: String,
+    },
+    /// The only continuation of the energy equation is a backward (negative) step.
+    #[error("only a negative time step solves the energy equation at step {step} (t = {t}): h ≈ {h}")]
+    NegativeStep {
+        /// Step index.
+        step: usize,
+        /// Time at the start of the step.
+        t: f64,
+        /// The negative root found.
+        h: f64,
+    },
+    /// A computed quantity became NaN or infinite during integration.
+    #[error("non-finite state at step {step} (t = {t}) in `{what}`")]
+    NonFiniteState {
+        /// Step index.
+        step: usize,
+        /// Time.
+        t: f64,
+        /// Which quantity.
+        what: String,
+    },
+}
+
+/// Check that every component of `x` is finite.
+pub fn check_finite<'a>(what: &str, x: impl IntoIterator<Item = &'a f64>) -> Result<()> {
+    for (index, &value) in x.into_iter().enumerate() {
+        if !value.is_finite() {
+            return Err(Error::NonFinite {
+                what: what.to_string(),
+                index,
+                value,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Check that a step size is strictly positive and finite.
+pub fn check_step(h: f64) -> Result<()> {
+    if h.is_finite() && h > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::InvalidStep { h })
+    }
+}

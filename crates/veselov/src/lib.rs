@@ -1,0 +1,45 @@
+//! # Veselov
+//!
+//! Structure-preserving variational integrators. Write a Lagrangian once,
+//! generic over an automatic-differentiation scalar; pick a discrete Lagrangian
+//! (midpoint, trapezoid, α-rule, Galerkin Lobatto or Gauss of any order); get a
+//! trajectory and the diagnostics that show the structure is kept: energy
+//! error, Noether momenta, symplecticity defect, measured convergence order.
+//!
+//! ```
+//! use nalgebra::{SVector, Vector2};
+//! use veselov::ad::Scalar;
+//! use veselov::mechanics::{
+//!     GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, PhaseState, integrate, momentum_map,
+//! };
+//! use veselov::models::Kepler;
+//!
+//! // L = ½|v|² + 1/|q|, written once for every scalar type.
+//! struct MyKepler;
+//! impl Lagrangian<2> for MyKepler {
+//!     fn lagrangian<D: Scalar>(&self, _t: D, q: &SVector<D, 2>, v: &SVector<D, 2>) -> D {
+//!         (v[0] * v[0] + v[1] * v[1]) * 0.5 + (q[0] * q[0] + q[1] * q[1]).sqrt().recip()
+//!     }
+//! }
+//!
+//! let scheme = GalerkinScheme::new(Method::GalerkinGauss(2)).unwrap(); // order 4
+//! let mut integrator = GalerkinIntegrator::new(MyKepler, scheme, 0.01).unwrap();
+//! let x0 = PhaseState::new(0.0, Vector2::new(0.5, 0.0), Vector2::new(0.0, 3f64.sqrt()));
+//! let run = integrate(&mut integrator, x0, 1000, 100);
+//! assert!(run.failure.is_none());
+//! let angular = Kepler::angular_symmetry();
+//! let (j0, j1) = (momentum_map(&angular, &x0.q, &x0.p), momentum_map(&angular, &run.last().q, &run.last().p));
+//! assert!((j1 - j0).abs() < 1e-13);
+//! ```
+
+pub mod ad;
+pub mod diagnostics;
+pub mod error;
+pub mod mechanics;
+pub mod models;
+pub mod sem;
+pub mod solve;
+pub mod special;
+pub mod tableau;
+
+pub use error::{Error, Result};

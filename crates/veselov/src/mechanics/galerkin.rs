@@ -1,0 +1,587 @@
+//! The general variational integrator of a Galerkin discrete Lagrangian, solved by
+//! Newton's method with the exact Jacobian.
+//!
+//! With control points `Q⁰ … Qᵐ` (see [`GalerkinScheme`]) and the discrete action
+//! `S(Q) = h Σᵢ bᵢ L(t_k + cᵢh, Xᵢ, Yᵢ)`, `Xᵢ = Σ_ν M_{iν}Q^ν`, `Yᵢ = Σ_ν D_{iν}Q^ν/h`,
+//! write `G_ν = ∂S/∂Q^ν = h Σᵢ bᵢ [M_{iν} ∂L/∂q(i) + D_{iν}/h ∂L/∂v(i)]`
+//! (seed 004 §4.3). The discrete Legendre transforms
+//! `p_k = −D₁L_d(q_k, q_{k+1}) = −G₀` and `p_{k+1} = D₂L_d(q_k, q_{k+1}) = G_m`
+//! (DESIGN conventions; Marsden & West 2001, eq. (1.5.5)) give the step
+//! `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})`:
+//!
+//! 1. solve `p_k + G₀ = 0`, `G_ν = 0 (ν = 1..m−1)` for `Q¹..Qᵐ` (Newton, exact Hessian of `S`),
+//! 2. `q_{k+1} = Qᵐ`, `p_{k+1} = G_m`.
+//!
+//! With a generalised force `F` (discrete Lagrange–d'Alembert, seed 004 §2 and
+//! Prop. 7.4) every `G_ν` gains the virtual work `h Σᵢ bᵢ M_{iν} F(i)`, so that
+//! `p_k = −D₁L_d − f⁻` and `p_{k+1} = D₂L_d + f⁺` with the quadrature forces
+//! `f⁻ = h Σᵢ bᵢ M_{i0} F(i)`, `f⁺ = h Σᵢ bᵢ M_{im} F(i)`.
+//!
+//! The same Hessian of `S` gives the exact Jacobian of the step by the implicit
+//! function theorem ([`GalerkinIntegrator::flow_jacobian`]).
+
+use nalgebra::{SMatrix, SVector};
+
+use super::force::{Force, ForceJet, NoForce, force_jet, force_value};
+use super::lagrangian::{Hessian, Jet, Lagrangian, hessian, jet, velocity_from_momentum};
+use super::scheme::{GalerkinScheme, Method};
+use super::state::{FlowJacobian, OneStepMap, PhaseState, StepStats};
+use crate::error::{Error, Result, check_finite, check_step};
+use crate::solve::{DenseLu, NewtonOptions, NewtonReport, NewtonStop};
+
+/// Value and discrete Legendre transforms of `L_d(q₀, q₁)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DiscreteLagrangianValue<const N: usize> {
+    /// `L_d(q₀, q₁)`.
+    pub value: f64,
+    /// `p₀ = −D₁L_d(q₀, q₁)` (discrete Legendre transform 𝔽⁻).
+    pub minus: SVector<f64, N>,
+    /// `p₁ = D₂L_d(q₀, q₁)` (discrete Legendre transform 𝔽⁺).
+    pub plus: SVector<f64, N>,
+}
+
+/// Variational integrator for any Galerkin discrete Lagrangian; the general,
+/// exact-Newton path. All workspace is allocated at construction: a step does
+/// not allocate.
+#[derive(Debug, Clone)]
+pub struct GalerkinIntegrator<L, const N: usize, F = NoForce> {
+    lagrangian: L,
+    force: F,
+    stage_forces: Vec<ForceJet<N>>,
+    scheme: GalerkinScheme,
+    h: f64,
+    options: NewtonOptions,
+    /// Base point `q_k` (step) or `q₀` (boundary-value mode).
+    base: SVector<f64, N>,
+    /// Control-point increments `Z^ν = Q^ν − base` (`Z⁰ = 0`): solving for
+    /// increments keeps round-off proportional to the step, not to `|q|`.
+    controls: Vec<SVector<f64, N>>,
+    /// `h Σᵢ bᵢ ∂L/∂q(i)` at the last gradient evaluation.
+    force_sum: SVector<f64, N>,
+    /// Kahan compensation of the running sums `q_{k+1} = q_k + Zᵐ`, `p_{k+1} = p_k + h Σ bᵢ ∂L/∂q(i)`.
+    compensation: (SVector<f64, N>, SVector<f64, N>),
+    trial: Vec<SVector<f64, N>>,
+    delta: Vec<f64>,
+    gradient: Vec<SVector<f64, N>>,
+    stage_jets: Vec<Jet<N>>,
+    stage_hessians: Vec<Hessian<N>>,
+    lu: DenseLu,
+    lu_bvp: DenseLu,
+    previous: Option<(f64, SVector<f64, N>)>,
+    previous_controls: Vec<SVector<f64, N>>,
+}
+
+/// Which set of equations the Newton solve handles.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// Unknowns `Q¹..Qᵐ`, equations `p_k + G₀ = 0, G₁..G_{m−1} = 0`.
+    Step,
+    /// Unknowns `Q¹..Q^{m−1}`, equations `G₁..G_{m−1} = 0` (endpoints fixed).
+    BoundaryValue,
+}
+
+impl<L: Lagrangian<N>, const N: usize> GalerkinIntegrator<L, N, NoForce> {
+    /// Variational integrator for `lagrangian` with `scheme` and step `h > 0`.
+    pub fn new(lagrangian: L, scheme: GalerkinScheme, h: f64) -> Result<Self> {
+        Self::with_force(lagrangian, NoForce, scheme, h)
+    }
+}
+
+impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> {
+    /// Forced variational integrator (discrete Lagrange–d'Alembert) for
+    /// `lagrangian` with the generalised force `force`.
+    pub fn with_force(lagrangian: L, force: F, scheme: GalerkinScheme, h: f64) -> Result<Self> {
+        check_step(h)?;
+        let m = scheme.intervals();
+        let r = scheme.quadrature_len();
+        let zero = SVector::<f64, N>::zeros();
+        let empty_jet = Jet {
+            value: 0.0,
+            dq: zero,
+            dv: zero,
+        };
+        let empty_hessian = Hessian {
+            jet: empty_jet,
+            qq: SMatrix::zeros(),
+            qv: SMatrix::zeros(),
+            vv: SMatrix::zeros(),
+        };
+        Ok(Self {
+            lagrangian,
+            force,
+            stage_forces: vec![ForceJet::zero(); r],
+            h,
+            options: NewtonOptions::default(),
+            base: zero,
+            controls: vec![zero; m + 1],
+            force_sum: zero,
+            compensation: (zero, zero),
+            trial: vec![zero; m + 1],
+            delta: vec![0.0; N * m],
+            gradient: vec![zero; m + 1],
+            stage_jets: vec![empty_jet; r],
+            stage_hessians: vec![empty_hessian; r],
+            lu: DenseLu::new(N * m),
+            lu_bvp: DenseLu::new(N * (m - 1)),
+            previous: None,
+            previous_controls: vec![zero; m + 1],
+            scheme,
+        })
+    }
+
+    /// Replace the Newton options.
+    pub fn with_options(mut self, options: NewtonOptions) -> Self {
+        self.options = options;
+        self
+    }
+
+    /// The Lagrangian.
+    pub fn lagrangian(&self) -> &L {
+        &self.lagrangian
+    }
+    /// The generalised force.
+    pub fn force(&self) -> &F {
+        &self.force
+    }
+    /// The discrete Lagrangian's description.
+    pub fn scheme(&self) -> &GalerkinScheme {
+        &self.scheme
+    }
+    /// Newton options in force.
+    pub fn options(&self) -> &NewtonOptions {
+        &self.options
+    }
+
+    #[inline]
+    fn stage_point(&self, i: usize, controls: &[SVector<f64, N>]) -> (SVector<f64, N>, SVector<f64, N>) {
+        let mut x = self.base;
+        let mut y = SVector::<f64, N>::zeros();
+        for (nu, qn) in controls.iter().enumerate() {
+            x += qn * self.scheme.value(i, nu);
+            y += qn * self.scheme.derivative(i, nu);
+        }
+        (x, y / self.h)
+    }
+
+    /// Stage jets at `controls`, then `G_ν` into `self.gradient`; returns the action value.
+    fn eval_gradient(&mut self, t: f64, use_trial: bool) -> f64 {
+        let r = self.scheme.quadrature_len();
+        let mut action = 0.0;
+        for i in 0..r {
+            let ctrl = if use_trial { &self.trial } else { &self.controls };
+            let (x, y) = self.stage_point(i, ctrl);
+            let ti = t + self.scheme.quadrature_nodes()[i] * self.h;
+            self.stage_jets[i] = jet(&self.lagrangian, ti, &x, &y);
+            if !self.force.is_zero() {
+                self.stage_forces[i].value = force_value(&self.force, ti, &x, &y);
+            }
+            action += self.h * self.scheme.quadrature_weights()[i] * self.stage_jets[i].value;
+        }
+        self.assemble_gradient(false);
+        action
+    }
+
+    fn assemble_gradient(&mut self, from_hessians: bool) {
+        let m1 = self.scheme.intervals() + 1;
+        let mut force_sum = SVector::<f64, N>::zeros();
+        for i in 0..self.scheme.quadrature_len() {
+            let j = if from_hessians {
+                &self.stage_hessians[i].jet
+            } else {
+                &self.stage_jets[i]
+            };
+            force_sum += (j.dq + self.stage_forces[i].value) * (self.h * self.scheme.quadrature_weights()[i]);
+        }
+        self.force_sum = force_sum;
+        for nu in 0..m1 {
+            let mut g = SVector::<f64, N>::zeros();
+            for i in 0..self.scheme.quadrature_len() {
+                let w = self.h * self.scheme.quadrature_weights()[i];
+                let j = if from_hessians {
+                    &self.stage_hessians[i].jet
+                } else {
+                    &self.stage_jets[i]
+                };
+                g += (j.dq + self.stage_forces[i].value) * (w * self.scheme.value(i, nu))
+                    + j.dv * (w * self.scheme.derivative(i, nu) / self.h);
+            }
+            self.gradient[nu] = g;
+        }
+    }
+
+    /// Stage Hessians at `self.controls` (and `G_ν` from them).
+    fn eval_hessians(&mut self, t: f64) {
+        for i in 0..self.scheme.quadrature_len() {
+            let (x, y) = self.stage_point(i, &self.controls);
+            let ti = t + self.scheme.quadrature_nodes()[i] * self.h;
+            self.stage_hessians[i] = hessian(&self.lagrangian, ti, &x, &y);
+            if !self.force.is_zero() {
+                self.stage_forces[i] = force_jet(&self.force, ti, &x, &y);
+            }
+        }
+        self.assemble_gradient(true);
+    }
+
+    /// Block `∂G_ν/∂Q^μ = ∂²S/∂Q^ν∂Q^μ` from the stage Hessians.
+    fn action_hessian_block(&self, nu: usize, mu: usize) -> SMatrix<f64, N, N> {
+        let mut b = SMatrix::<f64, N, N>::zeros();
+        let hinv = 1.0 / self.h;
+        for i in 0..self.scheme.quadrature_len() {
+            let w = self.h * self.scheme.quadrature_weights()[i];
+            let (mn, mm) = (self.scheme.value(i, nu), self.scheme.value(i, mu));
+            let (dn, dm) = (
+                self.scheme.derivative(i, nu) * hinv,
+                self.scheme.derivative(i, mu) * hinv,
+            );
+            let hs = &self.stage_hessians[i];
+            let fj = &self.stage_forces[i];
+            b += (hs.qq + fj.dq) * (w * mn * mm)
+                + (hs.qv + fj.dv) * (w * mn * dm)
+                + hs.qv.transpose() * (w * dn * mm)
+                + hs.vv * (w * dn * dm);
+        }
+        b
+    }
+
+    fn residual_norm(&self, mode: Mode, p: &SVector<f64, N>) -> f64 {
+        let m = self.scheme.intervals();
+        let mut r = 0.0_f64;
+        match mode {
+            Mode::Step => {
+                r = r.max((self.gradient[0] + p).amax());
+                for nu in 1..m {
+                    r = r.max(self.gradient[nu].amax());
+                }
+            }
+            Mode::BoundaryValue => {
+                for nu in 1..m {
+                    r = r.max(self.gradient[nu].amax());
+                }
+            }
+        }
+        r
+    }
+
+    /// Newton's method on the control points for `mode`; `p` is `p_k` in step mode.
+    fn newton(&mut self, mode: Mode, t: f64, p: &SVector<f64, N>, step: usize) -> Result<NewtonReport> {
+        let m = self.scheme.intervals();
+        let (row0, col_end) = match mode {
+            Mode::Step => (0, m),
+            Mode::BoundaryValue => (1, m - 1),
+        };
+        let unknowns = col_end; // columns μ = 1..=col_end
+        if unknowns == 0 {
+            self.eval_gradient(t, false);
+            return Ok(NewtonReport {
+                iterations: 0,
+                last_update: 0.0,
+                residual: self.residual_norm(mode, p),
+                stop: NewtonStop::Converged,
+            });
+        }
+        let dim = N * unknowns;
+        let opts = self.options;
+        let mut last_update = f64::INFINITY;
+        let mut residual = f64::INFINITY;
+        for it in 1..=opts.max_iterations {
+            self.eval_hessians(t);
+            residual = self.residual_norm(mode, p);
+            if !residual.is_finite() {
+                break;
+            }
+            // Right-hand side −R and Jacobian rows ν = row0.., columns μ = 1..=col_end.
+            for (rb, nu) in (row0..row0 + unknowns).enumerate() {
+                let mut g = self.gradient[nu];
+                if mode == Mode::Step && nu == 0 {
+                    g += p;
+                }
+                for a in 0..N {
+                    self.delta[rb * N + a] = -g[a];
+                }
+                for (cb, mu) in (1..=col_end).enumerate() {
+                    let blk = self.action_hessian_block(nu, mu);
+                    for a in 0..N {
+                        for b in 0..N {
+                            let idx = (rb * N + a) * dim + cb * N + b;
+                            match mode {
+                                Mode::Step => self.lu.matrix[idx] = blk[(a, b)],
+                                Mode::BoundaryValue => self.lu_bvp.matrix[idx] = blk[(a, b)],
+                            }
+                        }
+                    }
+                }
+            }
+            let lu = match mode {
+                Mode::Step => &mut self.lu,
+                Mode::BoundaryValue => &mut self.lu_bvp,
+            };
+            lu.factor("Newton step of the discrete Euler–Lagrange equations")?;
+            lu.solve(&mut self.delta[..dim]);
+            if self.delta[..dim].iter().any(|d| !d.is_finite()) {
+                break;
+            }
+            let scale = self
+                .controls
+                .iter()
+                .fold(1.0_f64.max(self.base.amax()), |s, z| s.max(z.amax()));
+            let full = self.delta[..dim].iter().fold(0.0_f64, |s, d| s.max(d.abs())) / scale;
+            // Backtracking line search while far from the solution.
+            let mut lambda = 1.0;
+            if full > 1e-6 {
+                for _ in 0..opts.max_backtracks {
+                    self.trial.copy_from_slice(&self.controls);
+                    for cb in 0..unknowns {
+                        for a in 0..N {
+                            self.trial[cb + 1][a] += lambda * self.delta[cb * N + a];
+                        }
+                    }
+                    self.eval_gradient(t, true);
+                    let rt = self.residual_norm(mode, p);
+                    if rt.is_finite() && rt <= (1.0 - 1e-4 * lambda) * residual {
+                        break;
+                    }
+                    lambda *= 0.5;
+                }
+            }
+            for cb in 0..unknowns {
+                for a in 0..N {
+                    self.controls[cb + 1][a] += lambda * self.delta[cb * N + a];
+                }
+            }
+            let update = lambda * full;
+            let converged = update <= opts.tol;
+            let stalled = it > 1 && update >= last_update && update <= opts.stall_threshold;
+            if converged || stalled {
+                self.eval_gradient(t, false);
+                return Ok(NewtonReport {
+                    iterations: it,
+                    last_update: update,
+                    residual: self.residual_norm(mode, p),
+                    stop: if converged {
+                        NewtonStop::Converged
+                    } else {
+                        NewtonStop::RoundOff
+                    },
+                });
+            }
+            last_update = update;
+        }
+        Err(Error::NewtonFailure {
+            step,
+            t,
+            residual,
+            iterations: opts.max_iterations,
+            reason: if residual.is_finite() {
+                "no convergence within the iteration limit".into()
+            } else {
+                "non-finite residual".into()
+            },
+        })
+    }
+
+    /// Initial guess for a step from `(t, q, p)`: extrapolate the previous
+    /// step's curve when this step continues it, else a straight line with the
+    /// velocity of the continuous inverse Legendre map.
+    fn predict(&mut self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) {
+        let m = self.scheme.intervals();
+        self.base = *q;
+        if self.continues(t, q) {
+            // Q^ν = Σ_μ l_μ(1 + d_ν) Q^μ_prev and q = Q^m_prev, in increments.
+            let last = self.previous_controls[m];
+            for nu in 0..=m {
+                let mut z = -last;
+                for mu in 0..=m {
+                    z += self.previous_controls[mu] * self.scheme.extrapolation(nu, mu);
+                }
+                self.controls[nu] = z;
+            }
+            self.controls[0] = SVector::zeros();
+            return;
+        }
+        self.compensation = (SVector::zeros(), SVector::zeros());
+        let v = velocity_from_momentum(&self.lagrangian, t, q, p).unwrap_or_else(|_| SVector::zeros());
+        for nu in 0..=m {
+            self.controls[nu] = v * (self.scheme.control_nodes()[nu] * self.h);
+        }
+    }
+
+    /// Whether a step from `(t, q)` continues the previous step exactly.
+    fn continues(&self, t: f64, q: &SVector<f64, N>) -> bool {
+        matches!(self.previous, Some((t_end, q_end)) if t_end == t && q_end == *q)
+    }
+
+    /// One step with its Newton report.
+    pub fn step_report(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, NewtonReport)> {
+        state.check()?;
+        let (t, q, p) = (state.t, state.q, state.p);
+        self.predict(t, &q, &p);
+        let report = self
+            .newton(Mode::Step, t, &p, index)
+            .inspect_err(|_| self.previous = None)?;
+        let m = self.scheme.intervals();
+        // q_{k+1} = q_k + Zᵐ and p_{k+1} = G_m = p_k + h Σᵢ bᵢ ∂L/∂q(i) (since Σ_ν G_ν =
+        // h Σᵢ bᵢ ∂L/∂q(i) and the other G_ν vanish), summed with compensation.
+        let (q_next, cq) = kahan_add(&q, &self.controls[m], &self.compensation.0);
+        let (p_next, cp) = kahan_add(&p, &self.force_sum, &self.compensation.1);
+        self.compensation = (cq, cp);
+        let next = PhaseState::new(t + self.h, q_next, p_next);
+        if next.check().is_err() {
+            self.previous = None;
+            return Err(Error::NonFiniteState {
+                step: index,
+                t,
+                what: "(q, p)".into(),
+            });
+        }
+        self.previous = Some((next.t, next.q));
+        self.previous_controls.copy_from_slice(&self.controls);
+        Ok((next, report))
+    }
+
+    /// The discrete Lagrangian `L_d(q₀, q₁)` on `[t, t + h]` with its discrete
+    /// Legendre transforms, solving for the interior control points.
+    pub fn discrete_lagrangian(
+        &mut self,
+        t: f64,
+        q0: &SVector<f64, N>,
+        q1: &SVector<f64, N>,
+    ) -> Result<DiscreteLagrangianValue<N>> {
+        check_finite("q0", q0.iter())?;
+        check_finite("q1", q1.iter())?;
+        let m = self.scheme.intervals();
+        self.base = *q0;
+        let dq = q1 - q0;
+        for nu in 0..=m {
+            self.controls[nu] = dq * self.scheme.control_nodes()[nu];
+        }
+        self.previous = None;
+        self.newton(Mode::BoundaryValue, t, &SVector::zeros(), 0)?;
+        let value = self.eval_gradient(t, false);
+        Ok(DiscreteLagrangianValue {
+            value,
+            minus: -self.gradient[0],
+            plus: self.gradient[m],
+        })
+    }
+
+    /// Two-step form of the discrete Euler–Lagrange equations
+    /// `D₂L_d(q_{k−1}, q_k) + D₁L_d(q_k, q_{k+1}) = 0`: returns `q_{k+1}` given
+    /// `q_{k−1}` at time `t − h` and `q_k` at time `t`.
+    pub fn step_two_point(&mut self, t: f64, q_prev: &SVector<f64, N>, q: &SVector<f64, N>) -> Result<SVector<f64, N>> {
+        let p = self.discrete_lagrangian(t - self.h, q_prev, q)?.plus;
+        Ok(self.step_report(0, &PhaseState::new(t, *q, p))?.0.q)
+    }
+
+    /// Exact Jacobian of the step `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})` at `state`,
+    /// by the implicit function theorem on the converged stage equations.
+    pub fn flow_jacobian(&mut self, state: &PhaseState<N>) -> Result<(PhaseState<N>, FlowJacobian<N>)> {
+        let (next, _) = self.step_report(0, state)?;
+        let m = self.scheme.intervals();
+        self.eval_hessians(state.t);
+        let dim = N * m;
+        for rb in 0..m {
+            for cb in 0..m {
+                let blk = self.action_hessian_block(rb, cb + 1);
+                for a in 0..N {
+                    for b in 0..N {
+                        self.lu.matrix[(rb * N + a) * dim + cb * N + b] = blk[(a, b)];
+                    }
+                }
+            }
+        }
+        self.lu.factor("flow Jacobian")?;
+        let h_col0: Vec<SMatrix<f64, N, N>> = (0..=m).map(|nu| self.action_hessian_block(nu, 0)).collect();
+        let h_last: Vec<SMatrix<f64, N, N>> = (0..=m).map(|mu| self.action_hessian_block(m, mu)).collect();
+        let mut jac: FlowJacobian<N> = FlowJacobian {
+            qq: SMatrix::zeros(),
+            qp: SMatrix::zeros(),
+            pq: SMatrix::zeros(),
+            pp: SMatrix::zeros(),
+        };
+        let mut rhs = vec![0.0; dim];
+        for wrt_p in [false, true] {
+            for j in 0..N {
+                // Right-hand side −(H_{ν0} δq + δ_{ν0} δp).
+                for rb in 0..m {
+                    for a in 0..N {
+                        rhs[rb * N + a] = if wrt_p {
+                            if rb == 0 && a == j { -1.0 } else { 0.0 }
+                        } else {
+                            -h_col0[rb][(a, j)]
+                        };
+                    }
+                }
+                self.lu.solve(&mut rhs);
+                let dq_next: SVector<f64, N> = SVector::from_fn(|a, _| rhs[(m - 1) * N + a]);
+                let mut dp_next: SVector<f64, N> = if wrt_p {
+                    SVector::zeros()
+                } else {
+                    h_last[0].column(j).into_owned()
+                };
+                for mu in 1..=m {
+                    let dq_mu = SVector::<f64, N>::from_fn(|a, _| rhs[(mu - 1) * N + a]);
+                    dp_next += h_last[mu] * dq_mu;
+                }
+                if wrt_p {
+                    jac.qp.set_column(j, &dq_next);
+                    jac.pp.set_column(j, &dp_next);
+                } else {
+                    jac.qq.set_column(j, &dq_next);
+                    jac.pq.set_column(j, &dp_next);
+                }
+            }
+        }
+        Ok((next, jac))
+    }
+
+    /// Discrete work of the forces over the last step, `h Σᵢ bᵢ F(i)·Yᵢ`, at
+    /// the converged stage values (zero without forces).
+    pub fn last_work(&self) -> f64 {
+        if self.force.is_zero() {
+            return 0.0;
+        }
+        (0..self.scheme.quadrature_len())
+            .map(|i| {
+                let (_, y) = self.stage_point(i, &self.controls);
+                self.h * self.scheme.quadrature_weights()[i] * self.stage_forces[i].value.dot(&y)
+            })
+            .sum()
+    }
+
+    /// Whether this is the midpoint/trapezoid/α family (no interior control points).
+    pub fn is_two_point(&self) -> bool {
+        matches!(
+            self.scheme.method(),
+            Method::Midpoint | Method::Trapezoid | Method::Alpha(_)
+        )
+    }
+}
+
+impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIntegrator<L, N, F> {
+    fn step_size(&self) -> f64 {
+        self.h
+    }
+    fn step(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, StepStats)> {
+        let (next, report) = self.step_report(index, state)?;
+        Ok((
+            next,
+            StepStats {
+                iterations: report.iterations,
+                fallback: false,
+                work: self.last_work(),
+            },
+        ))
+    }
+}
+
+/// Kahan-compensated `x + dx`: returns the new sum and compensation.
+#[inline]
+pub(crate) fn kahan_add<const N: usize>(
+    x: &SVector<f64, N>,
+    dx: &SVector<f64, N>,
+    compensation: &SVector<f64, N>,
+) -> (SVector<f64, N>, SVector<f64, N>) {
+    let y = dx - compensation;
+    let sum = x + y;
+    (sum, (sum - x) - y)
+}

@@ -1,0 +1,22 @@
+//! Lagrangian mechanics on `Rⁿ`: the Lagrangian interface, Galerkin discrete
+//! Lagrangians, variational integrators and discrete Noether momenta.
+
+pub mod duplication;
+pub mod force;
+pub mod galerkin;
+pub mod lagrangian;
+pub mod noether;
+pub mod scheme;
+pub mod separable;
+pub mod state;
+
+pub use duplication::{DuplicatedLagrangian, FlatRetraction, InverseRetraction};
+pub use force::{Force, ForceJet, NoForce, force_jet, force_value};
+pub use galerkin::{DiscreteLagrangianValue, GalerkinIntegrator};
+pub use lagrangian::{
+    Hessian, Jet, Lagrangian, acceleration, energy, forced_acceleration, hessian, jet, momentum, velocity_from_momentum,
+};
+pub use noether::{AffineSymmetry, Symmetry, momentum_map};
+pub use scheme::{GalerkinScheme, MAX_STAGES, Method};
+pub use separable::{Potential, SeparableIntegrator, SeparableLagrangian};
+pub use state::{FlowJacobian, OneStepMap, PhaseState, StepStats, Trajectory, integrate, integrate_observed};

@@ -1,0 +1,354 @@
+//! Separable Lagrangians `L = ½ vᵀMv − V(t, q)` and their fast integrator.
+//!
+//! For separable `L` the Galerkin integrators reduce to the partitioned
+//! Runge–Kutta method (a, ā, b, c) of their tableau (Marsden & West 2001,
+//! Thm 2.6.1; seed 004 §4.3) applied to `q̈ = f(t, q) = −M⁻¹∇V(t, q)`:
+//!
+//! `Zᵢ = h cᵢ v_k + h² Σⱼ (AĀ)ᵢⱼ f(t_k + cⱼh, q_k + Zⱼ)`,
+//! `q_{k+1} = q_k + h v_k + h² Σⱼ (bᵀĀ)ⱼ fⱼ`, `v_{k+1} = v_k + h Σⱼ bⱼ fⱼ`,
+//! with `v = M⁻¹p` and `p_{k+1} = p_k − h Σⱼ bⱼ ∇V(Qⱼ)`. The stage equations are solved by fixed-point iteration
+//! (only `∇V` is needed, one forward-mode pass per stage), started from the
+//! previous step's stage forces extrapolated by their interpolation polynomial,
+//! iterated until the update reaches round-off or stops shrinking. If the
+//! iteration fails to contract, the step falls back to the exact-Newton
+//! [`GalerkinIntegrator`] and the step is flagged.
+
+use nalgebra::{SMatrix, SVector};
+use num_dual::DualSVec64;
+
+use super::force::{Force, NoForce};
+use super::galerkin::{GalerkinIntegrator, kahan_add};
+use super::lagrangian::Lagrangian;
+use super::scheme::{GalerkinScheme, MAX_STAGES};
+use super::state::{OneStepMap, PhaseState, StepStats};
+use crate::ad::Scalar;
+use crate::error::{Error, Result};
+
+/// A potential `V(t, q)`, generic over the AD scalar.
+pub trait Potential<const N: usize> {
+    /// `V(t, q)`.
+    fn potential<D: Scalar>(&self, t: D, q: &SVector<D, N>) -> D;
+}
+
+/// `L = ½ vᵀ M v − V(t, q)` with a constant symmetric positive definite mass matrix `M`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeparableLagrangian<V, const N: usize> {
+    mass: SMatrix<f64, N, N>,
+    mass_inverse: SMatrix<f64, N, N>,
+    potential: V,
+}
+
+impl<V: Potential<N>, const N: usize> SeparableLagrangian<V, N> {
+    /// Build from a mass matrix and a potential; `M` must be symmetric positive definite.
+    pub fn new(mass: SMatrix<f64, N, N>, potential: V) -> Result<Self> {
+        let bad = || Error::InvalidParameter {
+            name: "mass".into(),
+            value: format!("{:?}", mass.as_slice()),
+            reason: "mass matrix must be finite, symmetric and positive definite".into(),
+        };
+        if mass.iter().any(|x| !x.is_finite()) || (mass - mass.transpose()).amax() > 1e-14 * mass.amax() {
+            return Err(bad());
+        }
+        let chol = mass.cholesky().ok_or_else(bad)?;
+        Ok(Self {
+            mass,
+            mass_inverse: chol.inverse(),
+            potential,
+        })
+    }
+    /// Unit mass matrix.
+    pub fn unit_mass(potential: V) -> Self {
+        Self {
+            mass: SMatrix::identity(),
+            mass_inverse: SMatrix::identity(),
+            potential,
+        }
+    }
+    /// The mass matrix `M`.
+    pub fn mass(&self) -> &SMatrix<f64, N, N> {
+        &self.mass
+    }
+    /// `M⁻¹`.
+    pub fn mass_inverse(&self) -> &SMatrix<f64, N, N> {
+        &self.mass_inverse
+    }
+    /// The potential.
+    pub fn potential(&self) -> &V {
+        &self.potential
+    }
+    /// The generalised force `−∇V(t, q)`, exact (one forward-mode pass).
+    #[inline]
+    pub fn conservative_force(&self, t: f64, q: &SVector<f64, N>) -> SVector<f64, N> {
+        let qd = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from(q[i]).derivative(i));
+        let v = self.potential.potential(DualSVec64::<N>::from(t), &qd);
+        -v.eps.unwrap_generic(nalgebra::Const::<N>, nalgebra::U1)
+    }
+}
+
+impl<V: Potential<N>, const N: usize> Lagrangian<N> for SeparableLagrangian<V, N> {
+    fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
+        let m: SMatrix<D, N, N> = self.mass.map(D::from);
+        (m * v).dot(v) * 0.5 - self.potential.potential(t, q)
+    }
+}
+
+/// Fast integrator for separable Lagrangians (fixed-point stage iteration with
+/// Newton fallback). Produces the same trajectory as [`GalerkinIntegrator`] up
+/// to round-off.
+#[derive(Debug, Clone)]
+pub struct SeparableIntegrator<V, const N: usize, F = NoForce> {
+    general: GalerkinIntegrator<SeparableLagrangian<V, N>, N, F>,
+    /// `h aᵢⱼ` and `h āᵢⱼ` (forced iteration on stage velocities).
+    ha: [[f64; MAX_STAGES]; MAX_STAGES],
+    ha_bar: [[f64; MAX_STAGES]; MAX_STAGES],
+    last_work: f64,
+    h: f64,
+    s: usize,
+    c: [f64; MAX_STAGES],
+    b: [f64; MAX_STAGES],
+    /// `h² (AĀ)ᵢⱼ`.
+    aab: [[f64; MAX_STAGES]; MAX_STAGES],
+    /// `h² (bᵀĀ)ⱼ`.
+    bab: [f64; MAX_STAGES],
+    extrap: [[f64; MAX_STAGES]; MAX_STAGES],
+    forces: [SVector<f64, N>; MAX_STAGES],
+    previous: Option<(f64, SVector<f64, N>)>,
+    compensation: (SVector<f64, N>, SVector<f64, N>),
+    max_iterations: usize,
+}
+
+impl<V: Potential<N>, const N: usize> SeparableIntegrator<V, N, NoForce> {
+    /// Integrator for `system` with `scheme` and step `h > 0`.
+    pub fn new(system: SeparableLagrangian<V, N>, scheme: GalerkinScheme, h: f64) -> Result<Self> {
+        Self::with_force(system, NoForce, scheme, h)
+    }
+}
+
+impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> {
+    /// Forced integrator (discrete Lagrange–d'Alembert) for `system` with `force`.
+    pub fn with_force(system: SeparableLagrangian<V, N>, force: F, scheme: GalerkinScheme, h: f64) -> Result<Self> {
+        let tab = scheme.tableau().clone();
+        let s = tab.s;
+        let mut out = Self {
+            h,
+            s,
+            c: [0.0; MAX_STAGES],
+            b: [0.0; MAX_STAGES],
+            aab: [[0.0; MAX_STAGES]; MAX_STAGES],
+            bab: [0.0; MAX_STAGES],
+            extrap: [[0.0; MAX_STAGES]; MAX_STAGES],
+            forces: [SVector::zeros(); MAX_STAGES],
+            previous: None,
+            compensation: (SVector::zeros(), SVector::zeros()),
+            max_iterations: 100,
+            ha: [[0.0; MAX_STAGES]; MAX_STAGES],
+            ha_bar: [[0.0; MAX_STAGES]; MAX_STAGES],
+            last_work: 0.0,
+            general: GalerkinIntegrator::with_force(system, force, scheme, h)?,
+        };
+        for i in 0..s {
+            out.c[i] = tab.c[i];
+            out.b[i] = tab.b[i];
+            for j in 0..s {
+                out.aab[i][j] = h * h * (0..s).map(|k| tab.a(i, k) * tab.a_bar(k, j)).sum::<f64>();
+                out.extrap[i][j] = out.general.scheme().stage_extrapolation(i, j);
+                out.ha[i][j] = h * tab.a(i, j);
+                out.ha_bar[i][j] = h * tab.a_bar(i, j);
+            }
+            out.bab[i] = h * h * (0..s).map(|k| tab.b[k] * tab.a_bar(k, i)).sum::<f64>();
+        }
+        Ok(out)
+    }
+
+    /// The general-path integrator used as fallback (and for Jacobians).
+    pub fn general(&mut self) -> &mut GalerkinIntegrator<SeparableLagrangian<V, N>, N, F> {
+        &mut self.general
+    }
+
+    /// Forced case: fixed-point iteration on the stage velocities of the
+    /// partitioned Runge–Kutta form (seed 004 §4.3)
+    /// `Qᵢ = q_k + h Σⱼ aᵢⱼVⱼ`, `M Vᵢ = p_k + h Σⱼ āᵢⱼ (−∇V(Qⱼ) + F(Qⱼ, Vⱼ))`,
+    /// then `q_{k+1} = q_k + h Σⱼ bⱼVⱼ`, `p_{k+1} = p_k + h Σⱼ bⱼ(−∇V(Qⱼ) + F(Qⱼ, Vⱼ))`.
+    fn fixed_point_forced(&mut self, state: &PhaseState<N>) -> Option<(PhaseState<N>, usize)> {
+        let s = self.s;
+        let sys = self.general.lagrangian();
+        let force = self.general.force();
+        let minv = *sys.mass_inverse();
+        let (t, q) = (state.t, state.q);
+        let v = minv * state.p;
+        let continues = matches!(self.previous, Some((te, qe)) if te == t && qe == q);
+        if !continues {
+            self.compensation = (SVector::zeros(), SVector::zeros());
+        }
+        // Total generalised forces gⱼ = −∇V(Qⱼ) + F(Qⱼ, Vⱼ), predicted from the previous step.
+        let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
+        let mut vel = [v; MAX_STAGES];
+        let mut pos = [q; MAX_STAGES];
+        if continues {
+            for i in 0..s {
+                g[i] = (0..s).fold(SVector::zeros(), |acc, j| acc + self.forces[j] * self.extrap[i][j]);
+            }
+            for i in 0..s {
+                let mut acc = SVector::<f64, N>::zeros();
+                for j in 0..s {
+                    acc += g[j] * self.ha_bar[i][j];
+                }
+                vel[i] = v + minv * acc;
+            }
+        }
+        let scale = v.amax().max(1.0);
+        let mut last = f64::INFINITY;
+        for it in 1..=self.max_iterations {
+            for i in 0..s {
+                let mut dq = SVector::<f64, N>::zeros();
+                for j in 0..s {
+                    dq += vel[j] * self.ha[i][j];
+                }
+                pos[i] = q + dq;
+                let ti = t + self.c[i] * self.h;
+                g[i] = sys.conservative_force(ti, &pos[i]) + force.force(ti, &pos[i], &vel[i]);
+            }
+            let mut delta = 0.0_f64;
+            for i in 0..s {
+                let mut acc = SVector::<f64, N>::zeros();
+                for j in 0..s {
+                    acc += g[j] * self.ha_bar[i][j];
+                }
+                let vi = v + minv * acc;
+                delta = delta.max((vi - vel[i]).amax());
+                vel[i] = vi;
+            }
+            let update = delta / scale;
+            if !update.is_finite() {
+                return None;
+            }
+            if update <= 2.0 * f64::EPSILON || (it > 2 && update >= last && update <= 1e-10) {
+                let (mut dq, mut dp, mut work) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros(), 0.0);
+                for j in 0..s {
+                    let ti = t + self.c[j] * self.h;
+                    let fj = force.force(ti, &pos[j], &vel[j]);
+                    dq += vel[j] * (self.h * self.b[j]);
+                    dp += g[j] * (self.h * self.b[j]);
+                    work += self.h * self.b[j] * fj.dot(&vel[j]);
+                }
+                let (q_next, cq) = kahan_add(&q, &dq, &self.compensation.0);
+                let (p_next, cp) = kahan_add(&state.p, &dp, &self.compensation.1);
+                self.compensation = (cq, cp);
+                self.forces[..s].copy_from_slice(&g[..s]);
+                self.last_work = work;
+                return Some((PhaseState::new(t + self.h, q_next, p_next), it));
+            }
+            if it > 3 && update > last {
+                return None;
+            }
+            last = update;
+        }
+        None
+    }
+
+    /// Fixed-point solve of the stage equations; `None` if it does not contract.
+    ///
+    /// Works with the forces `gⱼ = −∇V(Qⱼ)` and accelerations `fⱼ = M⁻¹gⱼ`;
+    /// the momentum update `p_{k+1} = p_k + h Σⱼ bⱼ gⱼ` and the position update
+    /// are formed as increments and added with compensated summation.
+    fn fixed_point(&mut self, state: &PhaseState<N>) -> Option<(PhaseState<N>, usize)> {
+        let s = self.s;
+        let sys = self.general.lagrangian();
+        let minv = *sys.mass_inverse();
+        let (t, q) = (state.t, state.q);
+        let v = minv * state.p;
+        let continues = matches!(self.previous, Some((te, qe)) if te == t && qe == q);
+        if !continues {
+            self.compensation = (SVector::zeros(), SVector::zeros());
+        }
+        let mut z = [SVector::<f64, N>::zeros(); MAX_STAGES];
+        let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
+        if continues {
+            for i in 0..s {
+                g[i] = (0..s).fold(SVector::zeros(), |acc, j| acc + self.forces[j] * self.extrap[i][j]);
+            }
+        } else {
+            let g0 = sys.conservative_force(t, &q);
+            g[..s].fill(g0);
+        }
+        let scale = q.amax().max(1.0);
+        let mut last = f64::INFINITY;
+        for it in 1..=self.max_iterations {
+            let mut delta = 0.0_f64;
+            for i in 0..s {
+                let mut acc = SVector::<f64, N>::zeros();
+                for j in 0..s {
+                    acc += g[j] * self.aab[i][j];
+                }
+                let zi = v * (self.h * self.c[i]) + minv * acc;
+                delta = delta.max((zi - z[i]).amax());
+                z[i] = zi;
+            }
+            for i in 0..s {
+                g[i] = sys.conservative_force(t + self.c[i] * self.h, &(q + z[i]));
+            }
+            let update = delta / scale;
+            if !update.is_finite() {
+                return None;
+            }
+            if update <= 2.0 * f64::EPSILON || (it > 2 && update >= last && update <= 1e-10) {
+                let mut dq_force = SVector::<f64, N>::zeros();
+                let mut dp = SVector::<f64, N>::zeros();
+                for j in 0..s {
+                    dq_force += g[j] * self.bab[j];
+                    dp += g[j] * (self.h * self.b[j]);
+                }
+                let dq = v * self.h + minv * dq_force;
+                let (q_next, cq) = kahan_add(&q, &dq, &self.compensation.0);
+                let (p_next, cp) = kahan_add(&state.p, &dp, &self.compensation.1);
+                self.compensation = (cq, cp);
+                self.forces[..s].copy_from_slice(&g[..s]);
+                return Some((PhaseState::new(t + self.h, q_next, p_next), it));
+            }
+            if it > 3 && update > last {
+                return None;
+            }
+            last = update;
+        }
+        None
+    }
+}
+
+impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIntegrator<V, N, F> {
+    fn step_size(&self) -> f64 {
+        self.h
+    }
+    fn step(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, StepStats)> {
+        state.check()?;
+        let forced = !self.general.force().is_zero();
+        let attempt = if forced {
+            self.fixed_point_forced(state)
+        } else {
+            self.fixed_point(state)
+        };
+        if let Some((next, iterations)) = attempt
+            && next.check().is_ok()
+        {
+            self.previous = Some((next.t, next.q));
+            let work = if forced { self.last_work } else { 0.0 };
+            return Ok((
+                next,
+                StepStats {
+                    iterations,
+                    fallback: false,
+                    work,
+                },
+            ));
+        }
+        self.previous = None;
+        let (next, report) = self.general.step_report(index, state)?;
+        Ok((
+            next,
+            StepStats {
+                iterations: report.iterations,
+                fallback: true,
+                work: self.general.last_work(),
+            },
+        ))
+    }
+}

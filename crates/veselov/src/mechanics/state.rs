@@ -1,0 +1,195 @@
+//! Phase-space states, per-step statistics and the one-step-map abstraction.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::lagrangian::{Lagrangian, momentum};
+use crate::error::{Error, Result, check_finite};
+
+/// A point `(t, q, p)` of the extended phase space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhaseState<const N: usize> {
+    /// Time.
+    pub t: f64,
+    /// Configuration.
+    pub q: SVector<f64, N>,
+    /// Momentum.
+    pub p: SVector<f64, N>,
+}
+
+impl<const N: usize> PhaseState<N> {
+    /// A state from position and momentum.
+    pub fn new(t: f64, q: SVector<f64, N>, p: SVector<f64, N>) -> Self {
+        Self { t, q, p }
+    }
+
+    /// A state from slices, checking dimension and finiteness.
+    pub fn from_slices(t: f64, q: &[f64], p: &[f64]) -> Result<Self> {
+        for (what, x) in [("q", q), ("p", p)] {
+            if x.len() != N {
+                return Err(Error::DimensionMismatch {
+                    what: what.to_string(),
+                    expected: N,
+                    got: x.len(),
+                });
+            }
+        }
+        let state = Self::new(t, SVector::from_column_slice(q), SVector::from_column_slice(p));
+        state.check()?;
+        Ok(state)
+    }
+
+    /// A state from position and velocity: `p = ∂L/∂v(t, q, v)`.
+    pub fn from_velocity<L: Lagrangian<N>>(l: &L, t: f64, q: SVector<f64, N>, v: SVector<f64, N>) -> Result<Self> {
+        check_finite("t", [t].iter())?;
+        check_finite("q", q.iter())?;
+        check_finite("v", v.iter())?;
+        let state = Self::new(t, q, momentum(l, t, &q, &v));
+        state.check()?;
+        Ok(state)
+    }
+
+    /// Error if `t`, `q` or `p` is not finite.
+    pub fn check(&self) -> Result<()> {
+        check_finite("t", [self.t].iter())?;
+        check_finite("q", self.q.iter())?;
+        check_finite("p", self.p.iter())
+    }
+}
+
+/// What one step reports besides the new state.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepStats {
+    /// Nonlinear iterations (Newton or fixed-point) spent on the step.
+    pub iterations: usize,
+    /// Whether a fast path had to fall back to the general Newton solver.
+    pub fallback: bool,
+    /// Discrete work of the generalised forces over the step,
+    /// `h Σᵢ bᵢ F(i)·Yᵢ` (zero for unforced systems).
+    pub work: f64,
+}
+
+/// The Jacobian of a one-step map `(q, p) ↦ (q', p')` in `N × N` blocks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlowJacobian<const N: usize> {
+    /// `∂q'/∂q`.
+    pub qq: SMatrix<f64, N, N>,
+    /// `∂q'/∂p`.
+    pub qp: SMatrix<f64, N, N>,
+    /// `∂p'/∂q`.
+    pub pq: SMatrix<f64, N, N>,
+    /// `∂p'/∂p`.
+    pub pp: SMatrix<f64, N, N>,
+}
+
+/// A one-step map of phase space with a fixed step size.
+pub trait OneStepMap<const N: usize> {
+    /// The step size `h`.
+    fn step_size(&self) -> f64;
+    /// Advance `state` by one step; `index` (0-based) is used in error reports.
+    fn step(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, StepStats)>;
+}
+
+/// A computed trajectory; a failure mid-way keeps everything computed before it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory<const N: usize> {
+    /// States `x₀, x_every, x_2·every, …` (and the last state reached).
+    pub states: Vec<PhaseState<N>>,
+    /// Cumulative discrete work of the forces at each stored state.
+    pub work: Vec<f64>,
+    /// Total nonlinear iterations over all steps taken.
+    pub total_iterations: usize,
+    /// Steps taken successfully.
+    pub steps: usize,
+    /// Steps on which a fast path fell back to Newton.
+    pub fallback_steps: usize,
+    /// Why the run stopped early, if it did.
+    pub failure: Option<Error>,
+}
+
+impl<const N: usize> Trajectory<N> {
+    /// The last state reached.
+    pub fn last(&self) -> &PhaseState<N> {
+        // Never empty: the initial state is always stored.
+        &self.states[self.states.len() - 1]
+    }
+    /// Mean nonlinear iterations per step.
+    pub fn mean_iterations(&self) -> f64 {
+        if self.steps == 0 {
+            0.0
+        } else {
+            self.total_iterations as f64 / self.steps as f64
+        }
+    }
+    /// `Ok(self)` if the run completed, else the failure.
+    pub fn into_result(self) -> Result<Self> {
+        match self.failure {
+            Some(e) => Err(e),
+            None => Ok(self),
+        }
+    }
+}
+
+/// Take `steps` steps from `initial`, keeping every `every`-th state (and the
+/// last one). A failing step ends the run; the trajectory keeps what was computed.
+pub fn integrate<const N: usize, M: OneStepMap<N> + ?Sized>(
+    map: &mut M,
+    initial: PhaseState<N>,
+    steps: usize,
+    every: usize,
+) -> Trajectory<N> {
+    integrate_observed(map, initial, steps, every, |_, _| {})
+}
+
+/// As [`integrate`], calling `observer(k, state)` after every step `k` (1-based count of steps done).
+pub fn integrate_observed<const N: usize, M: OneStepMap<N> + ?Sized>(
+    map: &mut M,
+    initial: PhaseState<N>,
+    steps: usize,
+    every: usize,
+    mut observer: impl FnMut(usize, &PhaseState<N>),
+) -> Trajectory<N> {
+    let every = every.max(1);
+    let mut traj = Trajectory {
+        states: Vec::with_capacity(steps / every + 2),
+        work: Vec::with_capacity(steps / every + 2),
+        total_iterations: 0,
+        steps: 0,
+        fallback_steps: 0,
+        failure: None,
+    };
+    if let Err(e) = initial.check() {
+        traj.states.push(initial);
+        traj.work.push(0.0);
+        traj.failure = Some(e);
+        return traj;
+    }
+    traj.states.push(initial);
+    traj.work.push(0.0);
+    let mut x = initial;
+    let mut work = 0.0;
+    for k in 0..steps {
+        match map.step(k, &x) {
+            Ok((next, stats)) => {
+                x = next;
+                traj.steps += 1;
+                traj.total_iterations += stats.iterations;
+                traj.fallback_steps += usize::from(stats.fallback);
+                work += stats.work;
+                if (k + 1) % every == 0 || k + 1 == steps {
+                    traj.states.push(x);
+                    traj.work.push(work);
+                }
+                observer(k + 1, &x);
+            }
+            Err(e) => {
+                if traj.states.last() != Some(&x) {
+                    traj.states.push(x);
+                    traj.work.push(work);
+                }
+                traj.failure = Some(e);
+                break;
+            }
+        }
+    }
+    traj
+}

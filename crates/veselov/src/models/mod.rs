@@ -1,0 +1,35 @@
+//! The problem zoo: one file per physical model, with exact solutions and
+//! invariants where known. Models know nothing about integrators or solvers.
+
+pub mod damped_kepler;
+pub mod damped_oscillator;
+pub mod double_pendulum;
+pub mod harmonic;
+pub mod henon_heiles;
+pub mod kepler;
+pub mod pendulum;
+pub mod van_der_pol;
+
+pub use damped_kepler::LinearDrag;
+pub use damped_oscillator::DampedOscillator;
+pub use double_pendulum::DoublePendulum;
+pub use harmonic::HarmonicOscillator;
+pub use henon_heiles::HenonHeiles;
+pub use kepler::Kepler;
+pub use pendulum::Pendulum;
+pub use van_der_pol::VanDerPol;
+
+use crate::error::{Error, Result};
+
+/// Check that a model parameter is finite and strictly positive.
+pub(crate) fn positive(name: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::InvalidParameter {
+            name: name.to_string(),
+            value: value.to_string(),
+            reason: "must be finite and > 0".to_string(),
+        })
+    }
+}

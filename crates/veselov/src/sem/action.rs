@@ -1,0 +1,202 @@
+//! The extended discrete Lagrangian of the symplectic-energy-momentum (SEM)
+//! integrators on `x = (t, q)` (seed 001 §3; note 001 §1, §2.4):
+//!
+//! `S(t₀, q₀, q₁, h) = h Σᵢ bᵢ L(t₀ + cᵢh, (1 − cᵢ)q₀ + cᵢq₁, (q₁ − q₀)/h)`, `t₁ = t₀ + h`,
+//!
+//! i.e. `(t₁ − t₀)·𝕃` with `𝕃` a quadrature of `L` along the straight segment.
+//! The rules: left point (the paper's (3.18): `c = 0`), midpoint (`c = ½`),
+//! trapezoid (`c = 0, 1`) and the Lee-type average (Gauss–Legendre nodes; for
+//! `L = ½vᵀMv − V` it averages `V` along the segment).
+//!
+//! Momenta and energies (note 001 §2.1): `p_k = −∂S/∂q₀`, `p_{k+1} = ∂S/∂q₁`,
+//! `E⁻_k = ∂S/∂t₀|_{t₁} = S_{t₀} − S_h` (leaving), `E⁺_{k+1} = −∂S/∂t₁ = −S_h`
+//! (arriving); autonomous `L`: `E⁻ = E⁺ = E_d = −∂S/∂h`.
+
+use nalgebra::{SMatrix, SVector, Vector2};
+use num_dual::{Dual2SVec64, HyperDualSVec64, partial_hessian};
+
+use crate::ad::{Scalar, lift};
+use crate::error::{Error, Result};
+use crate::mechanics::Lagrangian;
+use crate::tableau;
+
+/// Which quadrature of `L` along the segment defines `𝕃`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SemRule {
+    /// `𝕃 = L(q₀, v)`: the paper's (3.18); first order, fails at turning points.
+    LeftPoint,
+    /// `𝕃 = L((q₀+q₁)/2, v)`: second order, the default.
+    Midpoint,
+    /// `𝕃 = ½[L(q₀, v) + L(q₁, v)]`: second order.
+    Trapezoid,
+    /// `𝕃 = Σ bᵢ L(q₀ + cᵢ(q₁ − q₀), v)` with `s` Gauss–Legendre nodes (Lee-type average).
+    Averaged(usize),
+}
+
+impl SemRule {
+    /// Scenario name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            SemRule::LeftPoint => "sem-leftpoint",
+            SemRule::Midpoint => "sem-midpoint",
+            SemRule::Trapezoid => "sem-trapezoid",
+            SemRule::Averaged(_) => "sem-averaged",
+        }
+    }
+    /// Whether `S(x₁, x₀) = −S(x₀, x₁)`: then the backward step `h = −h_{k−1}` always solves the step equations.
+    pub fn is_symmetric(&self) -> bool {
+        !matches!(self, SemRule::LeftPoint)
+    }
+}
+
+/// All first and second derivatives of `S` needed by the SEM step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ActionDerivatives<const N: usize> {
+    /// `S`.
+    pub value: f64,
+    /// `∂S/∂q₀`.
+    pub q0: SVector<f64, N>,
+    /// `∂S/∂q₁`.
+    pub q1: SVector<f64, N>,
+    /// `∂S/∂t₀` at fixed `h`.
+    pub t0: f64,
+    /// `∂S/∂h` at fixed `t₀`.
+    pub h: f64,
+    /// `∂²S/∂q₀∂q₁`.
+    pub q0q1: SMatrix<f64, N, N>,
+    /// `∂²S/∂q₀∂h`.
+    pub q0h: SVector<f64, N>,
+    /// `∂²S/∂q₀∂t₀`.
+    pub q0t0: SVector<f64, N>,
+    /// `∂²S/∂q₁∂h`.
+    pub q1h: SVector<f64, N>,
+    /// `∂²S/∂q₁∂t₀`.
+    pub q1t0: SVector<f64, N>,
+    /// `∂²S/∂h²`.
+    pub hh: f64,
+    /// `∂²S/∂t₀∂h`.
+    pub t0h: f64,
+}
+
+/// The SEM action `S` of a Lagrangian with a quadrature rule.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SemAction<L, const N: usize> {
+    lagrangian: L,
+    rule: SemRule,
+    nodes: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
+    /// The action of `lagrangian` with `rule`.
+    pub fn new(lagrangian: L, rule: SemRule) -> Result<Self> {
+        let (nodes, weights) = match rule {
+            SemRule::LeftPoint => (vec![0.0], vec![1.0]),
+            SemRule::Midpoint => (vec![0.5], vec![1.0]),
+            SemRule::Trapezoid => (vec![0.0, 1.0], vec![0.5, 0.5]),
+            SemRule::Averaged(s) => {
+                let q = tableau::gauss_legendre(s).map_err(|e| Error::InvalidParameter {
+                    name: "nodes".into(),
+                    value: s.to_string(),
+                    reason: e.to_string(),
+                })?;
+                (q.nodes, q.weights)
+            }
+        };
+        Ok(Self {
+            lagrangian,
+            rule,
+            nodes,
+            weights,
+        })
+    }
+
+    /// The rule.
+    pub fn rule(&self) -> SemRule {
+        self.rule
+    }
+    /// The Lagrangian.
+    pub fn lagrangian(&self) -> &L {
+        &self.lagrangian
+    }
+
+    /// `S(t₀, q₀, q₁, h)` over any scalar.
+    pub fn action<D: Scalar>(&self, t0: D, q0: &SVector<D, N>, q1: &SVector<D, N>, h: D) -> D {
+        let v = (q1 - q0) / h;
+        let mut s = D::from(0.0);
+        for (&c, &b) in self.nodes.iter().zip(&self.weights) {
+            let x = q0 * D::from(1.0 - c) + q1 * D::from(c);
+            s += self.lagrangian.lagrangian(t0 + h * c, &x, &v) * b;
+        }
+        s * h
+    }
+
+    /// Value and derivatives of `S`, exact (four forward-mode passes).
+    pub fn derivatives(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> ActionDerivatives<N> {
+        let th = Vector2::new(t0, h);
+        let (value, s_q0, s_q1, q0q1) = partial_hessian(
+            |(a, b): (SVector<HyperDualSVec64<N, N>, N>, SVector<HyperDualSVec64<N, N>, N>)| {
+                self.action(HyperDualSVec64::from(t0), &a, &b, HyperDualSVec64::from(h))
+            },
+            (q0, q1),
+        );
+        let (_, _, _, q0th) = partial_hessian(
+            |(a, y): (SVector<HyperDualSVec64<N, 2>, N>, SVector<HyperDualSVec64<N, 2>, 2>)| {
+                self.action(y[0], &a, &lift(q1), y[1])
+            },
+            (q0, &th),
+        );
+        let (_, _, _, q1th) = partial_hessian(
+            |(b, y): (SVector<HyperDualSVec64<N, 2>, N>, SVector<HyperDualSVec64<N, 2>, 2>)| {
+                self.action(y[0], &lift(q0), &b, y[1])
+            },
+            (q1, &th),
+        );
+        let (_, g, hess) = num_dual::hessian(
+            |y: SVector<Dual2SVec64<2>, 2>| self.action(y[0], &lift(q0), &lift(q1), y[1]),
+            &th,
+        );
+        ActionDerivatives {
+            value,
+            q0: s_q0,
+            q1: s_q1,
+            t0: g[0],
+            h: g[1],
+            q0q1,
+            q0h: q0th.column(1).into_owned(),
+            q0t0: q0th.column(0).into_owned(),
+            q1h: q1th.column(1).into_owned(),
+            q1t0: q1th.column(0).into_owned(),
+            hh: hess[(1, 1)],
+            t0h: hess[(0, 1)],
+        }
+    }
+
+    /// The arrival momentum and energy `(p₁, E⁺₁) = (∂S/∂q₁, −∂S/∂h)` (one pass).
+    pub fn arrival(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> (SVector<f64, N>, f64) {
+        let hh = nalgebra::Vector1::new(h);
+        let (_, s_q1, s_h, _) = partial_hessian(
+            |(b, y): (SVector<HyperDualSVec64<N, 1>, N>, SVector<HyperDualSVec64<N, 1>, 1>)| {
+                self.action(HyperDualSVec64::from(t0), &lift(q0), &b, y[0])
+            },
+            (q1, &hh),
+        );
+        (s_q1, -s_h[0])
+    }
+
+    /// `S`, `∂S/∂q₀`, `∂S/∂q₁` and `∂²S/∂q₀∂q₁` only (one pass): the fixed-step solve.
+    pub fn momentum_derivatives(
+        &self,
+        t0: f64,
+        q0: &SVector<f64, N>,
+        q1: &SVector<f64, N>,
+        h: f64,
+    ) -> (f64, SVector<f64, N>, SVector<f64, N>, SMatrix<f64, N, N>) {
+        partial_hessian(
+            |(a, b): (SVector<HyperDualSVec64<N, N>, N>, SVector<HyperDualSVec64<N, N>, N>)| {
+                self.action(HyperDualSVec64::from(t0), &a, &b, HyperDualSVec64::from(h))
+            },
+            (q0, q1),
+        )
+    }
+}

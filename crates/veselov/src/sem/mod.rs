@@ -1,0 +1,13 @@
+//! Variable time-step symplectic-energy-momentum (SEM) integrators: discrete
+//! total variation on the extended configuration space `(t, q)` (seed 001;
+//! Kane–Marsden–Ortiz; Lee's discrete mechanics).
+
+pub mod action;
+pub mod bvp;
+pub mod run;
+pub mod stepper;
+
+pub use action::{ActionDerivatives, SemAction, SemRule};
+pub use bvp::solve_lee_bvp;
+pub use run::{SemRun, run_sem};
+pub use stepper::{SemIntegrator, SemOptions, SemState, SemStepInfo, VariableStepMap};

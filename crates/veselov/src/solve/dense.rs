@@ -1,0 +1,194 @@
+//! In-place LU factorisation with partial pivoting on preallocated storage.
+//!
+//! `nalgebra`'s and `faer`'s dense LU either consume and reallocate the matrix
+//! or need a scratch-memory protocol; the Newton steps of the integrators solve
+//! many small (n·s ≲ 60) systems per second and must not allocate, so this
+//! module factors a row-major slice in place. It is the textbook Doolittle
+//! algorithm with row pivoting (Golub & Van Loan, Alg. 3.4.1).
+
+use crate::error::{Error, Result};
+
+/// Factor the `n × n` row-major matrix `a` in place as `P A = L U`, with the
+/// unit lower factor below the diagonal and `U` on and above it. `perm[i]` is
+/// the original row now at position `i`. Returns the smallest pivot magnitude
+/// relative to the largest, or an error if a pivot is exactly zero or not finite.
+pub fn lu_factor_in_place(a: &mut [f64], n: usize, perm: &mut [usize], context: &str) -> Result<f64> {
+    debug_assert_eq!(a.len(), n * n);
+    debug_assert_eq!(perm.len(), n);
+    for (i, p) in perm.iter_mut().enumerate() {
+        *p = i;
+    }
+    let mut min_pivot = f64::INFINITY;
+    let mut max_pivot = 0.0_f64;
+    for k in 0..n {
+        let mut piv = k;
+        let mut best = a[k * n + k].abs();
+        for r in (k + 1)..n {
+            let v = a[r * n + k].abs();
+            if v > best {
+                best = v;
+                piv = r;
+            }
+        }
+        if best == 0.0 || !best.is_finite() {
+            return Err(Error::SingularJacobian {
+                context: context.to_string(),
+                pivot: best,
+            });
+        }
+        min_pivot = min_pivot.min(best);
+        max_pivot = max_pivot.max(best);
+        if piv != k {
+            for c in 0..n {
+                a.swap(k * n + c, piv * n + c);
+            }
+            perm.swap(k, piv);
+        }
+        let inv = 1.0 / a[k * n + k];
+        for r in (k + 1)..n {
+            let f = a[r * n + k] * inv;
+            a[r * n + k] = f;
+            if f != 0.0 {
+                for c in (k + 1)..n {
+                    a[r * n + c] -= f * a[k * n + c];
+                }
+            }
+        }
+    }
+    Ok(if max_pivot > 0.0 { min_pivot / max_pivot } else { 0.0 })
+}
+
+/// Solve `A x = b` in place (`b` becomes `x`) with the factors from
+/// [`lu_factor_in_place`]. `work` must have length `n`.
+pub fn lu_solve_in_place(lu: &[f64], n: usize, perm: &[usize], b: &mut [f64], work: &mut [f64]) {
+    for i in 0..n {
+        work[i] = b[perm[i]];
+    }
+    for i in 0..n {
+        let mut s = work[i];
+        for j in 0..i {
+            s -= lu[i * n + j] * work[j];
+        }
+        work[i] = s;
+    }
+    for i in (0..n).rev() {
+        let mut s = work[i];
+        for j in (i + 1)..n {
+            s -= lu[i * n + j] * work[j];
+        }
+        work[i] = s / lu[i * n + i];
+    }
+    b.copy_from_slice(&work[..n]);
+}
+
+/// Preallocated storage for repeated factor/solve of `n × n` systems.
+#[derive(Debug, Clone)]
+pub struct DenseLu {
+    n: usize,
+    /// Row-major matrix; fill it, then call [`DenseLu::factor`].
+    pub matrix: Vec<f64>,
+    perm: Vec<usize>,
+    work: Vec<f64>,
+}
+
+impl DenseLu {
+    /// Storage for `n × n` systems.
+    pub fn new(n: usize) -> Self {
+        Self {
+            n,
+            matrix: vec![0.0; n * n],
+            perm: vec![0; n],
+            work: vec![0.0; n],
+        }
+    }
+
+    /// Dimension.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// Factor the matrix currently stored; returns the relative smallest pivot.
+    pub fn factor(&mut self, context: &str) -> Result<f64> {
+        lu_factor_in_place(&mut self.matrix, self.n, &mut self.perm, context)
+    }
+
+    /// Solve in place with the factors computed by [`DenseLu::factor`].
+    pub fn solve(&mut self, b: &mut [f64]) {
+        lu_solve_in_place(&self.matrix, self.n, &self.perm, b, &mut self.work);
+    }
+}
+
+/// Solve the small fixed-size system `A x = b` by Gaussian elimination with
+/// partial pivoting, on the stack. Returns `x` and the smallest pivot relative
+/// to the largest (0 when a pivot vanishes, then `x` is meaningless).
+pub fn solve_small<const N: usize>(
+    a: &nalgebra::SMatrix<f64, N, N>,
+    b: &nalgebra::SVector<f64, N>,
+) -> (nalgebra::SVector<f64, N>, f64) {
+    let mut a = *a;
+    let mut x = *b;
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
+    for k in 0..N {
+        let mut piv = k;
+        for r in (k + 1)..N {
+            if a[(r, k)].abs() > a[(piv, k)].abs() {
+                piv = r;
+            }
+        }
+        let p = a[(piv, k)].abs();
+        if p == 0.0 || !p.is_finite() {
+            return (x, 0.0);
+        }
+        lo = lo.min(p);
+        hi = hi.max(p);
+        if piv != k {
+            a.swap_rows(k, piv);
+            x.swap_rows(k, piv);
+        }
+        for r in (k + 1)..N {
+            let f = a[(r, k)] / a[(k, k)];
+            if f != 0.0 {
+                for c in k..N {
+                    a[(r, c)] -= f * a[(k, c)];
+                }
+                x[r] -= f * x[k];
+            }
+        }
+    }
+    for i in (0..N).rev() {
+        let mut s = x[i];
+        for j in (i + 1)..N {
+            s -= a[(i, j)] * x[j];
+        }
+        x[i] = s / a[(i, i)];
+    }
+    (x, if hi > 0.0 { lo / hi } else { 0.0 })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_a_pivoting_system() {
+        // Needs a row swap at the first column.
+        let mut lu = DenseLu::new(3);
+        lu.matrix
+            .copy_from_slice(&[0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0]);
+        let a = lu.matrix.clone();
+        lu.factor("test").expect("regular");
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a[i * 3 + j] * x[j]).sum()).collect();
+        lu.solve(&mut b);
+        for i in 0..3 {
+            assert!((b[i] - x[i]).abs() < 1e-15, "{b:?}");
+        }
+    }
+
+    #[test]
+    fn singular_matrix_is_an_error() {
+        let mut lu = DenseLu::new(2);
+        lu.matrix.copy_from_slice(&[1.0, 2.0, 2.0, 4.0]);
+        assert!(matches!(lu.factor("test"), Err(Error::SingularJacobian { .. })));
+    }
+}

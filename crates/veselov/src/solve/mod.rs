@@ -1,0 +1,8 @@
+//! Solvers: dense LU factorisation in place and Newton's method options and reports.
+
+pub mod dense;
+pub mod newton;
+pub mod scalar;
+
+pub use dense::{DenseLu, lu_factor_in_place, lu_solve_in_place};
+pub use newton::{NewtonOptions, NewtonReport, NewtonStop};

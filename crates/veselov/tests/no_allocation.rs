@@ -1,0 +1,68 @@
+#![allow(unsafe_code)] // a counting global allocator needs `unsafe impl GlobalAlloc`
+//! Fixed-size systems allocate nothing inside a step: a counting global
+//! allocator watches the steps of every method on both paths.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, OneStepMap, SeparableIntegrator};
+use veselov::models::{DoublePendulum, Kepler};
+
+struct Counting;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        // SAFETY: forwarding to the system allocator with the caller's layout.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: `ptr` was allocated by `System` with this layout.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations_in_steps<M: OneStepMap<2>>(map: &mut M, x0: veselov::mechanics::PhaseState<2>) -> usize {
+    let mut x = map.step(0, &x0).expect("first step").0; // warm-up
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    for k in 1..200 {
+        x = map.step(k, &x).expect("step").0;
+    }
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+#[test]
+fn steps_do_not_allocate() {
+    let kepler = Kepler::new(0.6).expect("valid");
+    let h = 2.0 * std::f64::consts::PI / 1000.0;
+    let methods = [
+        Method::Midpoint,
+        Method::Trapezoid,
+        Method::GalerkinLobatto(3),
+        Method::GalerkinGauss(2),
+        Method::GalerkinGauss(4),
+    ];
+    for m in methods {
+        let scheme = || GalerkinScheme::new(m).expect("valid");
+        let mut general = GalerkinIntegrator::new(kepler.system(), scheme(), h).expect("valid");
+        assert_eq!(
+            allocations_in_steps(&mut general, kepler.initial_state()),
+            0,
+            "{m:?} general path"
+        );
+        let mut fast = SeparableIntegrator::new(kepler.system(), scheme(), h).expect("valid");
+        assert_eq!(
+            allocations_in_steps(&mut fast, kepler.initial_state()),
+            0,
+            "{m:?} separable path"
+        );
+        let mut dp = GalerkinIntegrator::new(DoublePendulum::default(), scheme(), 0.01).expect("valid");
+        let x0 =
+            veselov::mechanics::PhaseState::new(0.0, nalgebra::Vector2::new(0.5, -0.5), nalgebra::Vector2::zeros());
+        assert_eq!(allocations_in_steps(&mut dp, x0), 0, "{m:?} double pendulum");
+    }
+}
