@@ -3,6 +3,7 @@
 //! allocator watches the steps of every method on both paths.
 
 use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, OneStepMap, SeparableIntegrator};
@@ -11,9 +12,17 @@ use veselov::models::{DoublePendulum, Kepler};
 struct Counting;
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
 
+thread_local! {
+    /// Only allocations made by the thread under test count (the test
+    /// harness's own threads allocate at unpredictable times).
+    static WATCHED: Cell<bool> = const { Cell::new(false) };
+}
+
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        if WATCHED.with(|w| w.get()) {
+            ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        }
         // SAFETY: forwarding to the system allocator with the caller's layout.
         unsafe { System.alloc(layout) }
     }
@@ -29,9 +38,11 @@ static GLOBAL: Counting = Counting;
 fn allocations_in_steps<M: OneStepMap<2>>(map: &mut M, x0: veselov::mechanics::PhaseState<2>) -> usize {
     let mut x = map.step(0, &x0).expect("first step").0; // warm-up
     let before = ALLOCATIONS.load(Ordering::SeqCst);
+    WATCHED.with(|w| w.set(true));
     for k in 1..200 {
         x = map.step(k, &x).expect("step").0;
     }
+    WATCHED.with(|w| w.set(false));
     ALLOCATIONS.load(Ordering::SeqCst) - before
 }
 
