@@ -48,8 +48,16 @@ pub const MODELS: &[ModelInfo] = &[
         summary: "harmonic oscillator, L = ½ m v² − ½ m ω² q²",
         coordinates: &["q"],
         params: &[
-            Param { name: "mass", default: 1.0, doc: "mass m" },
-            Param { name: "omega", default: 1.0, doc: "angular frequency ω (rad per time unit)" },
+            Param {
+                name: "mass",
+                default: 1.0,
+                doc: "mass m",
+            },
+            Param {
+                name: "omega",
+                default: 1.0,
+                doc: "angular frequency ω (rad per time unit)",
+            },
         ],
         default_initial: "q = [1.0], p = [0.0]",
         symmetries: &[],
@@ -60,9 +68,21 @@ pub const MODELS: &[ModelInfo] = &[
         summary: "simple pendulum, L = ½ m ℓ² θ̇² + m g ℓ cos θ (θ = 0 hangs down)",
         coordinates: &["theta"],
         params: &[
-            Param { name: "mass", default: 1.0, doc: "bob mass m" },
-            Param { name: "length", default: 1.0, doc: "rod length ℓ" },
-            Param { name: "gravity", default: 1.0, doc: "gravitational acceleration g" },
+            Param {
+                name: "mass",
+                default: 1.0,
+                doc: "bob mass m",
+            },
+            Param {
+                name: "length",
+                default: 1.0,
+                doc: "rod length ℓ",
+            },
+            Param {
+                name: "gravity",
+                default: 1.0,
+                doc: "gravitational acceleration g",
+            },
         ],
         default_initial: "q = [1.0] (rad), p = [0.0]",
         symmetries: &[],
@@ -72,7 +92,11 @@ pub const MODELS: &[ModelInfo] = &[
         name: "kepler",
         summary: "Kepler problem, L = ½|v|² + 1/|q| (GM = 1; orbits of semi-major axis 1 have period 2π)",
         coordinates: &["x", "y"],
-        params: &[Param { name: "eccentricity", default: 0.5, doc: "eccentricity e ∈ [0, 1) of the default orbit" }],
+        params: &[Param {
+            name: "eccentricity",
+            default: 0.5,
+            doc: "eccentricity e ∈ [0, 1) of the default orbit",
+        }],
         default_initial: "pericentre of the orbit with eccentricity e: q = [1 − e, 0], p = [0, √((1+e)/(1−e))]",
         symmetries: &["angular"],
         reference: "exact solution (Kepler's equation) from the default initial data; otherwise a fine Gauss s = 5 run",
@@ -91,11 +115,31 @@ pub const MODELS: &[ModelInfo] = &[
         summary: "planar double pendulum (non-separable: mass matrix depends on θ₁ − θ₂)",
         coordinates: &["theta1", "theta2"],
         params: &[
-            Param { name: "m1", default: 1.0, doc: "upper mass" },
-            Param { name: "m2", default: 1.0, doc: "lower mass" },
-            Param { name: "l1", default: 1.0, doc: "upper rod length" },
-            Param { name: "l2", default: 1.0, doc: "lower rod length" },
-            Param { name: "gravity", default: 1.0, doc: "gravitational acceleration g" },
+            Param {
+                name: "m1",
+                default: 1.0,
+                doc: "upper mass",
+            },
+            Param {
+                name: "m2",
+                default: 1.0,
+                doc: "lower mass",
+            },
+            Param {
+                name: "l1",
+                default: 1.0,
+                doc: "upper rod length",
+            },
+            Param {
+                name: "l2",
+                default: 1.0,
+                doc: "lower rod length",
+            },
+            Param {
+                name: "gravity",
+                default: 1.0,
+                doc: "gravitational acceleration g",
+            },
         ],
         default_initial: "q = [0.5, -0.5] (rad), p = [0, 0]",
         symmetries: &[],
@@ -106,9 +150,21 @@ pub const MODELS: &[ModelInfo] = &[
         summary: "damped oscillator, L = ½ m v² − ½ k q², force F = −d v (seed 004, Example 7.2 in one dimension)",
         coordinates: &["q"],
         params: &[
-            Param { name: "mass", default: 1.0, doc: "mass m" },
-            Param { name: "stiffness", default: 1.0, doc: "spring constant k" },
-            Param { name: "damping", default: 0.1, doc: "damping coefficient d (d > 0 dissipates)" },
+            Param {
+                name: "mass",
+                default: 1.0,
+                doc: "mass m",
+            },
+            Param {
+                name: "stiffness",
+                default: 1.0,
+                doc: "spring constant k",
+            },
+            Param {
+                name: "damping",
+                default: 0.1,
+                doc: "damping coefficient d (d > 0 dissipates)",
+            },
         ],
         default_initial: "q = [1.0], p = [0.0]",
         symmetries: &[],
@@ -119,9 +175,21 @@ pub const MODELS: &[ModelInfo] = &[
         summary: "two coupled van der Pol oscillators (seed 004 §7.1), L = ½|v|² − ½[q₁² + (1+ρ)q₂²] − λ(q₁−q₂)², F = ((ε−q₁²)v₁, (ε−q₂²)v₂)",
         coordinates: &["q1", "q2"],
         params: &[
-            Param { name: "epsilon", default: 0.5, doc: "anti-damping strength ε" },
-            Param { name: "rho", default: 0.02, doc: "detuning ρ" },
-            Param { name: "lambda", default: 0.8, doc: "coupling λ" },
+            Param {
+                name: "epsilon",
+                default: 0.5,
+                doc: "anti-damping strength ε",
+            },
+            Param {
+                name: "rho",
+                default: 0.02,
+                doc: "detuning ρ",
+            },
+            Param {
+                name: "lambda",
+                default: 0.8,
+                doc: "coupling λ",
+            },
         ],
         default_initial: "q = [−0.5, −0.25], p = [0, 4] (the paper's)",
         symmetries: &[],
@@ -132,8 +200,16 @@ pub const MODELS: &[ModelInfo] = &[
         summary: "Kepler problem with linear drag F = −c v: the orbit spirals in",
         coordinates: &["x", "y"],
         params: &[
-            Param { name: "eccentricity", default: 0.5, doc: "eccentricity of the initial osculating orbit" },
-            Param { name: "drag", default: 0.01, doc: "drag coefficient c ≥ 0" },
+            Param {
+                name: "eccentricity",
+                default: 0.5,
+                doc: "eccentricity of the initial osculating orbit",
+            },
+            Param {
+                name: "drag",
+                default: 0.01,
+                doc: "drag coefficient c ≥ 0",
+            },
         ],
         default_initial: "pericentre of the orbit with eccentricity e (as for kepler)",
         symmetries: &["angular"],
@@ -235,7 +311,10 @@ pub fn choice(name: &str, stages: Option<usize>, alpha: Option<f64>) -> Result<C
     if let SemRule::Averaged(s) = rule
         && !(1..=10).contains(&s)
     {
-        return Err(("method.stages".into(), format!("sem-averaged needs 1 ≤ stages ≤ 10, got {s}")));
+        return Err((
+            "method.stages".into(),
+            format!("sem-averaged needs 1 ≤ stages ≤ 10, got {s}"),
+        ));
     }
     Ok(Choice::Variable(rule))
 }
@@ -254,18 +333,28 @@ pub fn method(name: &str, stages: Option<usize>, alpha: Option<f64>) -> Result<M
         "midpoint" => no_alpha(no_stages(Method::Midpoint)?)?,
         "trapezoid" => no_alpha(no_stages(Method::Trapezoid)?)?,
         "alpha" => {
-            let a = alpha.ok_or(("method.alpha".to_string(), "method `alpha` needs `alpha` in [0, 1]".to_string()))?;
+            let a = alpha.ok_or((
+                "method.alpha".to_string(),
+                "method `alpha` needs `alpha` in [0, 1]".to_string(),
+            ))?;
             no_stages(Method::Alpha(a))?
         }
         "galerkin-lobatto" => no_alpha(Method::GalerkinLobatto(stages.unwrap_or(3)))?,
         "galerkin-gauss" => no_alpha(Method::GalerkinGauss(stages.unwrap_or(2)))?,
         other => {
             let names: Vec<&str> = METHODS.iter().map(|m| m.name).collect();
-            return Err(("method.name".to_string(), format!("unknown method `{other}`, expected one of: {}", names.join(", "))));
+            return Err((
+                "method.name".to_string(),
+                format!("unknown method `{other}`, expected one of: {}", names.join(", ")),
+            ));
         }
     };
     GalerkinScheme::new(m).map_err(|e| {
-        let key = if matches!(m, Method::Alpha(_)) { "method.alpha" } else { "method.stages" };
+        let key = if matches!(m, Method::Alpha(_)) {
+            "method.alpha"
+        } else {
+            "method.stages"
+        };
         (key.to_string(), e.to_string())
     })?;
     Ok(m)

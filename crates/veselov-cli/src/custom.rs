@@ -24,7 +24,10 @@ fn symbols(scenario: &LoadedScenario, coordinates: &[String], with_velocities: b
         let valid = c.chars().next().is_some_and(|ch| ch.is_ascii_alphabetic() || ch == '_')
             && c.chars().all(|ch| ch.is_ascii_alphanumeric() || ch == '_');
         if !valid || c == "t" {
-            return Err(scenario.key_error("model.coordinates", format!("`{c}` is not a valid coordinate name (letters, digits, _; not `t`)")));
+            return Err(scenario.key_error(
+                "model.coordinates",
+                format!("`{c}` is not a valid coordinate name (letters, digits, _; not `t`)"),
+            ));
         }
         table.variable(c).map_err(key)?;
     }
@@ -82,16 +85,26 @@ pub struct CustomSymmetry<const N: usize> {
 
 impl<const N: usize> CustomSymmetry<N> {
     /// Parse `[model] symmetries.<name>`.
-    pub fn new(scenario: &LoadedScenario, name: &str, generator: &[String], coordinates: &[String]) -> Result<Self, CliError> {
+    pub fn new(
+        scenario: &LoadedScenario,
+        name: &str,
+        generator: &[String],
+        coordinates: &[String],
+    ) -> Result<Self, CliError> {
         let key = format!("model.symmetries.{name}");
         if generator.len() != N {
-            return Err(scenario.key_error(&key, format!("expected {N} expressions (one per coordinate), got {}", generator.len())));
+            return Err(scenario.key_error(
+                &key,
+                format!("expected {N} expressions (one per coordinate), got {}", generator.len()),
+            ));
         }
         let table = symbols(scenario, coordinates, false)?;
         let components = generator
             .iter()
             .enumerate()
-            .map(|(i, src)| Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("{key}[{i}]"), format!("\n{e}"))))
+            .map(|(i, src)| {
+                Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("{key}[{i}]"), format!("\n{e}")))
+            })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self {
             name: name.to_string(),
@@ -121,13 +134,18 @@ impl<const N: usize> CustomForce<N> {
     /// Parse `[model] force`.
     pub fn new(scenario: &LoadedScenario, force: &[String], coordinates: &[String]) -> Result<Self, CliError> {
         if force.len() != N {
-            return Err(scenario.key_error("model.force", format!("expected {N} expressions (one per coordinate), got {}", force.len())));
+            return Err(scenario.key_error(
+                "model.force",
+                format!("expected {N} expressions (one per coordinate), got {}", force.len()),
+            ));
         }
         let table = symbols(scenario, coordinates, true)?;
         let components = force
             .iter()
             .enumerate()
-            .map(|(i, src)| Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("model.force[{i}]"), format!("\n{e}"))))
+            .map(|(i, src)| {
+                Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("model.force[{i}]"), format!("\n{e}")))
+            })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self { components })
     }

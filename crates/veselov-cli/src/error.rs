@@ -34,11 +34,19 @@ pub enum CliError {
         message: String,
     },
     /// The output directory already holds files.
-    #[error("output directory {} is not empty; choose another with --out or pass --force to overwrite", .0.display())]
-    OutputNotEmpty(PathBuf),
+    #[error("output directory {} is not empty; choose another with --out or pass --force to overwrite", dir.display())]
+    OutputNotEmpty {
+        /// The directory.
+        dir: PathBuf,
+    },
     /// The integration failed; partial outputs were written.
-    #[error("run failed: {0} (partial results written to {})", .1.display())]
-    Run(veselov::Error, PathBuf),
+    #[error("run failed: {error} (partial results written to {})", dir.display())]
+    Run {
+        /// What stopped the run.
+        error: veselov::Error,
+        /// Where the partial results are.
+        dir: PathBuf,
+    },
     /// A library error outside a run (setting up the system or method).
     #[error("{0}")]
     Setup(String),

@@ -27,7 +27,11 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
             y_label: "|E(t) − E(0)|",
             x_scale: Scale::Linear,
             y_scale: Scale::Log,
-            series: vec![Series { label: "energy", x: &t, y: &err }],
+            series: vec![Series {
+                label: "energy",
+                x: &t,
+                y: &err,
+            }],
             markers: false,
             equal_aspect: false,
         };
@@ -50,7 +54,10 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
             y_label: "|J(t) − J(0)|",
             x_scale: Scale::Linear,
             y_scale: Scale::Log,
-            series: momenta.iter().map(|(name, y)| Series { label: name, x: &t, y }).collect(),
+            series: momenta
+                .iter()
+                .map(|(name, y)| Series { label: name, x: &t, y })
+                .collect(),
             markers: false,
             equal_aspect: false,
         };
@@ -63,7 +70,11 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
             y_label: "p0",
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
-            series: vec![Series { label: "(q0, p0)", x: &q0, y: &p0 }],
+            series: vec![Series {
+                label: "(q0, p0)",
+                x: &q0,
+                y: &p0,
+            }],
             markers: false,
             equal_aspect: false,
         };
@@ -78,7 +89,11 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
             y_label: "q1",
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
-            series: vec![Series { label: "orbit", x: &q0, y: &q1 }],
+            series: vec![Series {
+                label: "orbit",
+                x: &q0,
+                y: &q1,
+            }],
             markers: false,
             equal_aspect: true,
         };
@@ -88,9 +103,19 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
 }
 
 /// Log-log plot of a convergence study with a reference slope.
-pub fn draw_convergence(path: &Path, dt: &[f64], err: &[f64], order: usize, fitted: Option<f64>) -> Result<(), CliError> {
+pub fn draw_convergence(
+    path: &Path,
+    dt: &[f64],
+    err: &[f64],
+    order: usize,
+    fitted: Option<f64>,
+) -> Result<(), CliError> {
     // Reference line h^order through the smallest-h point with a usable error.
-    let anchor = dt.iter().zip(err).filter(|(_, e)| **e > 0.0 && e.is_finite()).min_by(|a, b| a.0.total_cmp(b.0));
+    let anchor = dt
+        .iter()
+        .zip(err)
+        .filter(|(_, e)| **e > 0.0 && e.is_finite())
+        .min_by(|a, b| a.0.total_cmp(b.0));
     let reference: Vec<f64> = match anchor {
         Some((&h0, &e0)) => dt.iter().map(|h| e0 * (h / h0).powi(order as i32)).collect(),
         None => vec![f64::NAN; dt.len()],
@@ -106,7 +131,18 @@ pub fn draw_convergence(path: &Path, dt: &[f64], err: &[f64], order: usize, fitt
         y_label: "max error in (q, p)",
         x_scale: Scale::Log,
         y_scale: Scale::Log,
-        series: vec![Series { label: &measured, x: dt, y: err }, Series { label: &slope, x: dt, y: &reference }],
+        series: vec![
+            Series {
+                label: &measured,
+                x: dt,
+                y: err,
+            },
+            Series {
+                label: &slope,
+                x: dt,
+                y: &reference,
+            },
+        ],
         markers: true,
         equal_aspect: false,
     };

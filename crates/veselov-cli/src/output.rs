@@ -57,7 +57,12 @@ impl Table {
         let mut lines = r.lines();
         let header: Vec<String> = match lines.next() {
             Some(h) => h.map_err(io(path))?.split(',').map(|s| s.trim().to_string()).collect(),
-            None => return Err(CliError::Io { path: path.to_path_buf(), message: "empty file".into() }),
+            None => {
+                return Err(CliError::Io {
+                    path: path.to_path_buf(),
+                    message: "empty file".into(),
+                });
+            }
         };
         let mut rows = Vec::new();
         for (k, line) in lines.enumerate() {
@@ -69,7 +74,10 @@ impl Table {
                 .split(',')
                 .map(|s| s.trim().parse::<f64>())
                 .collect::<Result<Vec<f64>, _>>()
-                .map_err(|e| CliError::Io { path: path.to_path_buf(), message: format!("line {}: {e}", k + 2) })?;
+                .map_err(|e| CliError::Io {
+                    path: path.to_path_buf(),
+                    message: format!("line {}: {e}", k + 2),
+                })?;
             if row.len() != header.len() {
                 return Err(CliError::Io {
                     path: path.to_path_buf(),
@@ -84,7 +92,8 @@ impl Table {
     /// Write as a 2-D float64 `.npy` array (rows × columns).
     pub fn write_npy(&self, path: &Path) -> Result<(), CliError> {
         let mut w = BufWriter::new(File::create(path).map_err(io(path))?);
-        w.write_all(&npy_header(self.rows.len(), self.header.len())).map_err(io(path))?;
+        w.write_all(&npy_header(self.rows.len(), self.header.len()))
+            .map_err(io(path))?;
         for row in &self.rows {
             for x in row {
                 w.write_all(&x.to_le_bytes()).map_err(io(path))?;
@@ -108,7 +117,10 @@ pub fn npy_header(rows: usize, cols: usize) -> Vec<u8> {
 
 /// Write pretty JSON.
 pub fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), CliError> {
-    let text = serde_json::to_string_pretty(value).map_err(|e| CliError::Io { path: path.to_path_buf(), message: e.to_string() })?;
+    let text = serde_json::to_string_pretty(value).map_err(|e| CliError::Io {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
     std::fs::write(path, text + "\n").map_err(io(path))
 }
 
@@ -117,7 +129,7 @@ pub fn prepare_dir(dir: &Path, force: bool) -> Result<PathBuf, CliError> {
     if dir.exists() {
         let mut entries = std::fs::read_dir(dir).map_err(io(dir))?;
         if entries.next().is_some() && !force {
-            return Err(CliError::OutputNotEmpty(dir.to_path_buf()));
+            return Err(CliError::OutputNotEmpty { dir: dir.to_path_buf() });
         }
     } else {
         std::fs::create_dir_all(dir).map_err(io(dir))?;

@@ -38,13 +38,19 @@ pub fn resolve_method(scenario: &LoadedScenario) -> Result<Method, CliError> {
         Choice::Fixed(m) => Ok(m),
         Choice::Variable(rule) => Err(scenario.key_error(
             "method.name",
-            format!("`{}` is a variable-step method; this command needs a fixed-step one", rule.name()),
+            format!(
+                "`{}` is a variable-step method; this command needs a fixed-step one",
+                rule.name()
+            ),
         )),
     }
 }
 
 /// The scenario's initial state (or the model's default), with dimension checks.
-pub fn resolve_initial<const N: usize>(scenario: &LoadedScenario, system: &System<N>) -> Result<PhaseState<N>, CliError> {
+pub fn resolve_initial<const N: usize>(
+    scenario: &LoadedScenario,
+    system: &System<N>,
+) -> Result<PhaseState<N>, CliError> {
     let t0 = scenario.scenario.time.t0;
     let Some(init) = &scenario.scenario.initial else {
         return match system.default_initial {
@@ -57,7 +63,11 @@ pub fn resolve_initial<const N: usize>(scenario: &LoadedScenario, system: &Syste
         if x.len() != N {
             return Err(scenario.key_error(
                 key,
-                format!("expected {N} values (model `{}` has coordinates {coords}), got {}", system.model, x.len()),
+                format!(
+                    "expected {N} values (model `{}` has coordinates {coords}), got {}",
+                    system.model,
+                    x.len()
+                ),
             ));
         }
         Ok(SVector::from_column_slice(x))
@@ -65,7 +75,8 @@ pub fn resolve_initial<const N: usize>(scenario: &LoadedScenario, system: &Syste
     let q = vector("initial.q", &init.q)?;
     match (&init.p, &init.v) {
         (Some(p), _) => Ok(PhaseState::new(t0, q, vector("initial.p", p)?)),
-        (None, Some(v)) => (system.from_velocity)(t0, q, vector("initial.v", v)?).map_err(|e| scenario.key_error("initial.v", e.to_string())),
+        (None, Some(v)) => (system.from_velocity)(t0, q, vector("initial.v", v)?)
+            .map_err(|e| scenario.key_error("initial.v", e.to_string())),
         (None, None) => Err(scenario.key_error("initial", "missing `p` or `v`")),
     }
 }
@@ -114,13 +125,22 @@ impl Job for RunJob {
 }
 
 impl RunJob {
-    fn run_fixed<const N: usize>(self, scenario: &LoadedScenario, system: System<N>, method: Method) -> Result<(), CliError> {
+    fn run_fixed<const N: usize>(
+        self,
+        scenario: &LoadedScenario,
+        system: System<N>,
+        method: Method,
+    ) -> Result<(), CliError> {
         let start = Instant::now();
         let x0 = resolve_initial(scenario, &system)?;
         let e0 = (system.energy)(&x0);
         if !e0.is_finite() {
             return Err(scenario.key_error(
-                if system.model == "custom" { "model.lagrangian" } else { "initial" },
+                if system.model == "custom" {
+                    "model.lagrangian"
+                } else {
+                    "initial"
+                },
                 "the energy is not finite at the initial state (is the Lagrangian defined and regular there?)",
             ));
         }
@@ -138,7 +158,11 @@ impl RunJob {
         if failure.is_none()
             && let Some(k) = table.rows.iter().position(|r| !r[energy_col].is_finite())
         {
-            failure = Some(veselov::Error::NonFiniteState { step: k * every, t: table.rows[k][0], what: "energy".into() });
+            failure = Some(veselov::Error::NonFiniteState {
+                step: k * every,
+                t: table.rows[k][0],
+                what: "energy".into(),
+            });
             table.rows.truncate(k + 1);
         }
         write_outputs(scenario, &dir, &table)?;
@@ -154,7 +178,10 @@ impl RunJob {
             .collect();
         let scheme = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?;
         let work: Vec<f64> = traj.work[..table.rows.len()].to_vec();
-        let balance = energies.iter().zip(&work).fold(0.0_f64, |m, (e, w)| m.max((e - e0 - w).abs()));
+        let balance = energies
+            .iter()
+            .zip(&work)
+            .fold(0.0_f64, |m, (e, w)| m.max((e - e0 - w).abs()));
         let mut summary = json!({
             "status": if failure.is_none() { "ok" } else { "error" },
             "error": failure.as_ref().map(|e| e.to_string()),
@@ -195,7 +222,7 @@ impl RunJob {
             );
         }
         match failure {
-            Some(e) => Err(CliError::Run(e, dir)),
+            Some(error) => Err(CliError::Run { error, dir }),
             None => Ok(()),
         }
     }
@@ -204,12 +231,21 @@ impl RunJob {
 impl RunJob {
     /// A variable-step SEM run: `dt` is the first step, the run stops at the first `t_k ≥ t_end`
     /// (or after `steps` steps).
-    fn run_variable<const N: usize>(self, scenario: &LoadedScenario, system: System<N>, rule: SemRule) -> Result<(), CliError> {
+    fn run_variable<const N: usize>(
+        self,
+        scenario: &LoadedScenario,
+        system: System<N>,
+        rule: SemRule,
+    ) -> Result<(), CliError> {
         let start = Instant::now();
         let Some(make) = &system.make_sem else {
             return Err(scenario.key_error(
                 "method.name",
-                format!("`{}` conserves energy and cannot integrate the forced model `{}`", rule.name(), system.model),
+                format!(
+                    "`{}` conserves energy and cannot integrate the forced model `{}`",
+                    rule.name(),
+                    system.model
+                ),
             ));
         };
         let x0 = resolve_initial(scenario, &system)?;
@@ -278,10 +314,15 @@ impl RunJob {
             figures::draw_all(&dir, &table, N, &scenario.scenario.output.plot_format)?;
         }
         if !self.quiet {
-            eprintln!("{}: {} steps to t = {last}, outputs in {}", rule.name(), steps.len(), dir.display());
+            eprintln!(
+                "{}: {} steps to t = {last}, outputs in {}",
+                rule.name(),
+                steps.len(),
+                dir.display()
+            );
         }
         match run.failure {
-            Some(e) => Err(CliError::Run(e, dir)),
+            Some(error) => Err(CliError::Run { error, dir }),
             None => Ok(()),
         }
     }

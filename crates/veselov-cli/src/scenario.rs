@@ -179,7 +179,11 @@ impl LoadedScenario {
     fn finite(&self, key: &str, values: &[f64]) -> Result<(), CliError> {
         for (i, v) in values.iter().enumerate() {
             if !v.is_finite() {
-                let k = if values.len() > 1 { format!("{key}[{i}]") } else { key.to_string() };
+                let k = if values.len() > 1 {
+                    format!("{key}[{i}]")
+                } else {
+                    key.to_string()
+                };
                 return Err(self.key_error(&k, format!("expected a finite number, got {v}")));
             }
         }
@@ -196,7 +200,10 @@ impl LoadedScenario {
             (Some(_), Some(_)) => return Err(self.key_error("time", "give either `t_end` or `steps`, not both")),
             (None, None) => return Err(self.key_error("time", "missing `t_end` or `steps`")),
             (Some(t), None) if !(t.is_finite() && t > s.time.t0) => {
-                return Err(self.key_error("time.t_end", format!("expected a finite number > t0 = {}, got {t}", s.time.t0)));
+                return Err(self.key_error(
+                    "time.t_end",
+                    format!("expected a finite number > t0 = {}, got {t}", s.time.t0),
+                ));
             }
             (None, Some(0)) => return Err(self.key_error("time.steps", "expected at least 1 step")),
             _ => {}
@@ -222,13 +229,19 @@ impl LoadedScenario {
         }
         for f in &s.output.formats {
             if f != "csv" && f != "npy" {
-                return Err(self.key_error("output.formats", format!("unknown format `{f}`, expected \"csv\" or \"npy\"")));
+                return Err(self.key_error(
+                    "output.formats",
+                    format!("unknown format `{f}`, expected \"csv\" or \"npy\""),
+                ));
             }
         }
         if s.output.plot_format != "svg" && s.output.plot_format != "png" {
             return Err(self.key_error(
                 "output.plot_format",
-                format!("unknown plot format `{}`, expected \"svg\" or \"png\"", s.output.plot_format),
+                format!(
+                    "unknown plot format `{}`, expected \"svg\" or \"png\"",
+                    s.output.plot_format
+                ),
             ));
         }
         Ok(())
@@ -243,7 +256,11 @@ impl LoadedScenario {
                 let n = (t_end - s.time.t0) / s.method.dt;
                 // Tolerate round-off in t_end/dt (e.g. 1.0/0.1 = 9.999999999999998).
                 let r = n.round();
-                let n = if (n - r).abs() <= 1e-9 * r.max(1.0) { r } else { n.ceil() };
+                let n = if (n - r).abs() <= 1e-9 * r.max(1.0) {
+                    r
+                } else {
+                    n.ceil()
+                };
                 n.max(1.0) as u64
             }
             (None, None) => 1,
@@ -258,7 +275,11 @@ impl LoadedScenario {
         if let Some(d) = &self.scenario.output.dir {
             return d.clone();
         }
-        let stem = self.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
+        let stem = self
+            .path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "run".into());
         PathBuf::from("out").join(stem)
     }
 }

@@ -7,11 +7,12 @@ use std::rc::Rc;
 use nalgebra::{Matrix1, SVector, Vector1, Vector2};
 use veselov::mechanics::{
     Force, GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, NoForce, OneStepMap, PhaseState, Potential,
-    SeparableIntegrator,
-    SeparableLagrangian, Symmetry, energy, momentum_map, velocity_from_momentum,
+    SeparableIntegrator, SeparableLagrangian, Symmetry, energy, momentum_map, velocity_from_momentum,
+};
+use veselov::models::{
+    DampedOscillator, DoublePendulum, HarmonicOscillator, HenonHeiles, Kepler, LinearDrag, Pendulum, VanDerPol,
 };
 use veselov::sem::{SemAction, SemIntegrator, SemRule, VariableStepMap};
-use veselov::models::{DampedOscillator, DoublePendulum, HarmonicOscillator, HenonHeiles, Kepler, LinearDrag, Pendulum, VanDerPol};
 
 use crate::catalog;
 use crate::custom::{CustomForce, CustomLagrangian, CustomSymmetry, MAX_DIMENSION};
@@ -25,7 +26,8 @@ pub type StateFn<const N: usize> = Box<dyn Fn(&PhaseState<N>) -> f64>;
 /// The exact state at time `t` from an initial state, where known.
 pub type ExactFn<const N: usize> = Box<dyn Fn(&PhaseState<N>, f64) -> Option<PhaseState<N>>>;
 /// Initial state from `(t, q, v)`.
-pub type FromVelocity<const N: usize> = Box<dyn Fn(f64, SVector<f64, N>, SVector<f64, N>) -> veselov::Result<PhaseState<N>>>;
+pub type FromVelocity<const N: usize> =
+    Box<dyn Fn(f64, SVector<f64, N>, SVector<f64, N>) -> veselov::Result<PhaseState<N>>>;
 
 /// A system ready to integrate, with its diagnostics.
 pub struct System<const N: usize> {
@@ -56,8 +58,9 @@ pub type SemFactory<const N: usize> = Box<dyn Fn(SemRule) -> veselov::Result<Box
 
 fn sem_factory<const N: usize, L: Lagrangian<N> + Clone + 'static>(l: Rc<L>, forced: bool) -> Option<SemFactory<N>> {
     (!forced).then(|| {
-        Box::new(move |rule| Ok(Box::new(SemIntegrator::new(SemAction::new((*l).clone(), rule)?)) as Box<dyn VariableStepMap<N>>))
-            as SemFactory<N>
+        Box::new(move |rule| {
+            Ok(Box::new(SemIntegrator::new(SemAction::new((*l).clone(), rule)?)) as Box<dyn VariableStepMap<N>>)
+        }) as SemFactory<N>
     })
 }
 
@@ -68,10 +71,12 @@ pub trait Job {
 }
 
 fn general_energy<const N: usize, L: Lagrangian<N> + 'static>(l: Rc<L>) -> StateFn<N> {
-    Box::new(move |x: &PhaseState<N>| match velocity_from_momentum(&*l, x.t, &x.q, &x.p) {
-        Ok(v) => energy(&*l, x.t, &x.q, &v),
-        Err(_) => f64::NAN,
-    })
+    Box::new(
+        move |x: &PhaseState<N>| match velocity_from_momentum(&*l, x.t, &x.q, &x.p) {
+            Ok(v) => energy(&*l, x.t, &x.q, &v),
+            Err(_) => f64::NAN,
+        },
+    )
 }
 
 fn from_velocity<const N: usize, L: Lagrangian<N> + 'static>(l: Rc<L>) -> FromVelocity<N> {
@@ -133,7 +138,10 @@ fn general<const N: usize, L: Lagrangian<N> + Clone + 'static, F: Force<N> + Clo
 }
 
 fn symmetry_fn<const N: usize, S: Symmetry<N> + 'static>(s: S) -> (String, StateFn<N>) {
-    (s.name().to_string(), Box::new(move |x: &PhaseState<N>| momentum_map(&s, &x.q, &x.p)))
+    (
+        s.name().to_string(),
+        Box::new(move |x: &PhaseState<N>| momentum_map(&s, &x.q, &x.p)),
+    )
 }
 
 /// Resolve model parameters against the catalogue: unknown keys are errors, missing ones take defaults.
@@ -142,14 +150,25 @@ fn params(scenario: &LoadedScenario, info: &catalog::ModelInfo) -> Result<BTreeM
     for key in given.keys() {
         if !info.params.iter().any(|p| p.name == key) {
             let known: Vec<&str> = info.params.iter().map(|p| p.name).collect();
-            let expected = if known.is_empty() { "this model has no parameters".to_string() } else { format!("expected one of: {}", known.join(", ")) };
-            return Err(scenario.key_error(&format!("model.params.{key}"), format!("unknown parameter for model `{}`; {expected}", info.name)));
+            let expected = if known.is_empty() {
+                "this model has no parameters".to_string()
+            } else {
+                format!("expected one of: {}", known.join(", "))
+            };
+            return Err(scenario.key_error(
+                &format!("model.params.{key}"),
+                format!("unknown parameter for model `{}`; {expected}", info.name),
+            ));
         }
     }
-    Ok(info.params.iter().map(|p| (p.name, given.get(p.name).copied().unwrap_or(p.default))).collect())
+    Ok(info
+        .params
+        .iter()
+        .map(|p| (p.name, given.get(p.name).copied().unwrap_or(p.default)))
+        .collect())
 }
 
-fn setup(scenario: &LoadedScenario, key: &str) -> impl Fn(veselov::Error) -> CliError + '_ {
+fn setup<'a>(scenario: &'a LoadedScenario, key: &str) -> impl Fn(veselov::Error) -> CliError + 'a {
     let key = key.to_string();
     move |e| scenario.key_error(&key, e.to_string())
 }
@@ -165,7 +184,13 @@ fn reject_custom_keys(scenario: &LoadedScenario) -> Result<(), CliError> {
     ];
     for (key, present) in custom_keys {
         if present {
-            return Err(scenario.key_error(&format!("model.{key}"), format!("only valid with name = \"custom\", not with the built-in model `{}`", m.name)));
+            return Err(scenario.key_error(
+                &format!("model.{key}"),
+                format!(
+                    "only valid with name = \"custom\", not with the built-in model `{}`",
+                    m.name
+                ),
+            ));
         }
     }
     Ok(())
@@ -176,7 +201,10 @@ pub fn dispatch<J: Job>(scenario: &LoadedScenario, job: J) -> Result<(), CliErro
     let name = scenario.scenario.model.name.as_str();
     let Some(info) = catalog::model(name) else {
         let names: Vec<&str> = catalog::MODELS.iter().map(|m| m.name).collect();
-        return Err(scenario.key_error("model.name", format!("unknown model `{name}`, expected one of: {}", names.join(", "))));
+        return Err(scenario.key_error(
+            "model.name",
+            format!("unknown model `{name}`, expected one of: {}", names.join(", ")),
+        ));
     };
     if name == "custom" {
         return dispatch_custom(scenario, job);
@@ -220,8 +248,14 @@ pub fn dispatch<J: Job>(scenario: &LoadedScenario, job: J) -> Result<(), CliErro
             job.run(scenario, s)
         }
         "double-pendulum" => {
-            let model = DoublePendulum::new(p["m1"], p["m2"], p["l1"], p["l2"], p["gravity"]).map_err(setup(scenario, "model.params"))?;
-            let mut s = general("double-pendulum", info.coordinates.iter().map(|c| c.to_string()).collect(), model, NoForce);
+            let model = DoublePendulum::new(p["m1"], p["m2"], p["l1"], p["l2"], p["gravity"])
+                .map_err(setup(scenario, "model.params"))?;
+            let mut s = general(
+                "double-pendulum",
+                info.coordinates.iter().map(|c| c.to_string()).collect(),
+                model,
+                NoForce,
+            );
             s.default_initial = Some(PhaseState::new(0.0, Vector2::new(0.5, -0.5), Vector2::zeros()));
             job.run(scenario, s)
         }
@@ -256,7 +290,12 @@ fn custom_system<const N: usize>(scenario: &LoadedScenario) -> Result<System<N>,
     let coordinates = m.coordinates.clone().unwrap_or_default();
     let lagrangian = CustomLagrangian::<N>::new(scenario, &coordinates)?;
     let mut system = match &m.force {
-        Some(f) => general("custom", coordinates.clone(), lagrangian, CustomForce::<N>::new(scenario, f, &coordinates)?),
+        Some(f) => general(
+            "custom",
+            coordinates.clone(),
+            lagrangian,
+            CustomForce::<N>::new(scenario, f, &coordinates)?,
+        ),
         None => general("custom", coordinates.clone(), lagrangian, NoForce),
     };
     for (name, generator) in &m.symmetries {

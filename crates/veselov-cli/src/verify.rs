@@ -30,7 +30,11 @@ pub struct VerifyJob {
     pub quiet: bool,
 }
 
-fn run_to<const N: usize>(map: &mut dyn OneStepMap<N>, x0: PhaseState<N>, steps: usize) -> Result<PhaseState<N>, veselov::Error> {
+fn run_to<const N: usize>(
+    map: &mut dyn OneStepMap<N>,
+    x0: PhaseState<N>,
+    steps: usize,
+) -> Result<PhaseState<N>, veselov::Error> {
     let traj = integrate(map, x0, steps, steps.max(1));
     match traj.failure {
         Some(e) => Err(e),
@@ -41,7 +45,9 @@ fn run_to<const N: usize>(map: &mut dyn OneStepMap<N>, x0: PhaseState<N>, steps:
 impl Job for VerifyJob {
     fn run<const N: usize>(self, scenario: &LoadedScenario, system: System<N>) -> Result<(), CliError> {
         let method = resolve_method(scenario)?;
-        let order = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?.order();
+        let order = GalerkinScheme::new(method)
+            .map_err(|e| CliError::Setup(e.to_string()))?
+            .order();
         let x0 = resolve_initial(scenario, &system)?;
         let t0 = x0.t;
         let t_end = match scenario.scenario.time.t_end {
@@ -56,7 +62,9 @@ impl Job for VerifyJob {
                 return Err(CliError::Key {
                     file: scenario.path.clone(),
                     key: "--dt".into(),
-                    message: format!("{dt} does not divide the horizon t_end − t0 = {span} into a whole number of steps"),
+                    message: format!(
+                        "{dt} does not divide the horizon t_end − t0 = {span} into a whole number of steps"
+                    ),
                 });
             }
             steps.push(n.round() as usize);
@@ -66,13 +74,24 @@ impl Job for VerifyJob {
             None => {
                 let h_min = self.dts.iter().copied().fold(f64::INFINITY, f64::min);
                 let n = (span / (h_min / 16.0)).ceil() as usize;
-                let mut map = (system.make_map)(Method::GalerkinGauss(5), span / n as f64).map_err(|e| CliError::Setup(e.to_string()))?;
-                let x = run_to(map.as_mut(), x0, n).map_err(|e| CliError::Setup(format!("reference run failed: {e}")))?;
+                let mut map = (system.make_map)(Method::GalerkinGauss(5), span / n as f64)
+                    .map_err(|e| CliError::Setup(e.to_string()))?;
+                let x =
+                    run_to(map.as_mut(), x0, n).map_err(|e| CliError::Setup(format!("reference run failed: {e}")))?;
                 (x, format!("galerkin-gauss s = 5, {n} steps"))
             }
         };
-        let dir = prepare_dir(&self.out.clone().unwrap_or_else(|| scenario.output_dir(None).join("verify")), self.force)?;
-        let mut table = Table { header: vec!["dt".into(), "steps".into(), "error".into()], rows: Vec::new() };
+        let dir = prepare_dir(
+            &self
+                .out
+                .clone()
+                .unwrap_or_else(|| scenario.output_dir(None).join("verify")),
+            self.force,
+        )?;
+        let mut table = Table {
+            header: vec!["dt".into(), "steps".into(), "error".into()],
+            rows: Vec::new(),
+        };
         if !self.quiet {
             println!("reference: {source}; method {} (order {order})", method.name());
             println!("{:>14} {:>10} {:>14} {:>8}", "dt", "steps", "error", "rate");
@@ -103,7 +122,11 @@ impl Job for VerifyJob {
         let fit = fit_order(&dts, &errs, 1e-13 * scale);
         if !self.quiet {
             match &fit {
-                Some(f) => println!("fitted order {:.3} over {} points (claimed {order})", f.order, f.used.len()),
+                Some(f) => println!(
+                    "fitted order {:.3} over {} points (claimed {order})",
+                    f.order,
+                    f.used.len()
+                ),
                 None => println!("too few points above the round-off floor to fit an order"),
             }
         }

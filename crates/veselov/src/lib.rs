@@ -35,6 +35,7 @@
 pub mod ad;
 pub mod diagnostics;
 pub mod error;
+pub mod expr;
 pub mod mechanics;
 pub mod models;
 pub mod sem;

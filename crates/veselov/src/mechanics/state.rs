@@ -169,7 +169,9 @@ pub fn integrate_observed<const N: usize, M: OneStepMap<N> + ?Sized>(
     let mut work = 0.0;
     for k in 0..steps {
         match map.step(k, &x) {
-            Ok((next, stats)) => {
+            Ok((mut next, stats)) => {
+                // t_k = t₀ + k·h, free of the round-off of repeated addition.
+                next.t = initial.t + (k + 1) as f64 * map.step_size();
                 x = next;
                 traj.steps += 1;
                 traj.total_iterations += stats.iterations;
