@@ -54,6 +54,23 @@ pub fn fit_order(h: &[f64], error: &[f64], floor: f64) -> Option<OrderFit> {
     })
 }
 
+/// Fit over the asymptotic range: the `points` smallest steps whose error
+/// lies in `(floor, upper]` — below `floor` is the round-off plateau, above
+/// `upper` the pre-asymptotic regime. Returns `None` with fewer than two.
+pub fn fit_order_asymptotic(h: &[f64], error: &[f64], floor: f64, upper: f64, points: usize) -> Option<OrderFit> {
+    let mut idx: Vec<usize> = (0..h.len().min(error.len()))
+        .filter(|&i| error[i].is_finite() && error[i] > floor && error[i] <= upper)
+        .collect();
+    idx.sort_by(|&a, &b| h[a].total_cmp(&h[b]));
+    idx.truncate(points);
+    let hs: Vec<f64> = idx.iter().map(|&i| h[i]).collect();
+    let es: Vec<f64> = idx.iter().map(|&i| error[i]).collect();
+    let mut fit = fit_order(&hs, &es, floor)?;
+    fit.used = fit.used.iter().map(|&k| idx[k]).collect();
+    fit.used.sort_unstable();
+    Some(fit)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -66,5 +83,10 @@ mod tests {
         assert!((fit.order - 4.0).abs() < 1e-12, "{fit:?}");
         assert!(fit.used.len() < 8);
         assert!(fit_order(&h[..1], &e[..1], 0.0).is_none());
+        // Pre-asymptotic large steps (order 6 there) are excluded by `upper`.
+        let e2: Vec<f64> = h.iter().map(|h| 3.0 * h.powi(4) + 50.0 * h.powi(6)).collect();
+        let fit = fit_order_asymptotic(&h, &e2, 1e-12, 1e-2, 3).expect("enough points");
+        assert!((fit.order - 4.0).abs() < 0.05, "{fit:?}");
+        assert_eq!(fit.used, vec![5, 6, 7]);
     }
 }

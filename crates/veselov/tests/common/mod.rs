@@ -1,7 +1,7 @@
 //! Shared helpers of the integration tests.
 #![allow(dead_code)]
 
-use veselov::diagnostics::{OrderFit, fit_order};
+use veselov::diagnostics::{OrderFit, fit_order_asymptotic};
 use veselov::mechanics::{GalerkinScheme, Method, OneStepMap, PhaseState, integrate};
 
 /// Every method of the core with its claimed order.
@@ -70,16 +70,21 @@ pub fn floor(n: usize) -> f64 {
 /// Fit over the `FIT_POINTS` smallest steps `h` whose error lies in
 /// `(floor(n), upper_for(order)]`, `n` the step count over a horizon `t_end = n·h`.
 pub fn fit_asymptotic(table: &[(f64, f64)], t_end: f64, order: usize) -> Option<OrderFit> {
-    let upper = upper_for(order);
-    let mut pts: Vec<(f64, f64)> = table
+    // Mask per point with its own round-off floor, then fit the asymptotic range.
+    let (h, e): (Vec<f64>, Vec<f64>) = table
         .iter()
-        .filter(|(h, e)| *e > floor((t_end / h).round() as usize) && *e <= upper)
-        .copied()
-        .collect();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    pts.truncate(FIT_POINTS);
-    let (h, e): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
-    fit_order(&h, &e, LOWER)
+        .map(|&(h, e)| {
+            (
+                h,
+                if e > floor((t_end / h).round() as usize) {
+                    e
+                } else {
+                    0.0
+                },
+            )
+        })
+        .unzip();
+    fit_order_asymptotic(&h, &e, LOWER, upper_for(order), FIT_POINTS)
 }
 
 /// Geometric sequence of step counts from `n0`, ratio about √2.
