@@ -172,6 +172,24 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
         }
     }
 
+    /// The step residual ingredients `(∂S/∂q₀, ∂S/∂t₀ − ∂S/∂h)` (one pass).
+    pub fn step_residuals(
+        &self,
+        t0: f64,
+        q0: &SVector<f64, N>,
+        q1: &SVector<f64, N>,
+        h: f64,
+    ) -> (SVector<f64, N>, f64) {
+        let th = Vector2::new(t0, h);
+        let (_, s_q0, s_th, _) = partial_hessian(
+            |(a, y): (SVector<HyperDualSVec64<N, 2>, N>, SVector<HyperDualSVec64<N, 2>, 2>)| {
+                self.action(y[0], &a, &lift(q1), y[1])
+            },
+            (q0, &th),
+        );
+        (s_q0, s_th[0] - s_th[1])
+    }
+
     /// The arrival momentum and energy `(p₁, E⁺₁) = (∂S/∂q₁, −∂S/∂h)` (one pass).
     pub fn arrival(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> (SVector<f64, N>, f64) {
         let hh = nalgebra::Vector1::new(h);

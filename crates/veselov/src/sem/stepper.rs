@@ -245,22 +245,33 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
     ) -> Option<(SVector<f64, N>, f64, usize)> {
         let opts = self.options.newton;
         let mut last = f64::INFINITY;
+        let n1 = N + 1;
+        // Simplified Newton: the exact Jacobian is refreshed only when the
+        // iteration stops contracting fast (ratio > 0.1), otherwise only the
+        // residuals are evaluated (one forward-mode pass instead of four).
+        let mut fresh = false;
         for it in 1..=opts.max_iterations {
-            let d = self.action.derivatives(s.t, &s.q, &q1, h);
-            let r1 = s.p + d.q0;
-            let r2 = d.t0 - d.h - s.energy;
-            let n1 = N + 1;
-            for a in 0..N {
-                for b in 0..N {
-                    self.lu.matrix[a * n1 + b] = d.q0q1[(a, b)];
+            let (r1, r2) = if fresh {
+                self.action.step_residuals(s.t, &s.q, &q1, h)
+            } else {
+                let d = self.action.derivatives(s.t, &s.q, &q1, h);
+                for a in 0..N {
+                    for b in 0..N {
+                        self.lu.matrix[a * n1 + b] = d.q0q1[(a, b)];
+                    }
+                    self.lu.matrix[a * n1 + N] = d.q0h[a];
+                    self.lu.matrix[N * n1 + a] = d.q1t0[a] - d.q1h[a];
                 }
-                self.lu.matrix[a * n1 + N] = d.q0h[a];
-                self.lu.matrix[N * n1 + a] = d.q1t0[a] - d.q1h[a];
+                self.lu.matrix[N * n1 + N] = d.t0h - d.hh;
+                self.lu.factor("SEM step").ok()?;
+                fresh = true;
+                (d.q0, d.t0 - d.h)
+            };
+            let (r1, r2) = (s.p + r1, r2 - s.energy);
+            for a in 0..N {
                 self.rhs[a] = -r1[a];
             }
-            self.lu.matrix[N * n1 + N] = d.t0h - d.hh;
             self.rhs[N] = -r2;
-            self.lu.factor("SEM step").ok()?;
             self.lu.solve(&mut self.rhs);
             if self.rhs.iter().any(|x| !x.is_finite()) {
                 return None;
@@ -273,9 +284,12 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
             let upd = upd.max(self.rhs[N].abs() / h.abs().max(f64::MIN_POSITIVE));
             // The h-equation is ill-conditioned (∂E_d/∂h ≈ 2c·h, note 001 §3.4), so
             // the update reaches a noise floor above ε: stop once it no longer
-            // shrinks quadratically there.
+            // shrinks there.
             if upd <= opts.tol || (it > 1 && upd > 0.25 * last && upd <= opts.stall_threshold) {
                 return Some((q1, h, it));
+            }
+            if upd > 0.1 * last {
+                fresh = false;
             }
             last = upd;
         }
