@@ -83,24 +83,19 @@ fn from_velocity<const N: usize, L: Lagrangian<N> + 'static>(l: Rc<L>) -> FromVe
     Box::new(move |t, q, v| PhaseState::from_velocity(&*l, t, q, v))
 }
 
-/// System for a separable Lagrangian (fast fixed-point path, Newton fallback).
-fn separable<const N: usize, V: Potential<N> + Clone + 'static, F: Force<N> + Clone + 'static>(
+/// A system around the Lagrangian `l` with the integrator factory `make_map`.
+fn system<const N: usize, L: Lagrangian<N> + Clone + 'static>(
     name: &str,
-    coordinates: &[&str],
-    system: SeparableLagrangian<V, N>,
-    force: F,
+    coordinates: Vec<String>,
+    l: Rc<L>,
+    forced: bool,
+    make_map: MapFactory<N>,
 ) -> System<N> {
-    let l = Rc::new(system);
-    let factory = l.clone();
-    let forced = !force.is_zero();
     System {
         model: name.to_string(),
-        coordinates: coordinates.iter().map(|s| s.to_string()).collect(),
+        coordinates,
         forced,
-        make_map: Box::new(move |m, h| {
-            let map = SeparableIntegrator::with_force((*factory).clone(), force.clone(), GalerkinScheme::new(m)?, h)?;
-            Ok(Box::new(map) as Box<dyn OneStepMap<N>>)
-        }),
+        make_map,
         energy: general_energy(l.clone()),
         momenta: Vec::new(),
         default_initial: None,
@@ -108,6 +103,29 @@ fn separable<const N: usize, V: Potential<N> + Clone + 'static, F: Force<N> + Cl
         make_sem: sem_factory(l.clone(), forced),
         from_velocity: from_velocity(l),
     }
+}
+
+/// System for a separable Lagrangian (fast fixed-point path, Newton fallback).
+fn separable<const N: usize, V: Potential<N> + Clone + 'static, F: Force<N> + Clone + 'static>(
+    name: &str,
+    coordinates: &[&str],
+    lagrangian: SeparableLagrangian<V, N>,
+    force: F,
+) -> System<N> {
+    let l = Rc::new(lagrangian);
+    let factory = l.clone();
+    let forced = !force.is_zero();
+    let make_map: MapFactory<N> = Box::new(move |m, h| {
+        let map = SeparableIntegrator::with_force((*factory).clone(), force.clone(), GalerkinScheme::new(m)?, h)?;
+        Ok(Box::new(map) as Box<dyn OneStepMap<N>>)
+    });
+    system(
+        name,
+        coordinates.iter().map(|s| s.to_string()).collect(),
+        l,
+        forced,
+        make_map,
+    )
 }
 
 /// System for a general Lagrangian (exact-Newton path).
@@ -120,21 +138,11 @@ fn general<const N: usize, L: Lagrangian<N> + Clone + 'static, F: Force<N> + Clo
     let l = Rc::new(lagrangian);
     let factory = l.clone();
     let forced = !force.is_zero();
-    System {
-        model: name.to_string(),
-        coordinates,
-        forced,
-        make_map: Box::new(move |m, h| {
-            let map = GalerkinIntegrator::with_force((*factory).clone(), force.clone(), GalerkinScheme::new(m)?, h)?;
-            Ok(Box::new(map) as Box<dyn OneStepMap<N>>)
-        }),
-        energy: general_energy(l.clone()),
-        momenta: Vec::new(),
-        default_initial: None,
-        exact: None,
-        make_sem: sem_factory(l.clone(), forced),
-        from_velocity: from_velocity(l),
-    }
+    let make_map: MapFactory<N> = Box::new(move |m, h| {
+        let map = GalerkinIntegrator::with_force((*factory).clone(), force.clone(), GalerkinScheme::new(m)?, h)?;
+        Ok(Box::new(map) as Box<dyn OneStepMap<N>>)
+    });
+    system(name, coordinates, l, forced, make_map)
 }
 
 fn symmetry_fn<const N: usize, S: Symmetry<N> + 'static>(s: S) -> (String, StateFn<N>) {

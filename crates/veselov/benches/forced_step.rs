@@ -1,25 +1,12 @@
 //! Nanoseconds per step of the forced (discrete Lagrange–d'Alembert) integrators.
 
-use std::hint::black_box;
-
 use criterion::{Criterion, criterion_group, criterion_main};
-use nalgebra::{Matrix2, Vector2};
-use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, OneStepMap, PhaseState, SeparableIntegrator};
-use veselov::models::{DampedOscillator, VanDerPol};
 
-fn bench_map<const N: usize, M: OneStepMap<N>>(c: &mut Criterion, name: &str, mut map: M, x0: PhaseState<N>) {
-    let mut x = x0;
-    let mut k = 0usize;
-    c.bench_function(name, |b| {
-        b.iter(|| {
-            if k.is_multiple_of(10_000) {
-                x = x0;
-            }
-            x = map.step(k, black_box(&x)).expect("step").0;
-            k += 1;
-        })
-    });
-}
+mod common;
+use common::bench_map;
+use nalgebra::{Matrix2, Vector2};
+use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, PhaseState, SeparableIntegrator};
+use veselov::models::{DampedOscillator, VanDerPol};
 
 fn forced(c: &mut Criterion) {
     let vdp = VanDerPol::default();

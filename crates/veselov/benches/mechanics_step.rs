@@ -4,26 +4,13 @@
 //! see a continuing trajectory, as in production runs), restarting from the
 //! initial state every 10⁵ steps to stay on the same orbit.
 
-use std::hint::black_box;
-
 use criterion::{Criterion, criterion_group, criterion_main};
-use nalgebra::Vector1;
-use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, OneStepMap, PhaseState, SeparableIntegrator};
-use veselov::models::{HenonHeiles, Kepler, Pendulum};
 
-fn bench_map<const N: usize, M: OneStepMap<N>>(c: &mut Criterion, name: &str, mut map: M, x0: PhaseState<N>) {
-    let mut x = x0;
-    let mut k = 0usize;
-    c.bench_function(name, |b| {
-        b.iter(|| {
-            if k.is_multiple_of(100_000) {
-                x = x0;
-            }
-            x = map.step(k, black_box(&x)).expect("step").0;
-            k += 1;
-        })
-    });
-}
+mod common;
+use common::bench_map;
+use nalgebra::Vector1;
+use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, PhaseState, SeparableIntegrator};
+use veselov::models::{HenonHeiles, Kepler, Pendulum};
 
 fn scheme(m: Method) -> GalerkinScheme {
     GalerkinScheme::new(m).expect("valid")
