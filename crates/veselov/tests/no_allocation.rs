@@ -77,3 +77,34 @@ fn steps_do_not_allocate() {
         assert_eq!(allocations_in_steps(&mut dp, x0), 0, "{m:?} double pendulum");
     }
 }
+
+struct DynOscillators;
+impl veselov::mechanics::DynLagrangian for DynOscillators {
+    fn dim(&self) -> usize {
+        5
+    }
+    fn lagrangian<D: veselov::ad::Scalar>(&self, _t: D, q: &[D], v: &[D]) -> D {
+        q.iter()
+            .zip(v)
+            .fold(D::from(0.0), |s, (q, v)| s + (*v * *v - q.sin() * *q) * 0.5)
+    }
+}
+
+#[test]
+fn run_time_dimension_steps_do_not_allocate_either() {
+    let scheme = GalerkinScheme::new(Method::GalerkinLobatto(3)).expect("valid");
+    let mut map = veselov::mechanics::DynGalerkinIntegrator::new(DynOscillators, scheme, 0.05).expect("valid");
+    let mut x = veselov::mechanics::DynState {
+        t: 0.0,
+        q: vec![0.3; 5],
+        p: vec![0.1; 5],
+    };
+    map.step(0, &mut x).expect("warm-up");
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    WATCHED.with(|w| w.set(true));
+    for k in 1..50 {
+        map.step(k, &mut x).expect("step");
+    }
+    WATCHED.with(|w| w.set(false));
+    assert_eq!(ALLOCATIONS.load(Ordering::SeqCst) - before, 0);
+}

@@ -2,6 +2,7 @@
 //! Lagrangians, variational integrators and discrete Noether momenta.
 
 pub mod duplication;
+pub mod dynamic;
 pub mod force;
 pub mod galerkin;
 pub mod lagrangian;
@@ -11,6 +12,7 @@ pub mod separable;
 pub mod state;
 
 pub use duplication::{DuplicatedLagrangian, FlatRetraction, InverseRetraction};
+pub use dynamic::{DynGalerkinIntegrator, DynLagrangian, DynState};
 pub use force::{Force, ForceJet, NoForce, force_jet, force_value};
 pub use galerkin::{DiscreteLagrangianValue, GalerkinIntegrator};
 pub use lagrangian::{
