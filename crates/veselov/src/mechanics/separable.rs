@@ -165,29 +165,39 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
         &mut self.general
     }
 
+    /// Begin a step: if it continues the previous one, predict the stage forces
+    /// by extrapolating the previous step's; otherwise reset the summation
+    /// compensation and return `None`.
+    fn predicted_forces(&mut self, state: &PhaseState<N>) -> Option<[SVector<f64, N>; MAX_STAGES]> {
+        if !matches!(self.previous, Some((te, qe)) if te == state.t && qe == state.q) {
+            self.compensation = (SVector::zeros(), SVector::zeros());
+            return None;
+        }
+        let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
+        for i in 0..self.s {
+            g[i] = (0..self.s).fold(SVector::zeros(), |acc, j| acc + self.forces[j] * self.extrap[i][j]);
+        }
+        Some(g)
+    }
+
     /// Forced case: fixed-point iteration on the stage velocities of the
     /// partitioned Runge–Kutta form (seed 004 §4.3)
     /// `Qᵢ = q_k + h Σⱼ aᵢⱼVⱼ`, `M Vᵢ = p_k + h Σⱼ āᵢⱼ (−∇V(Qⱼ) + F(Qⱼ, Vⱼ))`,
     /// then `q_{k+1} = q_k + h Σⱼ bⱼVⱼ`, `p_{k+1} = p_k + h Σⱼ bⱼ(−∇V(Qⱼ) + F(Qⱼ, Vⱼ))`.
     fn fixed_point_forced(&mut self, state: &PhaseState<N>) -> Option<(PhaseState<N>, usize)> {
         let s = self.s;
+        // Total generalised forces gⱼ = −∇V(Qⱼ) + F(Qⱼ, Vⱼ), predicted from the previous step.
+        let predicted = self.predicted_forces(state);
         let sys = self.general.lagrangian();
         let force = self.general.force();
         let minv = *sys.mass_inverse();
         let (t, q) = (state.t, state.q);
         let v = minv * state.p;
-        let continues = matches!(self.previous, Some((te, qe)) if te == t && qe == q);
-        if !continues {
-            self.compensation = (SVector::zeros(), SVector::zeros());
-        }
-        // Total generalised forces gⱼ = −∇V(Qⱼ) + F(Qⱼ, Vⱼ), predicted from the previous step.
         let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
         let mut vel = [v; MAX_STAGES];
         let mut pos = [q; MAX_STAGES];
-        if continues {
-            for i in 0..s {
-                g[i] = (0..s).fold(SVector::zeros(), |acc, j| acc + self.forces[j] * self.extrap[i][j]);
-            }
+        if let Some(predicted) = predicted {
+            g = predicted;
             for i in 0..s {
                 let mut acc = SVector::<f64, N>::zeros();
                 for j in 0..s {
@@ -253,24 +263,13 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
     /// are formed as increments and added with compensated summation.
     fn fixed_point(&mut self, state: &PhaseState<N>) -> Option<(PhaseState<N>, usize)> {
         let s = self.s;
+        let predicted = self.predicted_forces(state);
         let sys = self.general.lagrangian();
         let minv = *sys.mass_inverse();
         let (t, q) = (state.t, state.q);
         let v = minv * state.p;
-        let continues = matches!(self.previous, Some((te, qe)) if te == t && qe == q);
-        if !continues {
-            self.compensation = (SVector::zeros(), SVector::zeros());
-        }
         let mut z = [SVector::<f64, N>::zeros(); MAX_STAGES];
-        let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
-        if continues {
-            for i in 0..s {
-                g[i] = (0..s).fold(SVector::zeros(), |acc, j| acc + self.forces[j] * self.extrap[i][j]);
-            }
-        } else {
-            let g0 = sys.conservative_force(t, &q);
-            g[..s].fill(g0);
-        }
+        let mut g = predicted.unwrap_or_else(|| [sys.conservative_force(t, &q); MAX_STAGES]);
         let scale = q.amax().max(1.0);
         let mut last = f64::INFINITY;
         for it in 1..=self.max_iterations {
