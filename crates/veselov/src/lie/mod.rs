@@ -199,3 +199,13 @@ pub trait LieGroup<D: DualNum<Primitive = f64> + Copy, const N: usize>: Sized + 
         self.inverse().adjoint().transpose()
     }
 }
+
+/// Property-test configuration shared by the module's tests: failing cases
+/// are reported but not persisted to regression files.
+#[cfg(test)]
+pub(crate) fn test_config() -> proptest::test_runner::Config {
+    proptest::test_runner::Config {
+        failure_persistence: None,
+        ..proptest::test_runner::Config::default()
+    }
+}
