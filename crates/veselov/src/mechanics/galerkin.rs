@@ -25,7 +25,7 @@ use nalgebra::{SMatrix, SVector};
 use super::force::{Force, ForceJet, NoForce, force_jet, force_value};
 use super::lagrangian::{Hessian, Jet, Lagrangian, hessian, jet, velocity_from_momentum};
 use super::scheme::{GalerkinScheme, Method};
-use super::state::{FlowJacobian, OneStepMap, PhaseState, StepStats};
+use super::state::{FlowJacobian, OneStepMap, PhaseState, StepStats, continues};
 use crate::error::{Error, Result, check_finite, check_step};
 use crate::solve::{DenseLu, NewtonOptions, NewtonReport, NewtonStop};
 
@@ -407,7 +407,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
 
     /// Whether a step from `(t, q)` continues the previous step exactly.
     fn continues(&self, t: f64, q: &SVector<f64, N>) -> bool {
-        matches!(self.previous, Some((t_end, q_end)) if t_end == t && q_end == *q)
+        matches!(self.previous, Some((t_end, q_end)) if continues(t_end, &q_end, t, q))
     }
 
     /// One step with its Newton report.

@@ -20,7 +20,7 @@ use super::force::{Force, NoForce};
 use super::galerkin::{GalerkinIntegrator, kahan_add};
 use super::lagrangian::Lagrangian;
 use super::scheme::{GalerkinScheme, MAX_STAGES};
-use super::state::{OneStepMap, PhaseState, StepStats};
+use super::state::{OneStepMap, PhaseState, StepStats, continues};
 use crate::ad::Scalar;
 use crate::error::{Error, Result};
 
@@ -169,7 +169,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
     /// by extrapolating the previous step's; otherwise reset the summation
     /// compensation and return `None`.
     fn predicted_forces(&mut self, state: &PhaseState<N>) -> Option<[SVector<f64, N>; MAX_STAGES]> {
-        if !matches!(self.previous, Some((te, qe)) if te == state.t && qe == state.q) {
+        if !matches!(self.previous, Some((te, qe)) if continues(te, &qe, state.t, &state.q)) {
             self.compensation = (SVector::zeros(), SVector::zeros());
             return None;
         }

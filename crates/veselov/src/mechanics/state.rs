@@ -56,6 +56,14 @@ impl<const N: usize> PhaseState<N> {
     }
 }
 
+/// Whether a step starting at `(t, q)` continues a step that ended at
+/// `(t_end, q_end)`: the same configuration, and the same time up to the
+/// rounding of `t₀ + k·h` versus repeated addition (a few ulps).
+#[inline]
+pub(crate) fn continues<const N: usize>(t_end: f64, q_end: &SVector<f64, N>, t: f64, q: &SVector<f64, N>) -> bool {
+    q_end == q && (t_end - t).abs() <= 8.0 * f64::EPSILON * t.abs().max(1.0)
+}
+
 /// What one step reports besides the new state.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepStats {
