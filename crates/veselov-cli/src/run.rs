@@ -165,17 +165,7 @@ impl RunJob {
             });
             table.rows.truncate(k + 1);
         }
-        write_outputs(scenario, &dir, &table)?;
         let energies: Vec<f64> = table.rows.iter().map(|r| r[energy_col]).collect();
-        let momentum_errors: serde_json::Map<String, serde_json::Value> = system
-            .momenta
-            .iter()
-            .enumerate()
-            .map(|(i, (name, _))| {
-                let col: Vec<f64> = table.rows.iter().map(|r| r[energy_col + 1 + i]).collect();
-                (name.clone(), json!(max_dev(&col)))
-            })
-            .collect();
         let scheme = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?;
         let work: Vec<f64> = traj.work[..table.rows.len()].to_vec();
         let balance = energies
@@ -198,7 +188,7 @@ impl RunJob {
             "t_final": traj.last().t,
             "energy_initial": e0,
             "energy_error_max": max_dev(&energies),
-            "momentum_error_max": momentum_errors,
+            "momentum_error_max": momentum_errors(&system, &table),
             "newton_iterations_mean": traj.mean_iterations(),
             "fallback_steps": traj.fallback_steps,
             "wall_seconds": start.elapsed().as_secs_f64(),
@@ -207,25 +197,52 @@ impl RunJob {
             summary["work_of_forces"] = json!(work.last().copied().unwrap_or(0.0));
             summary["energy_balance_error_max"] = json!(balance);
         }
-        write_json(&dir.join("summary.json"), &summary)?;
+        let report = format!(
+            "{}: {} steps to t = {}, max |E − E₀| = {:.3e}",
+            scheme.describe(),
+            traj.steps,
+            traj.last().t,
+            max_dev(&energies)
+        );
+        self.finish::<N>(scenario, dir, &table, &summary, &report, failure)
+    }
+
+    /// Write the trajectory, the summary and the plots, report, and turn a
+    /// failure into the run error (the partial outputs are already written).
+    fn finish<const N: usize>(
+        &self,
+        scenario: &LoadedScenario,
+        dir: PathBuf,
+        table: &Table,
+        summary: &serde_json::Value,
+        report: &str,
+        failure: Option<veselov::Error>,
+    ) -> Result<(), CliError> {
+        write_outputs(scenario, &dir, table)?;
+        write_json(&dir.join("summary.json"), summary)?;
         if scenario.scenario.output.plots {
-            figures::draw_all(&dir, &table, N, &scenario.scenario.output.plot_format)?;
+            figures::draw_all(&dir, table, N, &scenario.scenario.output.plot_format)?;
         }
         if !self.quiet {
-            eprintln!(
-                "{}: {} steps to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
-                scheme.describe(),
-                traj.steps,
-                traj.last().t,
-                max_dev(&energies),
-                dir.display()
-            );
+            eprintln!("{report}; outputs in {}", dir.display());
         }
         match failure {
             Some(error) => Err(CliError::Run { error, dir }),
             None => Ok(()),
         }
     }
+}
+
+/// `max |J_k − J_0|` over the stored rows, for every momentum-map column.
+fn momentum_errors<const N: usize>(system: &System<N>, table: &Table) -> serde_json::Map<String, serde_json::Value> {
+    system
+        .momenta
+        .iter()
+        .map(|(name, _)| {
+            let col = table.column(&format!("J_{name}")).unwrap_or_default();
+            (name.clone(), json!(max_dev(&col)))
+        })
+        .collect()
 }
 
 impl RunJob {
@@ -274,19 +291,10 @@ impl RunJob {
             row.push(s.h);
             row.push(s.energy);
         }
-        write_outputs(scenario, &dir, &table)?;
         let energies: Vec<f64> = table.rows.iter().map(|r| r[1 + 2 * N]).collect();
         let e0 = energies.first().copied().unwrap_or(f64::NAN);
         let discrete: Vec<f64> = run.states.iter().skip(1).map(|s| s.energy).collect();
         let steps: Vec<f64> = run.states.iter().skip(1).map(|s| s.h).collect();
-        let momentum_errors: serde_json::Map<String, serde_json::Value> = system
-            .momenta
-            .iter()
-            .map(|(name, j)| {
-                let col: Vec<f64> = run.states.iter().map(|s| j(&PhaseState::new(s.t, s.q, s.p))).collect();
-                (name.clone(), json!(max_dev(&col)))
-            })
-            .collect();
         let last = run.states.last().map(|s| s.t).unwrap_or(x0.t);
         let summary = json!({
             "status": if run.failure.is_none() { "ok" } else { "error" },
@@ -305,26 +313,12 @@ impl RunJob {
             "h_min": steps.iter().copied().fold(f64::INFINITY, f64::min),
             "h_max": steps.iter().copied().fold(0.0, f64::max),
             "fallback_steps": run.flagged_steps.len(),
-            "momentum_error_max": momentum_errors,
+            "momentum_error_max": momentum_errors(&system, &table),
             "newton_iterations_mean": run.iterations as f64 / steps.len().max(1) as f64,
             "wall_seconds": start.elapsed().as_secs_f64(),
         });
-        write_json(&dir.join("summary.json"), &summary)?;
-        if scenario.scenario.output.plots {
-            figures::draw_all(&dir, &table, N, &scenario.scenario.output.plot_format)?;
-        }
-        if !self.quiet {
-            eprintln!(
-                "{}: {} steps to t = {last}, outputs in {}",
-                rule.name(),
-                steps.len(),
-                dir.display()
-            );
-        }
-        match run.failure {
-            Some(error) => Err(CliError::Run { error, dir }),
-            None => Ok(()),
-        }
+        let report = format!("{}: {} steps to t = {last}", rule.name(), steps.len());
+        self.finish::<N>(scenario, dir, &table, &summary, &report, run.failure)
     }
 }
 
