@@ -21,6 +21,7 @@ use num_dual::Dual2SVec64;
 use super::action::SemAction;
 use crate::ad::lift;
 use crate::error::{Error, Result, check_finite, check_step};
+use crate::mechanics::state::continues;
 use crate::mechanics::{Lagrangian, velocity_from_momentum};
 use crate::solve::dense::solve_small;
 use crate::solve::scalar::illinois;
@@ -406,7 +407,7 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
         check_finite("energy", [s.energy].iter())?;
         check_step(s.h)?;
         let v = match self.last {
-            Some((t, q, v)) if (t - s.t).abs() <= 8.0 * f64::EPSILON * s.t.abs().max(1.0) && q == s.q => v,
+            Some((t, q, v)) if continues(t, &q, s.t, &s.q) => v,
             _ => self.velocity(s),
         };
         let (alpha, beta) = self.options.bracket;
