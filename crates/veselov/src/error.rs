@@ -117,6 +117,10 @@ pub enum Error {
         /// Which quantity.
         what: String,
     },
+    /// A Lie-group map failed (cut locus of an inverse retraction, a matrix
+    /// that is not a rotation, a zero quaternion).
+    #[error("Lie group: {0}")]
+    Lie(#[from] crate::lie::LieError),
 }
 
 /// Check that every component of `x` is finite.

@@ -108,3 +108,42 @@ fn run_time_dimension_steps_do_not_allocate_either() {
     WATCHED.with(|w| w.set(false));
     assert_eq!(ALLOCATIONS.load(Ordering::SeqCst) - before, 0);
 }
+
+#[test]
+fn lie_group_steps_do_not_allocate() {
+    use veselov::lgvi::{GroupState, GroupStepMap, LieGroupIntegrator, SplitLieIntegrator};
+    use veselov::lie::{CayleyMap, ExpMap, RigidMotions, Rotations, SE3, so3};
+    use veselov::models::{FreeRigidBodySE3, HeavyTop};
+    fn count<G: veselov::lie::GroupFamily<N>, const N: usize>(
+        map: &mut impl GroupStepMap<G, N>,
+        x0: GroupState<G, N>,
+    ) -> usize {
+        let mut x = map.step(0, &x0).expect("warm-up").0;
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        WATCHED.with(|w| w.set(true));
+        for k in 1..100 {
+            x = map.step(k, &x).expect("step").0;
+        }
+        WATCHED.with(|w| w.set(false));
+        ALLOCATIONS.load(Ordering::SeqCst) - before
+    }
+    let inertia = nalgebra::Matrix3::new(2.0, 0.1, 0.0, 0.1, 3.0, 0.0, 0.0, 0.0, 4.0);
+    let top = HeavyTop::new(inertia, 1.0, nalgebra::Vector3::new(0.0, 0.0, 0.5), 9.81).expect("valid");
+    let x0 = GroupState::<Rotations, 3>::new(
+        0.0,
+        so3::exp(&nalgebra::Vector3::new(0.2, 0.1, 0.0)),
+        nalgebra::Vector3::new(1.0, 2.0, 3.0),
+    );
+    let mut fast = SplitLieIntegrator::<Rotations, CayleyMap, _, 3>::new(top, 0.01).expect("valid");
+    assert_eq!(count(&mut fast, x0), 0, "heavy top, split path");
+    let mut general = LieGroupIntegrator::<Rotations, ExpMap, _, 3>::new(top, 0.01).expect("valid");
+    assert_eq!(count(&mut general, x0), 0, "heavy top, general path");
+    let body = FreeRigidBodySE3::new(inertia, 2.0).expect("valid");
+    let y0 = GroupState::<RigidMotions, 6>::new(
+        0.0,
+        SE3::identity(),
+        nalgebra::Vector6::new(1.0, 2.0, 3.0, 0.5, 0.0, -0.5),
+    );
+    let mut se3 = SplitLieIntegrator::<RigidMotions, CayleyMap, _, 6>::new(body, 0.01).expect("valid");
+    assert_eq!(count(&mut se3, y0), 0, "SE(3) free flight");
+}

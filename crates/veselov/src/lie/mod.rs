@@ -114,12 +114,14 @@ use std::fmt;
 use nalgebra::SMatrix;
 use num_dual::DualNum;
 
+mod family;
 pub mod retraction;
 pub mod se3;
 mod series;
 pub mod so3;
 
-pub use retraction::{CayleyMap, ExpMap, Retraction};
+pub use family::{GroupFamily, RigidMotions, Rotations};
+pub use retraction::{CayleyMap, ExpMap, GroupOf, Retraction};
 pub use se3::SE3;
 pub use so3::SO3;
 

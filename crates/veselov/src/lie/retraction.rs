@@ -8,26 +8,29 @@
 //!
 //! A generic discrete-velocity computation, ξ = τ⁻¹(g₀⁻¹g₁)/h, reads
 //! `R::tau_inv(&g0.inverse().compose(&g1)).map(|x| x / h)` for any
-//! `R: Retraction<N>`; `R::Group<D>` provides compose/inverse/adjoint through
-//! [`LieGroup`].
+//! `R: Retraction<N>`; [`GroupOf<R, N, D>`] provides compose/inverse/adjoint through
+//! [`LieGroup`](super::LieGroup).
 
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
 
-use super::{LieError, LieGroup, SE3, SO3, se3, so3};
+use super::{GroupFamily, LieError, RigidMotions, Rotations, SE3, SO3, se3, so3};
+
+/// The element type, with scalars `D`, of the group a retraction `R` maps into.
+pub type GroupOf<R, const N: usize, D> = <<R as Retraction<N>>::Family as GroupFamily<N>>::Element<D>;
 
 /// A retraction τ: 𝔤 ≅ Rᴺ → G with τ(0) = e, its inverse near e, and its
 /// right-trivialised derivative and inverse derivative as N×N matrices.
 pub trait Retraction<const N: usize> {
-    /// The group, with scalars of type `D`.
-    type Group<D: DualNum<Primitive = f64> + Copy>: LieGroup<D, N>;
+    /// The group family τ maps into.
+    type Family: GroupFamily<N>;
 
     /// τ(ξ).
-    fn tau<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, N>) -> Self::Group<D>;
+    fn tau<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, N>) -> GroupOf<Self, N, D>;
 
     /// τ⁻¹(g); fails with [`LieError::NearCutLocus`] for rotation angles
     /// within [`CUT_LOCUS_MARGIN`](super::CUT_LOCUS_MARGIN) of π.
-    fn tau_inv<D: DualNum<Primitive = f64> + Copy>(g: &Self::Group<D>) -> Result<SVector<D, N>, LieError>;
+    fn tau_inv<D: DualNum<Primitive = f64> + Copy>(g: &GroupOf<Self, N, D>) -> Result<SVector<D, N>, LieError>;
 
     /// Right-trivialised derivative d^Rτ_ξ: τ(ξ + εδ) = τ(ε dτ_ξ δ) τ(ξ) + O(ε²).
     fn dtau<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, N>) -> SMatrix<D, N, N>;
@@ -46,7 +49,7 @@ pub struct ExpMap;
 pub struct CayleyMap;
 
 impl Retraction<3> for ExpMap {
-    type Group<D: DualNum<Primitive = f64> + Copy> = SO3<D>;
+    type Family = Rotations;
     fn tau<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 3>) -> SO3<D> {
         so3::exp(xi)
     }
@@ -62,7 +65,7 @@ impl Retraction<3> for ExpMap {
 }
 
 impl Retraction<3> for CayleyMap {
-    type Group<D: DualNum<Primitive = f64> + Copy> = SO3<D>;
+    type Family = Rotations;
     fn tau<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 3>) -> SO3<D> {
         so3::cay(xi)
     }
@@ -78,7 +81,7 @@ impl Retraction<3> for CayleyMap {
 }
 
 impl Retraction<6> for ExpMap {
-    type Group<D: DualNum<Primitive = f64> + Copy> = SE3<D>;
+    type Family = RigidMotions;
     fn tau<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 6>) -> SE3<D> {
         se3::exp(xi)
     }
@@ -94,7 +97,7 @@ impl Retraction<6> for ExpMap {
 }
 
 impl Retraction<6> for CayleyMap {
-    type Group<D: DualNum<Primitive = f64> + Copy> = SE3<D>;
+    type Family = RigidMotions;
     fn tau<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 6>) -> SE3<D> {
         se3::cay(xi)
     }
@@ -112,6 +115,7 @@ impl Retraction<6> for CayleyMap {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lie::LieGroup;
     use num_dual::{Dual2_64, Dual64};
 
     /// A routine written once for any group and retraction: the right-

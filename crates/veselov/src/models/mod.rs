@@ -8,6 +8,7 @@ pub mod harmonic;
 pub mod henon_heiles;
 pub mod kepler;
 pub mod pendulum;
+pub mod rigid_body;
 pub mod van_der_pol;
 
 pub use damped_kepler::LinearDrag;
@@ -17,6 +18,7 @@ pub use harmonic::HarmonicOscillator;
 pub use henon_heiles::HenonHeiles;
 pub use kepler::Kepler;
 pub use pendulum::Pendulum;
+pub use rigid_body::{FreeRigidBody, FreeRigidBodySE3, HeavyTop};
 pub use van_der_pol::VanDerPol;
 
 use crate::error::{Error, Result};

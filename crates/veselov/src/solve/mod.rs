@@ -4,5 +4,5 @@ pub mod dense;
 pub mod newton;
 pub mod scalar;
 
-pub use dense::{DenseLu, lu_factor_in_place, lu_solve_in_place};
+pub use dense::{DenseLu, lu_factor_in_place, lu_solve_in_place, solve_small};
 pub use newton::{NewtonOptions, NewtonReport, NewtonStop};

@@ -1,0 +1,49 @@
+//! What a step hands to the next: the spatial momentum π = Ad*_{g⁻¹}μ (and,
+//! on the split path, ∇V) of the state it returned.
+//!
+//! Both integrators advance the spatial momentum, π_{k+1} = π_k + Ad*_{g_k⁻¹}∂_g L_d
+//! (derived from μ_{k+1} = Ad_{F_k}ᵀν_k and ν_k = μ_k + ∂_g L_d), and return
+//! μ_{k+1} = Ad_{g_{k+1}}ᵀπ_{k+1}. In exact arithmetic this is the same map as
+//! μ_{k+1} = Ad_Fᵀν; in floating point a symmetry that makes the increment
+//! vanish (∂_g L_d = 0 for a free body) keeps π **bit for bit**, instead of
+//! letting it random-walk by a few ulps per step. When the state passed in is
+//! not the one the previous step returned, π is recomputed from (g, μ).
+
+use nalgebra::SVector;
+
+use super::GroupState;
+use crate::lie::{GroupFamily, LieGroup};
+
+pub(crate) struct Carry<G: GroupFamily<N>, const N: usize> {
+    g: G::Element<f64>,
+    mu: SVector<f64, N>,
+    pub(crate) spatial: SVector<f64, N>,
+    pub(crate) gradient: SVector<f64, N>,
+}
+
+impl<G: GroupFamily<N>, const N: usize> Carry<G, N> {
+    pub(crate) fn new(state: &GroupState<G, N>, spatial: SVector<f64, N>, gradient: SVector<f64, N>) -> Self {
+        Self {
+            g: state.g,
+            mu: state.mu,
+            spatial,
+            gradient,
+        }
+    }
+
+    /// The carried data if `state` is the state it was made for.
+    pub(crate) fn matching(
+        carry: &Option<Self>,
+        state: &GroupState<G, N>,
+    ) -> Option<(SVector<f64, N>, SVector<f64, N>)> {
+        match carry {
+            Some(c) if c.g == state.g && c.mu == state.mu => Some((c.spatial, c.gradient)),
+            _ => None,
+        }
+    }
+}
+
+/// π = Ad*_{g⁻¹}μ.
+pub(crate) fn spatial_of<G: GroupFamily<N>, const N: usize>(state: &GroupState<G, N>) -> SVector<f64, N> {
+    state.g.coadjoint() * state.mu
+}

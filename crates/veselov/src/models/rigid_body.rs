@@ -1,0 +1,146 @@
+//! Rigid bodies as reduced Lagrangians on SO(3) and SE(3), for the
+//! Lie-group variational integrators of [`crate::lgvi`].
+//!
+//! Body frame throughout: ξ = g⁻¹ġ is the body angular velocity Ω on SO(3)
+//! and the body twist (Ω; v) on SE(3); 𝕀 is the inertia tensor about the
+//! pivot (heavy top) or the centre of mass (free bodies).
+
+use nalgebra::{Matrix3, SMatrix, Vector3};
+
+use crate::ad::Scalar;
+use crate::error::{Error, Result};
+use crate::lgvi::SplitReducedLagrangian;
+use crate::lie::{RigidMotions, Rotations, SE3, SO3};
+
+fn check_inertia(inertia: &Matrix3<f64>) -> Result<()> {
+    let bad = |reason: &str| Error::InvalidParameter {
+        name: "inertia".into(),
+        value: format!("{:?}", inertia.as_slice()),
+        reason: reason.into(),
+    };
+    if !inertia.iter().all(|e| e.is_finite()) {
+        return Err(bad("entries must be finite"));
+    }
+    if (inertia - inertia.transpose()).amax() > 1e-12 * inertia.amax() {
+        return Err(bad("the inertia tensor must be symmetric"));
+    }
+    if nalgebra::Cholesky::new(*inertia).is_none() {
+        return Err(bad("the inertia tensor must be positive definite"));
+    }
+    Ok(())
+}
+
+fn check_positive(name: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            name: name.into(),
+            value: value.to_string(),
+            reason: "must be positive and finite".into(),
+        })
+    }
+}
+
+/// The free rigid body on SO(3): ℓ(R, Ω) = ½ Ωᵀ𝕀Ω. Invariant under R ↦ QR,
+/// so the spatial angular momentum π = RΠ (Π = 𝕀Ω) is conserved.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeRigidBody {
+    inertia: Matrix3<f64>,
+}
+
+impl FreeRigidBody {
+    /// A body with inertia tensor 𝕀 (symmetric positive definite).
+    pub fn new(inertia: Matrix3<f64>) -> Result<Self> {
+        check_inertia(&inertia)?;
+        Ok(Self { inertia })
+    }
+}
+
+impl SplitReducedLagrangian<Rotations, 3> for FreeRigidBody {
+    fn inertia(&self) -> SMatrix<f64, 3, 3> {
+        self.inertia
+    }
+    fn potential<D: Scalar>(&self, _g: &SO3<D>) -> D {
+        D::zero()
+    }
+}
+
+/// The heavy top: a rigid body with a fixed point in uniform gravity,
+/// ℓ(R, Ω) = ½ Ωᵀ𝕀Ω − m g e₃·(Rχ), χ the centre of mass in the body frame,
+/// 𝕀 about the fixed point, gravity along −e₃. Invariant under rotations about
+/// the vertical, so e₃·(RΠ) is conserved.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeavyTop {
+    inertia: Matrix3<f64>,
+    mass: f64,
+    centre_of_mass: Vector3<f64>,
+    gravity: f64,
+}
+
+impl HeavyTop {
+    /// A top with inertia 𝕀 about the pivot, mass m > 0, body-frame centre of
+    /// mass χ and gravitational acceleration g ≥ 0.
+    pub fn new(inertia: Matrix3<f64>, mass: f64, centre_of_mass: Vector3<f64>, gravity: f64) -> Result<Self> {
+        check_inertia(&inertia)?;
+        check_positive("mass", mass)?;
+        crate::error::check_finite("centre_of_mass", centre_of_mass.as_slice())?;
+        if !(gravity.is_finite() && gravity >= 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "gravity".into(),
+                value: gravity.to_string(),
+                reason: "must be finite and non-negative".into(),
+            });
+        }
+        Ok(Self {
+            inertia,
+            mass,
+            centre_of_mass,
+            gravity,
+        })
+    }
+}
+
+impl SplitReducedLagrangian<Rotations, 3> for HeavyTop {
+    fn inertia(&self) -> SMatrix<f64, 3, 3> {
+        self.inertia
+    }
+    fn potential<D: Scalar>(&self, g: &SO3<D>) -> D {
+        let r = g.matrix();
+        let c = &self.centre_of_mass;
+        (r[(2, 0)] * c[0] + r[(2, 1)] * c[1] + r[(2, 2)] * c[2]) * (self.mass * self.gravity)
+    }
+}
+
+/// A free rigid body on SE(3) (free flight, no gravity):
+/// ℓ((R, x), (Ω; v)) = ½ Ωᵀ𝕀Ω + ½ m |v|², with v the body-frame velocity of
+/// the centre of mass. Left invariant, so the spatial momentum
+/// (Rm + x × Rf; Rf) = (angular momentum about the origin; linear momentum)
+/// is conserved.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeRigidBodySE3 {
+    inertia: Matrix3<f64>,
+    mass: f64,
+}
+
+impl FreeRigidBodySE3 {
+    /// A body with inertia 𝕀 about its centre of mass and mass m > 0.
+    pub fn new(inertia: Matrix3<f64>, mass: f64) -> Result<Self> {
+        check_inertia(&inertia)?;
+        check_positive("mass", mass)?;
+        Ok(Self { inertia, mass })
+    }
+}
+
+impl SplitReducedLagrangian<RigidMotions, 6> for FreeRigidBodySE3 {
+    fn inertia(&self) -> SMatrix<f64, 6, 6> {
+        let mut m = SMatrix::<f64, 6, 6>::zeros();
+        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.inertia);
+        m.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&(Matrix3::identity() * self.mass));
+        m
+    }
+    fn potential<D: Scalar>(&self, _g: &SE3<D>) -> D {
+        D::zero()
+    }
+}
