@@ -216,6 +216,34 @@ pub const MODELS: &[ModelInfo] = &[
         reference: "fine Gauss s = 5 run",
     },
     ModelInfo {
+        name: "rigid-body",
+        summary: "free rigid body on SO(3), ℓ = ½ Ωᵀ𝕀Ω; keys inertia (3 principal moments or 9 entries, default [1, 2, 3])",
+        coordinates: &[],
+        params: &[],
+        default_initial: "identity attitude, Ω = [0.05, 1, 0.05] (near the unstable middle axis: periodic flips)",
+        symmetries: &["J_x", "J_y", "J_z (spatial angular momentum)"],
+        reference: "RK4 on the Euler–Poincaré equations (test suite)",
+    },
+    ModelInfo {
+        name: "heavy-top",
+        summary: "heavy top on SO(3), ℓ = ½ Ωᵀ𝕀Ω − m g e₃·Rχ; keys inertia (about the pivot, default [1, 1, 0.5]), \
+                  mass (1), centre_of_mass (body frame, [0, 0, 1]), gravity (9.81, along −z)",
+        coordinates: &[],
+        params: &[],
+        default_initial: "rotation_vector = [0.3, 0, 0], Ω = [0, 0, 20] (fast top: precession and nutation)",
+        symmetries: &["J_z (vertical spatial angular momentum)"],
+        reference: "RK4 on the Euler–Poincaré equations (test suite)",
+    },
+    ModelInfo {
+        name: "rigid-body-se3",
+        summary: "free-flying rigid body on SE(3), ℓ = ½ Ωᵀ𝕀Ω + ½ m|v|²; keys inertia (default [1, 2, 3]), mass (1)",
+        coordinates: &[],
+        params: &[],
+        default_initial: "identity attitude at the origin, Ω = [0.05, 1, 0.05], body velocity v = [1, 0, 0]",
+        symmetries: &["J_angular_x..z", "J_linear_x..z (spatial momentum)"],
+        reference: "RK4 on the Euler–Poincaré equations (test suite)",
+    },
+    ModelInfo {
         name: "custom",
         summary: "any Lagrangian given as an expression: keys coordinates, lagrangian, force (optional), constants, symmetries",
         coordinates: &[],
@@ -287,6 +315,12 @@ pub const METHODS: &[MethodInfo] = &[
         name: "sem-leftpoint",
         keys: "dt",
         properties: "variable step, order 1; the paper's (3.18); fails at turning points (reference only)",
+    },
+    MethodInfo {
+        name: "lie-group trapezoid (rigid-body models)",
+        keys: "retraction (cayley | exp, default cayley), dt",
+        properties: "order 2; symplectic on T*G; conserves the spatial momentum of symmetric bodies to round-off; \
+                     keeps RᵀR = I to round-off",
     },
 ];
 

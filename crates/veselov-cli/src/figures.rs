@@ -14,7 +14,8 @@ fn plot_err(e: crate::plot::PlotError) -> CliError {
     }
 }
 
-/// Energy error, momentum errors, phase portrait and (in 2-D) the orbit.
+/// Energy error, momentum errors, phase portrait, (in 2-D) the orbit and (rigid
+/// bodies) the body angular momentum.
 pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(), CliError> {
     let Some(t) = table.column("t") else { return Ok(()) };
     let file = |name: &str| dir.join(format!("{name}.{format}"));
@@ -79,6 +80,35 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
             equal_aspect: false,
         };
         draw(&file("phase"), &fig).map_err(plot_err)?;
+    }
+    if let (Some(p0), Some(p1), Some(p2)) = (table.column("Pi0"), table.column("Pi1"), table.column("Pi2")) {
+        let fig = Figure {
+            title: "Body angular momentum",
+            x_label: "time t",
+            y_label: "Π (body frame)",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: vec![
+                Series {
+                    label: "Pi0",
+                    x: &t,
+                    y: &p0,
+                },
+                Series {
+                    label: "Pi1",
+                    x: &t,
+                    y: &p1,
+                },
+                Series {
+                    label: "Pi2",
+                    x: &t,
+                    y: &p2,
+                },
+            ],
+            markers: false,
+            equal_aspect: false,
+        };
+        draw(&file("body_momentum"), &fig).map_err(plot_err)?;
     }
     if n == 2
         && let (Some(q0), Some(q1)) = (table.column("q0"), table.column("q1"))

@@ -9,6 +9,8 @@ pub mod figures;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod rigid;
+pub mod route;
 pub mod run;
 pub mod scenario;
 pub mod systems;

@@ -6,8 +6,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use veselov_cli::error::CliError;
+use veselov_cli::route::{ScenarioKind, kind, read};
 use veselov_cli::scenario::LoadedScenario;
-use veselov_cli::{catalog, figures, output, run, systems, verify};
+use veselov_cli::{catalog, figures, output, rigid, run, systems, verify};
 
 /// Structure-preserving variational integrators.
 #[derive(Parser)]
@@ -100,6 +101,27 @@ fn plot_dir(dir: &std::path::Path, format: &str) -> Result<(), CliError> {
     figures::draw_all(dir, &table, n, format)
 }
 
+fn run_scenario(path: &std::path::Path, job: run::RunJob) -> Result<(), CliError> {
+    let text = read(path)?;
+    match kind(path, &text)? {
+        ScenarioKind::RigidBody => rigid::run(path, &text, job),
+        ScenarioKind::Mechanics => LoadedScenario::parse(path, &text).and_then(|s| systems::dispatch(&s, job)),
+    }
+}
+
+/// A mechanics scenario for a command that supports only those.
+fn load_mechanics(path: &std::path::Path, command: &str) -> Result<LoadedScenario, CliError> {
+    let text = read(path)?;
+    match kind(path, &text)? {
+        ScenarioKind::Mechanics => LoadedScenario::parse(path, &text),
+        other => Err(CliError::Setup(format!(
+            "{}: `veselov {command}` runs Lagrangian-mechanics scenarios; this is a {other:?} scenario \
+             (its convergence order is checked by the test suite)",
+            path.display()
+        ))),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -108,7 +130,7 @@ fn main() -> ExitCode {
             out,
             quiet,
             force,
-        } => LoadedScenario::load(&scenario).and_then(|s| systems::dispatch(&s, run::RunJob { out, quiet, force })),
+        } => run_scenario(&scenario, run::RunJob { out, quiet, force }),
         Command::Models => {
             list_models();
             Ok(())
@@ -123,7 +145,7 @@ fn main() -> ExitCode {
             out,
             force,
             quiet,
-        } => LoadedScenario::load(&scenario).and_then(|s| {
+        } => load_mechanics(&scenario, "verify").and_then(|s| {
             systems::dispatch(
                 &s,
                 verify::VerifyJob {

@@ -192,23 +192,7 @@ impl LoadedScenario {
 
     fn check(&self) -> Result<(), CliError> {
         let s = &self.scenario;
-        let dt = s.method.dt;
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(self.key_error("method.dt", format!("expected a finite number > 0, got {dt}")));
-        }
-        match (s.time.t_end, s.time.steps) {
-            (Some(_), Some(_)) => return Err(self.key_error("time", "give either `t_end` or `steps`, not both")),
-            (None, None) => return Err(self.key_error("time", "missing `t_end` or `steps`")),
-            (Some(t), None) if !(t.is_finite() && t > s.time.t0) => {
-                return Err(self.key_error(
-                    "time.t_end",
-                    format!("expected a finite number > t0 = {}, got {t}", s.time.t0),
-                ));
-            }
-            (None, Some(0)) => return Err(self.key_error("time.steps", "expected at least 1 step")),
-            _ => {}
-        }
-        self.finite("time.t0", &[s.time.t0])?;
+        check_time_and_output(&self.path, &s.time, s.method.dt, &s.output)?;
         if let Some(init) = &s.initial {
             self.finite("initial.q", &init.q)?;
             match (&init.p, &init.v) {
@@ -224,62 +208,113 @@ impl LoadedScenario {
         for (k, v) in &s.model.constants {
             self.finite(&format!("model.constants.{k}"), &[*v])?;
         }
-        if s.output.every == 0 {
-            return Err(self.key_error("output.every", "expected an integer ≥ 1"));
-        }
-        for f in &s.output.formats {
-            if f != "csv" && f != "npy" {
-                return Err(self.key_error(
-                    "output.formats",
-                    format!("unknown format `{f}`, expected \"csv\" or \"npy\""),
-                ));
-            }
-        }
-        if s.output.plot_format != "svg" && s.output.plot_format != "png" {
-            return Err(self.key_error(
-                "output.plot_format",
-                format!(
-                    "unknown plot format `{}`, expected \"svg\" or \"png\"",
-                    s.output.plot_format
-                ),
-            ));
-        }
         Ok(())
     }
 
-    /// Number of steps and the time step.
+    /// Number of steps.
     pub fn steps(&self) -> u64 {
-        let s = &self.scenario;
-        match (s.time.steps, s.time.t_end) {
-            (Some(n), _) => n,
-            (None, Some(t_end)) => {
-                let n = (t_end - s.time.t0) / s.method.dt;
-                // Tolerate round-off in t_end/dt (e.g. 1.0/0.1 = 9.999999999999998).
-                let r = n.round();
-                let n = if (n - r).abs() <= 1e-9 * r.max(1.0) {
-                    r
-                } else {
-                    n.ceil()
-                };
-                n.max(1.0) as u64
-            }
-            (None, None) => 1,
-        }
+        step_count(&self.scenario.time, self.scenario.method.dt)
     }
 
     /// The output directory: `--out`, else `output.dir`, else `out/<stem>`.
     pub fn output_dir(&self, cli_out: Option<&Path>) -> PathBuf {
-        if let Some(o) = cli_out {
-            return o.to_path_buf();
-        }
-        if let Some(d) = &self.scenario.output.dir {
-            return d.clone();
-        }
-        let stem = self
-            .path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "run".into());
-        PathBuf::from("out").join(stem)
+        output_dir(&self.path, &self.scenario.output, cli_out)
     }
+}
+
+fn key_error(file: &Path, key: &str, message: impl Into<String>) -> CliError {
+    CliError::Key {
+        file: file.to_path_buf(),
+        key: key.to_string(),
+        message: message.into(),
+    }
+}
+
+/// Check `dt`, the `[time]` table and the `[output]` table shared by every
+/// kind of scenario; errors name the key in `file`.
+pub fn check_time_and_output(file: &Path, time: &TimeSpec, dt: f64, output: &OutputSpec) -> Result<(), CliError> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(key_error(
+            file,
+            "method.dt",
+            format!("expected a finite number > 0, got {dt}"),
+        ));
+    }
+    if !time.t0.is_finite() {
+        return Err(key_error(
+            file,
+            "time.t0",
+            format!("expected a finite number, got {}", time.t0),
+        ));
+    }
+    match (time.t_end, time.steps) {
+        (Some(_), Some(_)) => return Err(key_error(file, "time", "give either `t_end` or `steps`, not both")),
+        (None, None) => return Err(key_error(file, "time", "missing `t_end` or `steps`")),
+        (Some(t), None) if !(t.is_finite() && t > time.t0) => {
+            return Err(key_error(
+                file,
+                "time.t_end",
+                format!("expected a finite number > t0 = {}, got {t}", time.t0),
+            ));
+        }
+        (None, Some(0)) => return Err(key_error(file, "time.steps", "expected at least 1 step")),
+        _ => {}
+    }
+    if output.every == 0 {
+        return Err(key_error(file, "output.every", "expected an integer ≥ 1"));
+    }
+    for f in &output.formats {
+        if f != "csv" && f != "npy" {
+            return Err(key_error(
+                file,
+                "output.formats",
+                format!("unknown format `{f}`, expected \"csv\" or \"npy\""),
+            ));
+        }
+    }
+    if output.plot_format != "svg" && output.plot_format != "png" {
+        return Err(key_error(
+            file,
+            "output.plot_format",
+            format!(
+                "unknown plot format `{}`, expected \"svg\" or \"png\"",
+                output.plot_format
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Number of steps of a fixed-step run: `steps`, or `t_end` reached in steps of `dt`.
+pub fn step_count(time: &TimeSpec, dt: f64) -> u64 {
+    match (time.steps, time.t_end) {
+        (Some(n), _) => n,
+        (None, Some(t_end)) => {
+            let n = (t_end - time.t0) / dt;
+            // Tolerate round-off in t_end/dt (e.g. 1.0/0.1 = 9.999999999999998).
+            let r = n.round();
+            let n = if (n - r).abs() <= 1e-9 * r.max(1.0) {
+                r
+            } else {
+                n.ceil()
+            };
+            n.max(1.0) as u64
+        }
+        (None, None) => 1,
+    }
+}
+
+/// The output directory: `--out`, else `output.dir`, else `out/<scenario stem>`.
+pub fn output_dir(file: &Path, output: &OutputSpec, cli_out: Option<&Path>) -> PathBuf {
+    if let Some(o) = cli_out {
+        return o.to_path_buf();
+    }
+    if let Some(d) = &output.dir {
+        return d.clone();
+    }
+    let stem = file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "run".into());
+    PathBuf::from("out").join(stem)
 }

@@ -80,13 +80,18 @@ fn every_example_runs() {
         assert_eq!(s["status"], "ok", "{name}: {s}");
         assert_eq!(s["steps"], 40, "{name}");
         let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("trajectory.csv");
+        let rigid = csv.starts_with("t,R00,");
         assert!(
-            csv.starts_with("t,q0,"),
+            csv.starts_with("t,q0,") || rigid,
             "{name}: {}",
             csv.lines().next().unwrap_or_default()
         );
         assert!(out.join("energy_error.svg").exists(), "{name}: no energy plot");
-        assert!(out.join("phase.svg").exists(), "{name}: no phase plot");
+        if rigid {
+            assert!(out.join("body_momentum.svg").exists(), "{name}: no body momentum plot");
+        } else {
+            assert!(out.join("phase.svg").exists(), "{name}: no phase plot");
+        }
         count += 1;
     }
     assert!(count >= 5, "only {count} examples found");
@@ -416,4 +421,101 @@ fn forced_run_reports_work_and_energy_balance() {
     assert!(balance < 1e-6, "{s}");
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
     assert!(csv.lines().next().expect("header").ends_with(",energy,work"));
+}
+
+#[test]
+fn rigid_body_runs_write_group_columns_and_conserve_momentum() {
+    let dir = temp_dir("rigid");
+    let out = dir.join("out");
+    let path = scenario(
+        &dir,
+        "[model]\nname = \"rigid-body-se3\"\ninertia = [1.0, 2.0, 3.0]\nmass = 2.0\n\
+         [method]\nretraction = \"exp\"\ndt = 0.01\n\
+         [initial]\nquaternion = [0.9, 0.1, -0.2, 0.3]\nangular_momentum = [0.1, 2.0, 0.3]\nvelocity = [1, 0, 0]\n\
+         [time]\nsteps = 2000\n[output]\nplots = false\n",
+    );
+    veselov()
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
+    let header: Vec<&str> = text.lines().next().expect("header").split(',').collect();
+    for col in [
+        "t",
+        "R00",
+        "R22",
+        "x0",
+        "Pi0",
+        "P2",
+        "energy",
+        "pi_x",
+        "J_linear_z",
+        "orthogonality_defect",
+    ] {
+        assert!(header.contains(&col), "missing column {col} in {header:?}");
+    }
+    let s = summary(&out);
+    assert_eq!(s["status"], "ok");
+    assert_eq!(s["steps"], 2000);
+    assert!(s["orthogonality_defect_max"].as_f64().expect("number") <= 1e-14);
+    for (name, err) in s["momentum_error_max"].as_object().expect("map") {
+        assert!(err.as_f64().expect("number") <= 1e-13, "{name}: {err}");
+    }
+    // The quaternion was normalised on input: R00 of the first row is that of q/|q|.
+    let first: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .expect("row")
+        .split(',')
+        .map(|x| x.parse().expect("num"))
+        .collect();
+    let q = [0.9_f64, 0.1, -0.2, 0.3];
+    let n2: f64 = q.iter().map(|x| x * x).sum();
+    let r00 = (q[0] * q[0] + q[1] * q[1] - q[2] * q[2] - q[3] * q[3]) / n2;
+    assert!((first[1] - r00).abs() <= 1e-15);
+}
+
+#[test]
+fn rigid_body_errors_name_the_key() {
+    let dir = temp_dir("rigid-errors");
+    let cases = [
+        ("[model]\nname = \"heavy-top\"\ninertia = [1.0, 2.0]\n", "model.inertia"),
+        ("[model]\nname = \"heavy-top\"\nmass = -1.0\n", "mass"),
+        ("[model]\nname = \"rigid-body\"\ngravity = 9.81\n", "model.gravity"),
+        (
+            "[model]\nname = \"rigid-body\"\ninertia = [1.0, -2.0, 3.0]\n",
+            "positive definite",
+        ),
+        ("[model]\nname = \"rigid-body\"\nspin = 3\n", "spin"),
+    ];
+    for (i, (model, needle)) in cases.iter().enumerate() {
+        let path = scenario(&dir, &format!("{model}[method]\ndt = 0.01\n[time]\nsteps = 10\n"));
+        let out = dir.join(format!("out{i}"));
+        let assert = veselov()
+            .arg("run")
+            .arg(&path)
+            .arg("--out")
+            .arg(&out)
+            .arg("--quiet")
+            .assert()
+            .failure();
+        let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+        assert!(stderr.contains(needle), "case {i}: `{needle}` not in: {stderr}");
+    }
+    let path = scenario(
+        &dir,
+        "[model]\nname = \"rigid-body\"\n[method]\nretraction = \"quaternion\"\ndt = 0.01\n[time]\nsteps = 10\n",
+    );
+    let assert = veselov().arg("run").arg(&path).arg("--quiet").assert().failure();
+    assert!(String::from_utf8_lossy(&assert.get_output().stderr).contains("method.retraction"));
+    let path = scenario(
+        &dir,
+        "[model]\nname = \"rigid-body\"\n[method]\ndt = 0.01\n[initial]\nquaternion = [0, 0, 0, 0]\n[time]\nsteps = 10\n",
+    );
+    let assert = veselov().arg("run").arg(&path).arg("--quiet").assert().failure();
+    assert!(String::from_utf8_lossy(&assert.get_output().stderr).contains("initial.quaternion"));
 }
