@@ -17,13 +17,13 @@ pub fn spatial_momentum<G: GroupFamily<N>, const N: usize>(state: &GroupState<G,
     state.g.coadjoint() * state.mu
 }
 
-/// The energy E = ⟨μ, ξ⟩ − ℓ(g, ξ) at the body velocity ξ with
-/// ∂ℓ/∂ξ(g, ξ) = μ (continuous Legendre transform, solved by Newton with the
-/// exact Hessian; one step when ℓ is quadratic in ξ).
-pub fn energy<G: GroupFamily<N>, L: ReducedLagrangian<G, N>, const N: usize>(
+/// The body velocity ξ with ∂ℓ/∂ξ(g, ξ) = μ (inverse continuous Legendre
+/// transform, by Newton with the exact Hessian; one step when ℓ is quadratic
+/// in ξ).
+pub fn body_velocity<G: GroupFamily<N>, L: ReducedLagrangian<G, N>, const N: usize>(
     l: &L,
     state: &GroupState<G, N>,
-) -> Result<f64> {
+) -> Result<SVector<f64, N>> {
     let mut xi = SVector::<f64, N>::zeros();
     for iteration in 0..50 {
         let (_, p, hess) = hessian(|x| l.lagrangian(&G::lift(&state.g), &x), &xi);
@@ -45,6 +45,16 @@ pub fn energy<G: GroupFamily<N>, L: ReducedLagrangian<G, N>, const N: usize>(
             });
         }
     }
+    Ok(xi)
+}
+
+/// The energy E = ⟨μ, ξ⟩ − ℓ(g, ξ) at the body velocity ξ of
+/// [`body_velocity`].
+pub fn energy<G: GroupFamily<N>, L: ReducedLagrangian<G, N>, const N: usize>(
+    l: &L,
+    state: &GroupState<G, N>,
+) -> Result<f64> {
+    let xi = body_velocity(l, state)?;
     Ok(state.mu.dot(&xi) - l.lagrangian(&state.g, &xi))
 }
 

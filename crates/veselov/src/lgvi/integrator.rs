@@ -67,6 +67,7 @@ pub struct LieGroupIntegrator<G: GroupFamily<N>, R, L, const N: usize> {
     h: f64,
     options: NewtonOptions,
     guess: Option<SVector<f64, N>>,
+    jacobian: Option<SMatrix<f64, N, N>>,
     carry: Option<Carry<G, N>>,
     marker: PhantomData<(G, R)>,
 }
@@ -85,6 +86,7 @@ where
             h,
             options: NewtonOptions::default(),
             guess: None,
+            jacobian: None,
             carry: None,
             marker: PhantomData,
         })
@@ -101,26 +103,81 @@ where
         &self.lagrangian
     }
 
-    /// Solve μ = ν(ξ) − ∂_g L_d(g, ξ) for the step's body velocity ξ.
-    /// Returns ξ, ∂r/∂ξ at the solution, and the iteration count.
+    /// ∂r/∂ξ of the Legendre residual at ξ, exact (nested dual numbers).
+    fn exact_jacobian(&self, state: &GroupState<G, N>, xi: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+        let g = G::lift::<DualSVec64<N>>(&state.g);
+        let mu = state.mu.map(DualSVec64::<N>::from);
+        let xd = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from(xi[i]).derivative(i));
+        let (r, _) = momentum_residual::<G, R, L, _, N>(&self.lagrangian, &g, &mu, &xd, self.h);
+        SMatrix::<f64, N, N>::from_fn(|i, j| r[i].eps.unwrap_generic(Const::<N>, U1)[j])
+    }
+
+    /// Solve μ = ν(ξ) − ∂_g L_d(g, ξ) for the step's body velocity ξ by a
+    /// simplified Newton iteration: the exact Jacobian (nested dual numbers,
+    /// the expensive part) is evaluated once and reused across iterations and
+    /// steps while the iteration contracts by at least a factor 4 per
+    /// iteration; otherwise it is refreshed at the current iterate (so a slow
+    /// iteration turns into Newton's method).
+    /// Returns ξ, ∂r/∂ξ (as last evaluated), and the iteration count.
     pub fn solve_velocity(
         &mut self,
         index: usize,
         state: &GroupState<G, N>,
     ) -> Result<(SVector<f64, N>, SMatrix<f64, N, N>, usize)> {
         let (l, h) = (&self.lagrangian, self.h);
-        let g = G::lift::<DualSVec64<N>>(&state.g);
-        let mu = state.mu.map(DualSVec64::<N>::from);
-        let start = self.guess.unwrap_or(state.mu);
-        let solved = newton_on_algebra(start, &self.options, index, state.t, |xi| {
-            let xd = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from(xi[i]).derivative(i));
-            let (r, _) = momentum_residual::<G, R, L, _, N>(l, &g, &mu, &xd, h);
-            let value = r.map(|e| e.re);
-            let jac = SMatrix::<f64, N, N>::from_fn(|i, j| r[i].eps.unwrap_generic(Const::<N>, U1)[j]);
-            (value, jac)
-        })?;
-        self.guess = Some(solved.0);
-        Ok(solved)
+        let residual = |xi: &SVector<f64, N>| momentum_residual::<G, R, L, f64, N>(l, &state.g, &state.mu, xi, h).0;
+        let exact_jacobian = |xi: &SVector<f64, N>| self.exact_jacobian(state, xi);
+        // First step: the continuous Legendre transform is an O(h) guess.
+        let mut xi = match self.guess {
+            Some(xi) => xi,
+            None => super::body_velocity(l, state)?,
+        };
+        let mut jac = match self.jacobian {
+            Some(j) => j,
+            None => exact_jacobian(&xi),
+        };
+        let mut fresh = self.jacobian.is_none();
+        let mut previous = f64::INFINITY;
+        let options = self.options;
+        for iteration in 1..=options.max_iterations {
+            let r = residual(&xi);
+            let fail = |reason: &str| Error::NewtonFailure {
+                step: index,
+                t: state.t,
+                residual: r.amax(),
+                iterations: iteration,
+                reason: reason.into(),
+            };
+            if !r.iter().all(|e| e.is_finite()) {
+                return Err(fail("non-finite residual"));
+            }
+            let (delta, pivot) = solve_small(&jac, &(-r));
+            if pivot < 1e-14 || !delta.iter().all(|e| e.is_finite()) {
+                return Err(fail("singular Jacobian on the algebra"));
+            }
+            xi += delta;
+            let size = delta.amax() / xi.amax().max(1.0);
+            if size <= options.tol || (size >= previous && size <= options.stall_threshold) {
+                self.guess = Some(xi);
+                self.jacobian = Some(jac);
+                return Ok((xi, jac, iteration));
+            }
+            if size > 0.25 * previous && !fresh {
+                jac = exact_jacobian(&xi);
+                fresh = true;
+            } else {
+                fresh = false;
+            }
+            previous = size;
+        }
+        self.jacobian = None;
+        Err(Error::NewtonFailure {
+            step: index,
+            t: state.t,
+            residual: residual(&xi).amax(),
+            iterations: options.max_iterations,
+            reason: "iteration limit".into(),
+        })
     }
 
     /// The exact Jacobian of the step map in left-trivialised coordinates
@@ -128,7 +185,8 @@ where
     /// theorem on the converged Legendre equation (no finite differences).
     /// Blocks: `qq` = ∂η'/∂η, `qp` = ∂η'/∂δμ, `pq` = ∂δμ'/∂η, `pp` = ∂δμ'/∂δμ.
     pub fn flow_jacobian(&mut self, state: &GroupState<G, N>) -> Result<(GroupState<G, N>, FlowJacobian<N>)> {
-        let (xi, jac, _) = self.solve_velocity(0, state)?;
+        let (xi, _, _) = self.solve_velocity(0, state)?;
+        let jac = self.exact_jacobian(state, &xi);
         let (l, h) = (&self.lagrangian, self.h);
         let mut out: FlowJacobian<N> = FlowJacobian {
             qq: SMatrix::zeros(),

@@ -55,7 +55,7 @@ mod reference;
 mod split;
 mod state;
 
-pub use diagnostics::{energy, lie_symplecticity_defect, spatial_momentum};
+pub use diagnostics::{body_velocity, energy, lie_symplecticity_defect, spatial_momentum};
 pub use discrete::{action_partials, discrete_lagrangian, left_gradient, momentum_residual};
 pub use integrator::LieGroupIntegrator;
 pub use lagrangian::{ReducedLagrangian, SplitReducedLagrangian};
