@@ -15,20 +15,27 @@ use crate::lie::{GroupFamily, LieGroup, Retraction};
 use crate::mechanics::{FlowJacobian, StepStats};
 use crate::solve::{NewtonOptions, solve_small};
 
-/// Newton's method for a small system on the algebra, started at `xi`.
-/// `eval` returns the residual and its Jacobian. Convergence: update
-/// ‖Δξ‖∞ ≤ tol·max(1, ‖ξ‖∞), or an update that stops shrinking below the
-/// stall threshold (round-off reached). Returns (ξ, last Jacobian, iterations).
+/// Simplified Newton iteration for a small system r(ξ) = 0 on the algebra,
+/// started at `xi` with the Jacobian `jacobian` if one is given (else
+/// `exact_jacobian(xi)`). The Jacobian is kept while the update shrinks by at
+/// least a factor 4 per iteration and refreshed at the current iterate
+/// otherwise, so a slow iteration turns into Newton's method.
+/// Convergence: ‖Δξ‖∞ ≤ tol·max(1, ‖ξ‖∞), or an update that stops shrinking
+/// below the stall threshold (round-off reached).
+/// Returns (ξ, the Jacobian last used, iterations).
 pub(crate) fn newton_on_algebra<const N: usize>(
     mut xi: SVector<f64, N>,
+    jacobian: Option<SMatrix<f64, N, N>>,
     options: &NewtonOptions,
-    step: usize,
-    t: f64,
-    mut eval: impl FnMut(&SVector<f64, N>) -> (SVector<f64, N>, SMatrix<f64, N, N>),
+    (step, t): (usize, f64),
+    residual: impl Fn(&SVector<f64, N>) -> SVector<f64, N>,
+    exact_jacobian: impl Fn(&SVector<f64, N>) -> SMatrix<f64, N, N>,
 ) -> Result<(SVector<f64, N>, SMatrix<f64, N, N>, usize)> {
+    let mut fresh = jacobian.is_none();
+    let mut jac = jacobian.unwrap_or_else(|| exact_jacobian(&xi));
     let mut previous = f64::INFINITY;
     for iteration in 1..=options.max_iterations {
-        let (r, jac) = eval(&xi);
+        let r = residual(&xi);
         let fail = |reason: &str| Error::NewtonFailure {
             step,
             t,
@@ -48,13 +55,18 @@ pub(crate) fn newton_on_algebra<const N: usize>(
         if size <= options.tol || (size >= previous && size <= options.stall_threshold) {
             return Ok((xi, jac, iteration));
         }
+        if size > 0.25 * previous && !fresh {
+            jac = exact_jacobian(&xi);
+            fresh = true;
+        } else {
+            fresh = false;
+        }
         previous = size;
     }
-    let (r, _) = eval(&xi);
     Err(Error::NewtonFailure {
         step,
         t,
-        residual: r.amax(),
+        residual: residual(&xi).amax(),
         iterations: options.max_iterations,
         reason: "iteration limit".into(),
     })
@@ -128,56 +140,26 @@ where
         let residual = |xi: &SVector<f64, N>| momentum_residual::<G, R, L, f64, N>(l, &state.g, &state.mu, xi, h).0;
         let exact_jacobian = |xi: &SVector<f64, N>| self.exact_jacobian(state, xi);
         // First step: the continuous Legendre transform is an O(h) guess.
-        let mut xi = match self.guess {
+        let xi = match self.guess {
             Some(xi) => xi,
             None => super::body_velocity(l, state)?,
         };
-        let mut jac = match self.jacobian {
-            Some(j) => j,
-            None => exact_jacobian(&xi),
-        };
-        let mut fresh = self.jacobian.is_none();
-        let mut previous = f64::INFINITY;
-        let options = self.options;
-        for iteration in 1..=options.max_iterations {
-            let r = residual(&xi);
-            let fail = |reason: &str| Error::NewtonFailure {
-                step: index,
-                t: state.t,
-                residual: r.amax(),
-                iterations: iteration,
-                reason: reason.into(),
-            };
-            if !r.iter().all(|e| e.is_finite()) {
-                return Err(fail("non-finite residual"));
+        let solved = newton_on_algebra(
+            xi,
+            self.jacobian,
+            &self.options,
+            (index, state.t),
+            residual,
+            exact_jacobian,
+        );
+        match &solved {
+            Ok((xi, jac, _)) => {
+                self.guess = Some(*xi);
+                self.jacobian = Some(*jac);
             }
-            let (delta, pivot) = solve_small(&jac, &(-r));
-            if pivot < 1e-14 || !delta.iter().all(|e| e.is_finite()) {
-                return Err(fail("singular Jacobian on the algebra"));
-            }
-            xi += delta;
-            let size = delta.amax() / xi.amax().max(1.0);
-            if size <= options.tol || (size >= previous && size <= options.stall_threshold) {
-                self.guess = Some(xi);
-                self.jacobian = Some(jac);
-                return Ok((xi, jac, iteration));
-            }
-            if size > 0.25 * previous && !fresh {
-                jac = exact_jacobian(&xi);
-                fresh = true;
-            } else {
-                fresh = false;
-            }
-            previous = size;
+            Err(_) => self.jacobian = None,
         }
-        self.jacobian = None;
-        Err(Error::NewtonFailure {
-            step: index,
-            t: state.t,
-            residual: residual(&xi).amax(),
-            iterations: options.max_iterations,
-            reason: "iteration limit".into(),
-        })
+        solved
     }
 
     /// The exact Jacobian of the step map in left-trivialised coordinates

@@ -60,5 +60,5 @@ pub use discrete::{action_partials, discrete_lagrangian, left_gradient, momentum
 pub use integrator::LieGroupIntegrator;
 pub use lagrangian::{ReducedLagrangian, SplitReducedLagrangian};
 pub use reference::rk4_group_reference;
-pub use split::SplitLieIntegrator;
+pub use split::{SplitLieIntegrator, check_inertia};
 pub use state::{GroupState, GroupStepMap, GroupTrajectory, integrate_group, integrate_group_observed};

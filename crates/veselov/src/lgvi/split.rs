@@ -17,6 +17,26 @@ use crate::lie::{GroupFamily, LieGroup, Retraction};
 use crate::mechanics::StepStats;
 use crate::solve::NewtonOptions;
 
+/// Check that an inertia is finite, symmetric and positive definite
+/// (`InvalidParameter` naming "inertia" otherwise).
+pub fn check_inertia<const N: usize>(inertia: &SMatrix<f64, N, N>) -> Result<()> {
+    let bad = |reason: &str| Error::InvalidParameter {
+        name: "inertia".into(),
+        value: format!("{:?}", inertia.as_slice()),
+        reason: reason.into(),
+    };
+    if !inertia.iter().all(|e| e.is_finite()) {
+        return Err(bad("entries must be finite"));
+    }
+    if (inertia - inertia.transpose()).amax() > 1e-12 * inertia.amax() {
+        return Err(bad("the inertia tensor must be symmetric"));
+    }
+    if nalgebra::Cholesky::new(*inertia).is_none() {
+        return Err(bad("the inertia tensor must be positive definite"));
+    }
+    Ok(())
+}
+
 /// Fixed-point iterations before falling back to Newton.
 const MAX_FIXED_POINT_ITERATIONS: usize = 40;
 
@@ -55,12 +75,7 @@ where
             value: format!("{:?}", inertia.as_slice()),
             reason: reason.into(),
         };
-        if !inertia.iter().all(|e| e.is_finite()) {
-            return Err(bad("entries must be finite"));
-        }
-        if (inertia - inertia.transpose()).amax() > 1e-12 * inertia.amax() {
-            return Err(bad("must be symmetric"));
-        }
+        check_inertia(&inertia)?;
         let chol = nalgebra::Cholesky::new(inertia).ok_or_else(|| bad("must be positive definite"))?;
         Ok(Self {
             lagrangian,
@@ -114,14 +129,15 @@ where
         t: f64,
     ) -> Result<(SVector<f64, N>, usize)> {
         let inertia = self.inertia.map(DualSVec64::<N>::from);
-        let hd = DualSVec64::<N>::from(self.h);
-        let (xi, _, iterations) = newton_on_algebra(start, &self.options, index, t, |xi| {
+        let h = self.h;
+        let hd = DualSVec64::<N>::from(h);
+        let residual = |xi: &SVector<f64, N>| R::dtau_inv(&(xi * h)).transpose() * (self.inertia * xi) - m;
+        let jacobian = |xi: &SVector<f64, N>| {
             let xd = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from(xi[i]).derivative(i));
             let r = R::dtau_inv(&(xd * hd)).transpose() * (inertia * xd);
-            let value = r.map(|e| e.re) - m;
-            let jac = SMatrix::<f64, N, N>::from_fn(|i, j| r[i].eps.unwrap_generic(Const::<N>, U1)[j]);
-            (value, jac)
-        })?;
+            SMatrix::<f64, N, N>::from_fn(|i, j| r[i].eps.unwrap_generic(Const::<N>, U1)[j])
+        };
+        let (xi, _, iterations) = newton_on_algebra(start, None, &self.options, (index, t), residual, jacobian)?;
         Ok((xi, iterations))
     }
 

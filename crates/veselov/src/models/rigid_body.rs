@@ -9,26 +9,8 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use crate::ad::Scalar;
 use crate::error::{Error, Result};
-use crate::lgvi::SplitReducedLagrangian;
+use crate::lgvi::{SplitReducedLagrangian, check_inertia};
 use crate::lie::{RigidMotions, Rotations, SE3, SO3};
-
-fn check_inertia(inertia: &Matrix3<f64>) -> Result<()> {
-    let bad = |reason: &str| Error::InvalidParameter {
-        name: "inertia".into(),
-        value: format!("{:?}", inertia.as_slice()),
-        reason: reason.into(),
-    };
-    if !inertia.iter().all(|e| e.is_finite()) {
-        return Err(bad("entries must be finite"));
-    }
-    if (inertia - inertia.transpose()).amax() > 1e-12 * inertia.amax() {
-        return Err(bad("the inertia tensor must be symmetric"));
-    }
-    if nalgebra::Cholesky::new(*inertia).is_none() {
-        return Err(bad("the inertia tensor must be positive definite"));
-    }
-    Ok(())
-}
 
 fn check_positive(name: &str, value: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 {
