@@ -109,16 +109,11 @@ fn run_scenario(path: &std::path::Path, job: run::RunJob) -> Result<(), CliError
     }
 }
 
-/// A mechanics scenario for a command that supports only those.
-fn load_mechanics(path: &std::path::Path, command: &str) -> Result<LoadedScenario, CliError> {
+fn verify_scenario(path: &std::path::Path, job: verify::VerifyJob) -> Result<(), CliError> {
     let text = read(path)?;
     match kind(path, &text)? {
-        ScenarioKind::Mechanics => LoadedScenario::parse(path, &text),
-        other => Err(CliError::Setup(format!(
-            "{}: `veselov {command}` runs Lagrangian-mechanics scenarios; this is a {other:?} scenario \
-             (its convergence order is checked by the test suite)",
-            path.display()
-        ))),
+        ScenarioKind::RigidBody => rigid::dispatch(path, &text, job),
+        ScenarioKind::Mechanics => LoadedScenario::parse(path, &text).and_then(|s| systems::dispatch(&s, job)),
     }
 }
 
@@ -145,17 +140,15 @@ fn main() -> ExitCode {
             out,
             force,
             quiet,
-        } => load_mechanics(&scenario, "verify").and_then(|s| {
-            systems::dispatch(
-                &s,
-                verify::VerifyJob {
-                    dts: dt,
-                    out,
-                    force,
-                    quiet,
-                },
-            )
-        }),
+        } => verify_scenario(
+            &scenario,
+            verify::VerifyJob {
+                dts: dt,
+                out,
+                force,
+                quiet,
+            },
+        ),
         Command::Plot { dir, format } => plot_dir(&dir, &format),
     };
     match result {

@@ -28,8 +28,8 @@ use nalgebra::{Matrix3, Quaternion, SVector, Vector3};
 use serde::Deserialize;
 use serde_json::json;
 use veselov::lgvi::{
-    GroupState, GroupStepMap, SplitLieIntegrator, SplitReducedLagrangian, energy, integrate_group_observed,
-    spatial_momentum,
+    GroupState, GroupStepMap, SplitLieIntegrator, SplitReducedLagrangian, energy, integrate_group,
+    integrate_group_observed, rk4_group_reference, spatial_momentum,
 };
 use veselov::lie::{CayleyMap, ExpMap, GroupFamily, Retraction, RigidMotions, Rotations, SE3, SO3, so3};
 use veselov::models::{FreeRigidBody, FreeRigidBodySE3, HeavyTop};
@@ -39,6 +39,7 @@ use crate::output::{Table, prepare_dir, write_json};
 use crate::progress::Progress;
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, output_dir, step_count};
+use crate::verify::{Study, VerifyJob, whole_steps};
 
 /// The rigid-body model names.
 pub const RIGID_MODELS: &[&str] = &["rigid-body", "heavy-top", "rigid-body-se3"];
@@ -236,8 +237,115 @@ impl LoadedRigid {
     }
 }
 
+/// Something to do with a rigid-body scenario once its body and initial
+/// state are built.
+pub trait RigidJob {
+    /// Do it with the retraction chosen in `[method]`.
+    fn go<G, L, const N: usize>(
+        self,
+        loaded: &LoadedRigid,
+        l: L,
+        x0: GroupState<G, N>,
+        conserved: &[(&str, usize)],
+        retraction: &str,
+    ) -> Result<(), CliError>
+    where
+        G: GroupFamily<N>,
+        ExpMap: Retraction<N, Family = G>,
+        CayleyMap: Retraction<N, Family = G>,
+        L: SplitReducedLagrangian<G, N> + Clone;
+}
+
+impl RigidJob for RunJob {
+    fn go<G, L, const N: usize>(
+        self,
+        loaded: &LoadedRigid,
+        l: L,
+        x0: GroupState<G, N>,
+        conserved: &[(&str, usize)],
+        retraction: &str,
+    ) -> Result<(), CliError>
+    where
+        G: GroupFamily<N>,
+        ExpMap: Retraction<N, Family = G>,
+        CayleyMap: Retraction<N, Family = G>,
+        L: SplitReducedLagrangian<G, N> + Clone,
+    {
+        run_with_retraction(loaded, self, l, x0, conserved, retraction)
+    }
+}
+
+impl RigidJob for VerifyJob {
+    /// Convergence study against RK4 on the continuous Euler–Poincaré
+    /// equations with 16 times the largest step count.
+    fn go<G, L, const N: usize>(
+        self,
+        loaded: &LoadedRigid,
+        l: L,
+        x0: GroupState<G, N>,
+        _conserved: &[(&str, usize)],
+        retraction: &str,
+    ) -> Result<(), CliError>
+    where
+        G: GroupFamily<N>,
+        ExpMap: Retraction<N, Family = G>,
+        CayleyMap: Retraction<N, Family = G>,
+        L: SplitReducedLagrangian<G, N> + Clone,
+    {
+        let s = &loaded.scenario;
+        let t_end = match s.time.t_end {
+            Some(t) => t,
+            None => x0.t + step_count(&s.time, s.method.dt) as f64 * s.method.dt,
+        };
+        let span = t_end - x0.t;
+        let steps = whole_steps(&loaded.path, &self.dts, span)?;
+        let n_ref = 16 * steps.iter().copied().max().unwrap_or(1);
+        let reference = rk4_group_reference::<G, CayleyMap, L, N>(&l, &x0, t_end, n_ref)
+            .map_err(|e| CliError::Setup(format!("reference run failed: {e}")))?;
+        let dir = prepare_dir(
+            &self
+                .out
+                .clone()
+                .unwrap_or_else(|| output_dir(&loaded.path, &s.output, None).join("verify")),
+            self.force,
+        )?;
+        let study = Study {
+            method: format!("lie-group trapezoid, {retraction} retraction"),
+            order: 2,
+            reference: format!("RK4 on the Euler–Poincaré equations, {n_ref} steps"),
+            t_end,
+            scale: reference.mu.amax().max(1.0),
+        };
+        let error = |x: &GroupState<G, N>| {
+            let dr = (G::rotation(&x.g) - G::rotation(&reference.g)).amax();
+            let dx = (G::translation(&x.g) - G::translation(&reference.g)).amax();
+            dr.max(dx).max((x.mu - reference.mu).amax())
+        };
+        study.run(&dir, &self.dts, &steps, self.quiet, |n| {
+            let h = span / n as f64;
+            let setup = |e: veselov::Error| CliError::Setup(e.to_string());
+            let traj = if retraction == "exp" {
+                let mut map = SplitLieIntegrator::<G, ExpMap, L, N>::new(l.clone(), h).map_err(setup)?;
+                integrate_group(&mut map, x0, n, n)
+            } else {
+                let mut map = SplitLieIntegrator::<G, CayleyMap, L, N>::new(l.clone(), h).map_err(setup)?;
+                integrate_group(&mut map, x0, n, n)
+            };
+            Ok(match traj.failure {
+                Some(e) => Err(e),
+                None => Ok(error(traj.last())),
+            })
+        })
+    }
+}
+
 /// Run a rigid-body scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    dispatch(path, text, job)
+}
+
+/// Build the scenario's body and initial state and hand them to `job`.
+pub fn dispatch<J: RigidJob>(path: &Path, text: &str, job: J) -> Result<(), CliError> {
     let loaded = LoadedRigid::parse(path, text)?;
     let init = loaded.scenario.initial.clone().unwrap_or_default();
     let retraction = loaded.scenario.method.retraction.clone();
@@ -277,7 +385,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
             )?;
             let x0 = GroupState::<Rotations, 3>::new(loaded.scenario.time.t0, loaded.attitude(&init)?, pi);
             let conserved: &[(&str, usize)] = &[("J_x", 0), ("J_y", 1), ("J_z", 2)];
-            run_with_retraction(&loaded, job, body, x0, conserved, &retraction)
+            job.go(&loaded, body, x0, conserved, &retraction)
         }
         "heavy-top" => {
             so3_only(&[
@@ -304,7 +412,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
                 _ => loaded.attitude(&init)?,
             };
             let x0 = GroupState::<Rotations, 3>::new(loaded.scenario.time.t0, attitude, pi);
-            run_with_retraction(&loaded, job, top, x0, &[("J_z", 2)], &retraction)
+            job.go(&loaded, top, x0, &[("J_z", 2)], &retraction)
         }
         "rigid-body-se3" => {
             so3_only(&[
@@ -338,7 +446,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
                 ("J_linear_y", 4),
                 ("J_linear_z", 5),
             ];
-            run_with_retraction(&loaded, job, body, x0, conserved, &retraction)
+            job.go(&loaded, body, x0, conserved, &retraction)
         }
         other => Err(loaded.key_error(
             "model.name",

@@ -519,3 +519,24 @@ fn rigid_body_errors_name_the_key() {
     let assert = veselov().arg("run").arg(&path).arg("--quiet").assert().failure();
     assert!(String::from_utf8_lossy(&assert.get_output().stderr).contains("initial.quaternion"));
 }
+
+#[test]
+fn verify_measures_the_order_of_the_lie_group_integrator() {
+    let dir = temp_dir("rigid-verify");
+    let path = scenario(
+        &dir,
+        "[model]\nname = \"heavy-top\"\n[method]\nretraction = \"exp\"\ndt = 0.01\n\
+         [initial]\nrotation_vector = [0.3, 0.1, 0.0]\nangular_velocity = [0.5, -0.3, 2.0]\n[time]\nt_end = 1.0\n",
+    );
+    let out = dir.join("verify");
+    veselov()
+        .args(["verify", "--quiet", "--dt", "0.02,0.01,0.005,0.0025", "--out"])
+        .arg(&out)
+        .arg(&path)
+        .assert()
+        .success();
+    let s = summary(&out);
+    let order = s["order_fitted"].as_f64().expect("fitted order");
+    assert!((order - 2.0).abs() <= 0.2, "order {order}");
+    assert!(out.join("convergence.csv").exists());
+}
