@@ -12,8 +12,10 @@
 pub mod cyclic;
 pub mod density;
 pub mod fast;
+pub mod generic;
 pub mod initial;
 pub mod lattice;
+pub mod noether;
 pub mod potential;
 pub mod region;
 pub mod scheme;
@@ -22,8 +24,10 @@ pub use density::{
     CellJet, CellLagrangian, Density, RectangleRule, TriangleRule, action, cell_gradient, cell_jet, delf_residual,
 };
 pub use fast::{FastMarcher, SolverOptions};
+pub use generic::{GenericMarcher, Tangent, node_value};
 pub use initial::{InitialData, PeriodicKink};
 pub use lattice::{Boundary, CellShape, Lattice};
+pub use noether::{multisymplectic_boundary_sum, recentre_mod_2pi, shift_charge, split_charge};
 pub use potential::{ComplexKleinGordon, NonlinearWave, Phi4, Potential, ScalarPotential, SineGordon, Wave};
 pub use region::{Node, Region, window};
 pub use scheme::Scheme;
