@@ -19,6 +19,8 @@ pub struct CyclicTridiagonal {
     z: Vec<f64>,
     /// `1 / (1 + z₀ + β z_{N−1}/γ)`.
     sm: f64,
+    /// `‖A⁻¹M‖∞`, `M = (I + S⁻¹)/2` the two-point average `(x_i + x_{i−1})/2`.
+    inv_avg_norm: f64,
 }
 
 impl CyclicTridiagonal {
@@ -52,6 +54,7 @@ impl CyclicTridiagonal {
             inv,
             z: vec![0.0; n],
             sm: 0.0,
+            inv_avg_norm: 0.0,
         };
         let mut u = vec![0.0; n];
         u[0] = gamma;
@@ -60,7 +63,20 @@ impl CyclicTridiagonal {
         s.thomas(&u, &mut z);
         s.sm = 1.0 / (1.0 + z[0] + beta * z[n - 1] / gamma);
         s.z = z;
+        // A⁻¹ and M are circulant, so ‖A⁻¹M‖∞ is the absolute sum of the
+        // first column of A⁻¹M: g_i = ½(a_i + a_{i−1}), a = A⁻¹e₀.
+        let mut a = vec![0.0; n];
+        a[0] = 1.0;
+        s.solve_in_place(&mut a);
+        s.inv_avg_norm = (0..n).map(|i| 0.5 * (a[i] + a[(i + n - 1) % n]).abs()).sum();
         Ok(s)
+    }
+
+    /// `‖A⁻¹M‖∞` with `M x_i = (x_i + x_{i−1})/2`: the gain of a solve
+    /// applied to a two-point average (much smaller than `‖A⁻¹‖∞ = 1/(1 − 2|c|)`
+    /// for `c < 0`, whose worst mode `(−1)^i` the average annihilates).
+    pub fn inverse_average_norm(&self) -> f64 {
+        self.inv_avg_norm
     }
 
     /// Off-diagonal coefficient `c`.

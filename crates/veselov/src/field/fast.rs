@@ -438,10 +438,16 @@ impl<P: ScalarPotential> FastMarcher<P> {
         let Some(tri) = self.tri.as_ref() else {
             return Err(self.fail(f64::NAN, 0, "missing tridiagonal factor"));
         };
-        let lip = self
-            .potential
-            .curvature_bound()
-            .map(|c| cn * c / (4.0 * (1.0 - 2.0 * tri.c().abs())));
+        // Lipschitz constant of δ ↦ new δ in ‖·‖∞: the cell averages move by
+        // ≤ ½‖δ‖, N̄′ is ½·(two-point average of the new cells' N′), so
+        // L ≤ c_N·sup|N″|·‖A⁻¹M‖∞/4 (VQL: ½·DD, ∂DD/∂a ≤ ½ sup|N″|, no
+        // average: L ≤ c_N·sup|N″|/(4(1 − 2|c|))).
+        let gain = if vql {
+            1.0 / (1.0 - 2.0 * tri.c().abs())
+        } else {
+            tri.inverse_average_norm()
+        };
+        let lip = self.potential.curvature_bound().map(|c| cn * c * gain / 4.0);
         {
             let (y, ym) = (&self.levels[0], &self.levels[1]);
             for p in 1..=n {
