@@ -18,6 +18,7 @@ pub mod lattice;
 pub mod noether;
 pub mod potential;
 pub mod region;
+pub mod run;
 pub mod scheme;
 
 pub use density::{
@@ -30,4 +31,5 @@ pub use lattice::{Boundary, CellShape, Lattice};
 pub use noether::{multisymplectic_boundary_sum, recentre_mod_2pi, shift_charge, split_charge};
 pub use potential::{ComplexKleinGordon, NonlinearWave, Phi4, Potential, ScalarPotential, SineGordon, Wave};
 pub use region::{Node, Region, window};
+pub use run::{BlockStats, FieldRun, FieldRunConfig, LevelInfo, Model, Snapshot, run_lattice};
 pub use scheme::Scheme;
