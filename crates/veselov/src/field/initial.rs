@@ -125,7 +125,7 @@ impl InitialData {
     fn validate(&self) -> Result<()> {
         match *self {
             InitialData::Kink { speed, x0 } => {
-                if !(speed.abs() < 1.0) {
+                if speed.is_nan() || speed.abs() >= 1.0 {
                     return Err(invalid("speed", speed, "need |c| < 1"));
                 }
                 if !x0.is_finite() {
