@@ -66,6 +66,9 @@ pub struct FastMarcher<P> {
     next: Vec<f64>,
     level: usize,
     prev_a: Vec<f64>,
+    /// History of `prev_a` (newest first) for the symmetric scheme's seed.
+    a_hist: Vec<Vec<f64>>,
+    a_filled: usize,
     cur_a: Vec<f64>,
     cur_v: Vec<f64>,
     cur_d2: Vec<f64>,
@@ -77,6 +80,19 @@ pub struct FastMarcher<P> {
     total_iterations: u64,
     energy: f64,
 }
+
+/// Extrapolation weights through `q` past values: `(−1)^m C(q, m+1)`.
+const BINOM: [[f64; 9]; 9] = [
+    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [2.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0, -3.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [4.0, -6.0, 4.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [5.0, -10.0, 10.0, -5.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+    [6.0, -15.0, 20.0, -15.0, 6.0, -1.0, 0.0, 0.0, 0.0],
+    [7.0, -21.0, 35.0, -35.0, 21.0, -7.0, 1.0, 0.0, 0.0],
+    [8.0, -28.0, 56.0, -70.0, 56.0, -28.0, 8.0, -1.0, 0.0],
+    [9.0, -36.0, 84.0, -126.0, 126.0, -84.0, 36.0, -9.0, 1.0],
+];
 
 fn fill_ghosts(y: &mut [f64], n: usize, jump: f64) {
     y[0] = y[n] - jump;
@@ -150,6 +166,12 @@ impl<P: ScalarPotential> FastMarcher<P> {
             next: vec![0.0; n + 2],
             level: 1,
             prev_a: vec![0.0; n + 2],
+            a_hist: if scheme == Scheme::SymmetricRectangle {
+                vec![vec![0.0; n + 2]; cap]
+            } else {
+                Vec::new()
+            },
+            a_filled: 0,
             cur_a: vec![0.0; n + 2],
             cur_v: vec![0.0; n + 2],
             cur_d2: vec![0.0; n + 2],
@@ -182,6 +204,10 @@ impl<P: ScalarPotential> FastMarcher<P> {
             };
         }
         self.prev_a[0] = self.prev_a[n];
+        if let Some(h0) = self.a_hist.first_mut() {
+            h0.copy_from_slice(&self.prev_a);
+            self.a_filled = 1;
+        }
     }
 
     /// The scheme.
@@ -267,17 +293,6 @@ impl<P: ScalarPotential> FastMarcher<P> {
 
     /// Seed `next` by extrapolation; return `max|y|` of the newest level.
     fn seed(&mut self) -> f64 {
-        const BINOM: [[f64; 9]; 9] = [
-            [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [2.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [3.0, -3.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [4.0, -6.0, 4.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [5.0, -10.0, 10.0, -5.0, 1.0, 0.0, 0.0, 0.0, 0.0],
-            [6.0, -15.0, 20.0, -15.0, 6.0, -1.0, 0.0, 0.0, 0.0],
-            [7.0, -21.0, 35.0, -35.0, 21.0, -7.0, 1.0, 0.0, 0.0],
-            [8.0, -28.0, 56.0, -70.0, 56.0, -28.0, 8.0, -1.0, 0.0],
-            [9.0, -36.0, 84.0, -126.0, 126.0, -84.0, 36.0, -9.0, 1.0],
-        ];
         let q = self.opts.extrapolation.min(self.filled);
         let w = &BINOM[q - 1];
         let n = self.n;
@@ -461,6 +476,30 @@ impl<P: ScalarPotential> FastMarcher<P> {
                 self.base[p] = ca * (3.0 * d2 + d2m) + cb * time;
             }
         }
+        if symmetric {
+            // Seed pass. The box scheme's solution carries near-(−1)^j content
+            // (modes with θ ≈ π have ω ≈ π), which extrapolation in time
+            // amplifies up to 2^q-fold; the cell averages in N̄′ annihilate it,
+            // so extrapolate the new cells' N′ instead and solve once.
+            let q = self.opts.extrapolation.min(self.a_filled);
+            let w = &BINOM[q - 1];
+            for p in 0..=n {
+                let mut v = 0.0;
+                for m in 0..q {
+                    v += w[m] * self.a_hist[m][p];
+                }
+                self.cur_a[p] = v;
+            }
+            for p in 1..=n {
+                let nbar = 0.25 * (self.cur_a[p] + self.cur_a[p - 1] + self.prev_a[p] + self.prev_a[p - 1]);
+                self.delta[p - 1] = self.base[p] + cn * nbar;
+            }
+            tri.solve_in_place(&mut self.delta);
+            let y = &self.levels[0];
+            for p in 1..=n {
+                self.next[p] = y[p] + self.delta[p - 1];
+            }
+        }
         let mut it = 0;
         loop {
             it += 1;
@@ -518,6 +557,11 @@ impl<P: ScalarPotential> FastMarcher<P> {
         self.energy = e * k;
         std::mem::swap(&mut self.prev_a, &mut self.cur_a);
         self.prev_a[0] = self.prev_a[n];
+        if symmetric {
+            self.a_hist.rotate_right(1);
+            self.a_hist[0].copy_from_slice(&self.prev_a);
+            self.a_filled = (self.a_filled + 1).min(self.a_hist.len());
+        }
         Ok(it)
     }
 
