@@ -114,3 +114,29 @@ impl CyclicTridiagonal {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_cyclic_systems() {
+        for &(n, c) in &[(3, 0.2), (7, -0.49), (255, -0.4846), (256, 0.33)] {
+            let t = CyclicTridiagonal::new(n, c).expect("valid");
+            let r: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64 - 5.0) / 3.0).collect();
+            let mut x = r.clone();
+            t.solve_in_place(&mut x);
+            for i in 0..n {
+                let ax = x[i] - c * (x[(i + n - 1) % n] + x[(i + 1) % n]);
+                // condition number ≤ (1 + 2|c|)/(1 − 2|c|) ≈ 64
+                assert!(
+                    (ax - r[i]).abs() <= 1e-13,
+                    "n = {n}, c = {c}, row {i}: {ax} vs {}",
+                    r[i]
+                );
+            }
+        }
+        assert!(CyclicTridiagonal::new(10, 0.5).is_err());
+        assert!(CyclicTridiagonal::new(2, 0.1).is_err());
+    }
+}

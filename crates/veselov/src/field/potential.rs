@@ -170,3 +170,57 @@ impl<const DIM: usize, P: Potential<DIM>> super::density::Density<DIM> for Nonli
         kin * 0.5 + self.0.potential(phi)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `N = eˣ` through the default (AD) jet and divided difference.
+    struct Exp;
+    impl Potential<1> for Exp {
+        fn potential<D: Scalar>(&self, y: &SVector<D, 1>) -> D {
+            y[0].exp()
+        }
+    }
+    impl ScalarPotential for Exp {}
+
+    #[test]
+    fn default_jet_and_divided_difference() {
+        let [v, d1, d2] = Exp.jet(0.3);
+        let e = 0.3f64.exp();
+        assert!((v - e).abs() <= 1e-15 && (d1 - e).abs() <= 1e-15 && (d2 - e).abs() <= 1e-15);
+        for &b in &[-1.0f64, 0.2, 2.0] {
+            for &d in &[0.5f64, 2e-2, 1e-2, 9.9e-3, 1e-4, 1e-9, 0.0, -1e-6, -0.3] {
+                let a = b + d;
+                // exact: e^b (e^d − 1)/d, with expm1 for accuracy
+                let exact = if d == 0.0 { b.exp() } else { b.exp() * d.exp_m1() / d };
+                let got = Exp.divided_difference(a, b);
+                assert!(
+                    (got - exact).abs() <= 3e-14 * exact.abs(),
+                    "a = {a}, b = {b}: {got} vs {exact}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn closed_forms_match_the_generic_definitions() {
+        for &y in &[-7.0, -1.0, 0.0, 0.4, 3.0, 12.5] {
+            let sg = SineGordon.jet(y);
+            let (v, d1, d2) = second_derivative(|x: Dual2_64| SineGordon.potential(&SVector::from([x])), y);
+            assert!((sg[0] - v).abs() <= 1e-15 && (sg[1] - d1).abs() <= 1e-15 && (sg[2] - d2).abs() <= 1e-15);
+            let p = Phi4 { m2: 0.7, lambda: -0.3 };
+            let pj = p.jet(y);
+            let (v, d1, d2) = second_derivative(|x: Dual2_64| p.potential(&SVector::from([x])), y);
+            assert!((pj[0] - v).abs() <= 1e-12 * v.abs().max(1.0));
+            assert!((pj[1] - d1).abs() <= 1e-12 * d1.abs().max(1.0));
+            assert!((pj[2] - d2).abs() <= 1e-12 * d2.abs().max(1.0));
+            for &d in &[1.0, 1e-3, 1e-8, 0.0] {
+                let a = y + d;
+                let direct = if d == 0.0 { sg[1] } else { (a.cos() - y.cos()) / (a - y) };
+                let tol = if d >= 1e-3 { 1e-12 } else { 1e-7 }; // the direct quotient loses ~ε/d
+                assert!((SineGordon.divided_difference(a, y) - direct).abs() <= tol);
+            }
+        }
+    }
+}
