@@ -121,6 +121,22 @@ pub enum Error {
     /// that is not a rotation, a zero quaternion).
     #[error("Lie group: {0}")]
     Lie(#[from] crate::lie::LieError),
+    /// The implicit solve of a lattice time level did not converge.
+    #[error(
+        "lattice level {level} (t = {t}) did not converge: correction {residual:e} after {iterations} iterations ({reason})"
+    )]
+    LevelSolveFailure {
+        /// Index of the level being computed.
+        level: usize,
+        /// Time of that level.
+        t: f64,
+        /// Size of the last correction (max norm) or residual.
+        residual: f64,
+        /// Iterations performed.
+        iterations: usize,
+        /// Why it stopped: iteration limit, non-finite, singular.
+        reason: String,
+    },
 }
 
 /// Check that every component of `x` is finite.

@@ -36,6 +36,7 @@ pub mod ad;
 pub mod diagnostics;
 pub mod error;
 pub mod expr;
+pub mod field;
 pub mod lgvi;
 pub mod lie;
 pub mod mechanics;

@@ -1,0 +1,283 @@
+//! A library-level driver for scalar lattice runs (what a command-line front
+//! end calls): model, scheme, lattice, initial data and duration in; energies
+//! (per level and per block), charges, snapshots, the final waveform and a
+//! status out. A failing solve is kept as a value together with everything
+//! computed before it.
+
+use super::fast::{FastMarcher, SolverOptions};
+use super::initial::InitialData;
+use super::lattice::{Lattice, invalid};
+use super::noether::shift_charge;
+use super::potential::{Phi4, ScalarPotential, SineGordon, Wave};
+use super::scheme::Scheme;
+use crate::error::{Error, Result};
+
+/// The scalar models of the fast paths.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Model {
+    /// `N = cos φ`.
+    SineGordon,
+    /// `N = 0`.
+    Wave,
+    /// `N = −½m²φ² − ¼λφ⁴`.
+    Phi4 {
+        /// `m²`.
+        m2: f64,
+        /// `λ`.
+        lambda: f64,
+    },
+}
+
+/// Configuration of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldRunConfig {
+    /// Model.
+    pub model: Model,
+    /// Scheme.
+    pub scheme: Scheme,
+    /// Lattice (periodic or winding).
+    pub lattice: Lattice,
+    /// Initial data.
+    pub initial: InitialData,
+    /// Final time (the run stops at the first level with `t ≥ t_end`).
+    pub t_end: f64,
+    /// Store a snapshot every this many levels (0: none; level 0 and 1 are
+    /// never stored, the final level always is in `final_level`).
+    pub snapshot_every: usize,
+    /// Energy block length in levels for min/mean/max statistics (0: none).
+    pub energy_block: usize,
+    /// Keep the energy of every level.
+    pub keep_energies: bool,
+    /// Re-centre mod 2π every this many levels (sine-Gordon only; 0: never).
+    pub recentre_every: usize,
+    /// Level-solve options.
+    pub solver: SolverOptions,
+}
+
+impl FieldRunConfig {
+    /// Seed 002 §5.2 defaults: sine-Gordon kink–antikink, N = 255 on a circle
+    /// of length 40, h = k/8, paper start, blocks of 5000 levels, re-centring
+    /// every 1000 levels.
+    ///
+    /// # Errors
+    /// Invalid `t_end`.
+    pub fn sine_gordon_section_5_2(scheme: Scheme, t_end: f64) -> Result<Self> {
+        Ok(Self {
+            model: Model::SineGordon,
+            scheme,
+            lattice: Lattice::periodic(255, 40.0, 8.0)?,
+            initial: InitialData::KinkAntikink {
+                epsilon: 1e-6,
+                paper_start: true,
+            },
+            t_end,
+            snapshot_every: 0,
+            energy_block: 5000,
+            keep_energies: false,
+            recentre_every: 1000,
+            solver: SolverOptions::default(),
+        })
+    }
+}
+
+/// What the observer sees after every level.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LevelInfo {
+    /// Index of the new level.
+    pub level: usize,
+    /// Its time.
+    pub time: f64,
+    /// The energy computed with it (see [`FastMarcher::energy`]).
+    pub energy: f64,
+    /// Iterations of its solve.
+    pub iterations: usize,
+    /// Planned number of levels.
+    pub total_levels: usize,
+}
+
+/// Min/mean/max of the energy error `E − E_first` over a block of levels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlockStats {
+    /// First level of the block (level index of the energy's first level).
+    pub first_level: usize,
+    /// Number of levels in the block.
+    pub levels: usize,
+    /// Minimum error.
+    pub min: f64,
+    /// Mean error.
+    pub mean: f64,
+    /// Maximum error.
+    pub max: f64,
+}
+
+/// A snapshot of one level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// Level index.
+    pub level: usize,
+    /// Time.
+    pub time: f64,
+    /// Field values at the nodes.
+    pub values: Vec<f64>,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldRun {
+    /// The first energy (of levels 0, 1; Guo: `E^{½}`).
+    pub initial_energy: f64,
+    /// Energy per level (if kept): entry `m` is the energy of levels `m, m+1`.
+    pub energies: Vec<f64>,
+    /// Block statistics of the energy error.
+    pub energy_blocks: Vec<BlockStats>,
+    /// Wave model: the shift charge `Σ_i (y_{i,j+1} − y_ij)` per level (if
+    /// energies are kept); empty otherwise.
+    pub charges: Vec<f64>,
+    /// Snapshots.
+    pub snapshots: Vec<Snapshot>,
+    /// The last computed level.
+    pub final_level: Vec<f64>,
+    /// Its index and time.
+    pub final_index: usize,
+    /// Its time.
+    pub final_time: f64,
+    /// Total level-solve iterations.
+    pub iterations: u64,
+    /// Total 2π re-centring shift applied (the stored values are the
+    /// physical ones minus this).
+    pub recentred_by: f64,
+    /// `Ok` if the run reached `t_end` (or the observer stopped it), the
+    /// failure otherwise.
+    pub status: Result<(), Error>,
+    /// Did the observer stop the run?
+    pub stopped: bool,
+}
+
+/// Run a scalar lattice simulation. `observer` is called after every level;
+/// returning `false` stops the run (status stays `Ok`).
+///
+/// # Errors
+/// Invalid configuration (typed, naming the parameter). Solve failures are
+/// reported in [`FieldRun::status`].
+pub fn run_lattice(config: &FieldRunConfig, observer: impl FnMut(&LevelInfo) -> bool) -> Result<FieldRun> {
+    if !(config.t_end.is_finite() && config.t_end > 0.0) {
+        return Err(invalid("t_end", config.t_end, "must be positive and finite"));
+    }
+    match config.model {
+        Model::SineGordon => run_with(SineGordon, config, observer),
+        Model::Wave => run_with(Wave, config, observer),
+        Model::Phi4 { m2, lambda } => {
+            if !(m2.is_finite() && lambda.is_finite()) {
+                return Err(invalid(
+                    "model",
+                    format!("{:?}", config.model),
+                    "m2 and lambda must be finite",
+                ));
+            }
+            run_with(Phi4 { m2, lambda }, config, observer)
+        }
+    }
+}
+
+fn run_with<P: ScalarPotential>(
+    potential: P,
+    config: &FieldRunConfig,
+    mut observer: impl FnMut(&LevelInfo) -> bool,
+) -> Result<FieldRun> {
+    let lat = config.lattice;
+    let (y0, y1) = config.initial.levels(&lat)?;
+    let mut m = FastMarcher::new(potential, config.scheme, lat, &y0, &y1, config.solver)?;
+    let total_levels = (config.t_end / lat.dt()).ceil() as usize;
+    let recentre = config.recentre_every > 0 && config.model == Model::SineGordon;
+    let mut run = FieldRun {
+        initial_energy: f64::NAN,
+        energies: Vec::new(),
+        energy_blocks: Vec::new(),
+        charges: Vec::new(),
+        snapshots: Vec::new(),
+        final_level: Vec::new(),
+        final_index: m.level(),
+        final_time: m.time(),
+        iterations: 0,
+        recentred_by: 0.0,
+        status: Ok(()),
+        stopped: false,
+    };
+    let keep_charge = config.keep_energies && config.model == Model::Wave;
+    if keep_charge {
+        run.charges.push(shift_charge(&y0, &y1));
+    }
+    let block = config.energy_block;
+    let (mut lo, mut hi, mut sum, mut count, mut first) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize, 0usize);
+    while m.level() < total_levels {
+        if let Err(e) = m.step() {
+            run.status = Err(e);
+            break;
+        }
+        let e = m.energy();
+        if run.initial_energy.is_nan() {
+            run.initial_energy = e;
+        }
+        if config.keep_energies {
+            run.energies.push(e);
+        }
+        if keep_charge {
+            run.charges.push(shift_charge(m.previous(), m.current()));
+        }
+        if block > 0 {
+            let d = e - run.initial_energy;
+            if count == 0 {
+                first = m.level() - 1;
+            }
+            lo = lo.min(d);
+            hi = hi.max(d);
+            sum += d;
+            count += 1;
+            if count == block {
+                run.energy_blocks.push(BlockStats {
+                    first_level: first,
+                    levels: count,
+                    min: lo,
+                    mean: sum / count as f64,
+                    max: hi,
+                });
+                (lo, hi, sum, count) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0);
+            }
+        }
+        if config.snapshot_every > 0 && m.level().is_multiple_of(config.snapshot_every) {
+            run.snapshots.push(Snapshot {
+                level: m.level(),
+                time: m.time(),
+                values: m.current().to_vec(),
+            });
+        }
+        if recentre && m.level().is_multiple_of(config.recentre_every) {
+            run.recentred_by += m.recentre_mod_2pi();
+        }
+        let info = LevelInfo {
+            level: m.level(),
+            time: m.time(),
+            energy: e,
+            iterations: m.last_iterations(),
+            total_levels,
+        };
+        if !observer(&info) {
+            run.stopped = true;
+            break;
+        }
+    }
+    if block > 0 && count > 0 {
+        run.energy_blocks.push(BlockStats {
+            first_level: first,
+            levels: count,
+            min: lo,
+            mean: sum / count as f64,
+            max: hi,
+        });
+    }
+    run.final_level = m.current().to_vec();
+    run.final_index = m.level();
+    run.final_time = m.time();
+    run.iterations = m.total_iterations();
+    Ok(run)
+}

@@ -1,0 +1,210 @@
+//! Sine-Gordon experiments of seed 002 §5.2 at test scale: bounded energy
+//! errors without drift, Guo's exactly conserved energy, the single kink's
+//! speed, and the even/odd mode of the symmetric rectangle scheme.
+
+use std::f64::consts::{PI, TAU};
+
+use veselov::field::{Boundary, FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
+
+fn kink_antikink(n: usize) -> (Lattice, Vec<f64>, Vec<f64>) {
+    let lat = Lattice::periodic(n, 40.0, 8.0).expect("valid lattice");
+    let (y0, y1) = InitialData::KinkAntikink {
+        epsilon: 1e-6,
+        paper_start: true,
+    }
+    .levels(&lat)
+    .expect("initial data");
+    (lat, y0, y1)
+}
+
+struct Block {
+    min: f64,
+    mean: f64,
+    max: f64,
+}
+
+/// Energies of `levels` levels in blocks of `block`.
+fn energy_blocks(scheme: Scheme, levels: usize, block: usize) -> (f64, Vec<Block>) {
+    let (lat, y0, y1) = kink_antikink(255);
+    let mut m = FastMarcher::new(SineGordon, scheme, lat, &y0, &y1, SolverOptions::default()).expect("valid");
+    m.step().expect("step");
+    let e0 = m.energy();
+    let mut blocks = Vec::new();
+    let (mut lo, mut hi, mut sum, mut count) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0);
+    for _ in 0..levels {
+        m.step().expect("step");
+        if m.level() % 1000 == 0 {
+            m.recentre_mod_2pi();
+        }
+        let e = m.energy() - e0;
+        lo = lo.min(e);
+        hi = hi.max(e);
+        sum += e;
+        count += 1;
+        if count == block {
+            blocks.push(Block {
+                min: lo,
+                mean: sum / count as f64,
+                max: hi,
+            });
+            (lo, hi, sum, count) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0);
+        }
+    }
+    (e0, blocks)
+}
+
+#[test]
+fn multisymplectic_energy_errors_do_not_drift() {
+    // 2000 time units = 102 000 levels at h = k/8 = 0.0196 (≈ 160 collisions);
+    // blocks of 5000 levels (≈ 98 time units, ≈ 4 collisions) as in Fig. 5.7.
+    let levels = (2000.0 / (40.0 / 255.0 / 8.0)) as usize;
+    for scheme in [Scheme::Triangle, Scheme::SymmetricRectangle] {
+        let (e0, blocks) = energy_blocks(scheme, levels, 5000);
+        let (first, last) = (&blocks[0], &blocks[blocks.len() - 1]);
+        let spread = (first.max - first.min).max(last.max - last.min);
+        let worst = blocks.iter().map(|b| b.max.abs().max(b.min.abs())).fold(0.0, f64::max);
+        println!(
+            "{}: E0 = {e0:.6}, first block mean {:.3e} [{:.3e}, {:.3e}], last block mean {:.3e} [{:.3e}, {:.3e}], max |ΔE| {worst:.3e}",
+            scheme.name(),
+            first.mean,
+            first.min,
+            first.max,
+            last.mean,
+            last.min,
+            last.max
+        );
+        // No drift: the block means at the start and the end agree within
+        // the spread of one block (collisions make the error oscillate).
+        assert!((last.mean - first.mean).abs() <= spread, "{}: drift", scheme.name());
+        // Bounded: the error never exceeds a few block spreads.
+        assert!(worst <= 3.0 * spread, "{}: unbounded error {worst:e}", scheme.name());
+    }
+}
+
+#[test]
+fn guo_energy_is_conserved_to_round_off() {
+    let (lat, y0, y1) = kink_antikink(255);
+    // E^{j+½} changes per level by k·Σ_i (y⁺ − y⁻)·(residual of (5.15)), so
+    // it is conserved to round-off only when the level solves are: solve to
+    // ~1 ulp (the per-node contraction is h²/2 ≈ 2·10⁻⁴, so this costs one
+    // extra iteration at most).
+    let opts = SolverOptions {
+        rel_tol: 1e-16,
+        ..SolverOptions::default()
+    };
+    let mut m = FastMarcher::new(SineGordon, Scheme::Guo, lat, &y0, &y1, opts).expect("valid");
+    m.step().expect("step");
+    let e0 = m.energy();
+    let mut worst: f64 = 0.0;
+    for _ in 0..20_000 {
+        m.step().expect("step");
+        worst = worst.max((m.energy() - e0).abs());
+    }
+    println!("Guo: E = {e0}, max |E^(j+1/2) − E^(1/2)| = {worst:e} over 20000 levels");
+    // Rounding: each level's sum has 255 terms of size ≲ 30 (|y_t|² up to
+    // 1/(1−c²) ≈ 2.5 and |y_x|² likewise, times k), error ≈ √255·ε·30 ≈ 10⁻¹³
+    // absolute per level; a random walk over 2·10⁴ levels ≈ 1.5·10⁻¹¹,
+    // i.e. 10⁻¹² relative to |E| ≈ 14.6 (observed ≈ 5·10⁻¹²). The multisymplectic schemes' energy
+    // errors are 10⁻³..10⁻¹ by comparison.
+    assert!(worst <= 1e-11 * e0.abs(), "{worst:e}");
+}
+
+/// Position of the (single) kink: where y crosses an odd multiple of π.
+fn kink_position(lat: &Lattice, y: &[f64]) -> f64 {
+    let n = y.len();
+    for i in 0..n {
+        let (a, b) = (y[i], if i + 1 < n { y[i + 1] } else { y[0] + TAU });
+        let (fa, fb) = (((a - PI) / TAU).floor(), ((b - PI) / TAU).floor());
+        if fa < fb {
+            let level = PI + TAU * fb;
+            return lat.x(i) + lat.dx() * (level - a) / (b - a);
+        }
+    }
+    f64::NAN
+}
+
+#[test]
+fn single_kink_travels_at_its_speed() {
+    let c = 0.5;
+    let lat = Lattice::new(400, 0.1, 0.1 / 8.0, Boundary::Winding { jump: TAU }).expect("valid");
+    let data = InitialData::Kink { x0: 20.0, speed: c };
+    let (y0, y1) = data.levels(&lat).expect("data");
+    for scheme in [
+        Scheme::Triangle,
+        Scheme::SymmetricRectangle,
+        Scheme::Rectangle,
+        Scheme::Guo,
+    ] {
+        let mut m = FastMarcher::new(SineGordon, scheme, lat, &y0, &y1, SolverOptions::default()).expect("valid");
+        let l = lat.length();
+        let mut x_prev = kink_position(&lat, m.current());
+        let x_start = x_prev;
+        let mut travelled = 0.0;
+        let per_unit = (1.0 / lat.dt()).round() as usize; // 80 levels per time unit
+        for _ in 0..100 {
+            for _ in 0..per_unit {
+                m.step().expect("step");
+            }
+            let x = kink_position(&lat, m.current());
+            let dx = (x - x_prev + 0.5 * l).rem_euclid(l) - 0.5 * l;
+            travelled += dx;
+            x_prev = x;
+        }
+        let speed = travelled / (m.time() - lat.dt());
+        println!(
+            "{}: kink speed {speed:.6} (exact {c}), start {x_start:.3}",
+            scheme.name()
+        );
+        assert!((speed - c).abs() <= 0.005 * c, "{}: {speed}", scheme.name());
+    }
+}
+
+/// max_i |d_i| of the difference of a seeded and an unseeded run after
+/// `levels` levels of the symmetric rectangle scheme.
+fn seeded_difference(n: usize, levels: usize, eps: f64) -> Vec<f64> {
+    let (lat, y0, y1) = kink_antikink(n);
+    let mut z0 = y0.clone();
+    let mut z1 = y1.clone();
+    for i in 0..n {
+        // Same sign on both levels: (A + Bj)(−1)^{i+j} with A = ε, B = −2ε.
+        let s = if i % 2 == 0 { eps } else { -eps };
+        z0[i] += s;
+        z1[i] += s;
+    }
+    let o = SolverOptions::default();
+    let mut a = FastMarcher::new(SineGordon, Scheme::SymmetricRectangle, lat, &y0, &y1, o).expect("valid");
+    let mut b = FastMarcher::new(SineGordon, Scheme::SymmetricRectangle, lat, &z0, &z1, o).expect("valid");
+    let mut out = Vec::new();
+    for j in 0..levels {
+        a.step().expect("step");
+        b.step().expect("step");
+        if (j + 1) % (levels / 4) == 0 {
+            let d = a
+                .current()
+                .iter()
+                .zip(b.current())
+                .map(|(p, q)| (p - q).abs())
+                .fold(0.0, f64::max);
+            out.push(d);
+        }
+    }
+    out
+}
+
+#[test]
+fn symmetric_rectangle_even_odd_mode() {
+    let (levels, eps) = (4000, 1e-7);
+    let even = seeded_difference(256, levels, eps);
+    let odd = seeded_difference(255, levels, eps);
+    println!("N = 256: {even:?}\nN = 255: {odd:?}");
+    // N = 256: (A + Bj)(−1)^{i+j} solves the scheme linearised about any
+    // solution (the four-point averages annihilate it), so the difference
+    // grows linearly, |B|·j = 2ε·j = 8·10⁻⁴ at j = 4000.
+    let linear = 2.0 * eps * levels as f64;
+    assert!(even[3] >= 0.5 * linear, "even N: {:e}", even[3]);
+    assert!(even[3] >= 1.5 * even[1], "even N grows linearly");
+    // N = 255: no exact mode at θ = π; the nearest modes have distinct roots,
+    // the perturbation stays O(ε·k/h) ≲ 20ε. Threshold: 20 times below the
+    // linear growth.
+    assert!(odd[3] <= 0.05 * linear, "odd N: {:e}", odd[3]);
+}
