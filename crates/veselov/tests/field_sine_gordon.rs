@@ -58,7 +58,7 @@ fn multisymplectic_energy_errors_do_not_drift() {
     // 2000 time units = 102 000 levels at h = k/8 = 0.0196 (≈ 160 collisions);
     // blocks of 5000 levels (≈ 98 time units, ≈ 4 collisions) as in Fig. 5.7.
     let levels = (2000.0 / (40.0 / 255.0 / 8.0)) as usize;
-    for scheme in [Scheme::Triangle, Scheme::SymmetricRectangle] {
+    for scheme in [Scheme::Triangle, Scheme::Rectangle, Scheme::SymmetricRectangle] {
         let (e0, blocks) = energy_blocks(scheme, levels, 5000);
         let (first, last) = (&blocks[0], &blocks[blocks.len() - 1]);
         let spread = (first.max - first.min).max(last.max - last.min);

@@ -47,6 +47,7 @@ pub mod potential;
 pub mod region;
 pub mod run;
 pub mod scheme;
+pub mod trig;
 
 pub use density::{
     CellJet, CellLagrangian, Density, RectangleRule, TriangleRule, action, cell_gradient, cell_jet, delf_residual,

@@ -63,7 +63,7 @@ impl Potential<1> for SineGordon {
 impl ScalarPotential for SineGordon {
     #[inline(always)]
     fn jet(&self, y: f64) -> [f64; 3] {
-        let (s, c) = y.sin_cos();
+        let (s, c) = super::trig::sin_cos(y);
         [c, -s, -c]
     }
     fn curvature_bound(&self) -> Option<f64> {
