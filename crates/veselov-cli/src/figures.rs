@@ -178,3 +178,84 @@ pub fn draw_convergence(
     };
     draw(path, &fig).map_err(plot_err)
 }
+
+/// The figures of a lattice-field run: energy error against time, the final
+/// waveform (in `format`) and the space–time heat map of the stored snapshots
+/// (always PNG; sin²(φ/2) for a circle-valued field).
+pub fn draw_field(
+    dir: &Path,
+    energy: &Table,
+    snapshots: &[Vec<f64>],
+    times: &[f64],
+    length: f64,
+    circle_valued: bool,
+    format: &str,
+) -> Result<(), CliError> {
+    let file = |name: &str| dir.join(format!("{name}.{format}"));
+    if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
+        let e0 = e.first().copied().unwrap_or(0.0);
+        let err: Vec<f64> = e.iter().map(|x| (x - e0).abs()).collect();
+        let fig = Figure {
+            title: "Discrete energy error",
+            x_label: "time t",
+            y_label: "|E(t) − E(0)|",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Log,
+            series: vec![Series {
+                label: "energy",
+                x: &t,
+                y: &err,
+            }],
+            markers: false,
+            equal_aspect: false,
+        };
+        draw(&file("energy_error"), &fig).map_err(plot_err)?;
+    }
+    if let Some(last) = snapshots.last() {
+        let n = last.len();
+        let x: Vec<f64> = (0..n).map(|i| i as f64 * length / n as f64).collect();
+        let title = format!("Waveform at t = {}", times.last().copied().unwrap_or(0.0));
+        let fig = Figure {
+            title: &title,
+            x_label: "x",
+            y_label: "φ",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: vec![Series {
+                label: "φ(x)",
+                x: &x,
+                y: last,
+            }],
+            markers: false,
+            equal_aspect: false,
+        };
+        draw(&file("final_waveform"), &fig).map_err(plot_err)?;
+    }
+    if snapshots.len() >= 2 {
+        // An S¹-valued field is shown as sin²(φ/2): 0 in every vacuum 2πn,
+        // 1 at the centre of a kink, independent of the winding.
+        let shown: Vec<Vec<f64>> = if circle_valued {
+            snapshots
+                .iter()
+                .map(|row| row.iter().map(|v| (0.5 * v).sin().powi(2)).collect())
+                .collect()
+        } else {
+            snapshots.to_vec()
+        };
+        let map = crate::heatmap::Heatmap {
+            title: if circle_valued {
+                "Space–time, sin²(φ/2)"
+            } else {
+                "Space–time, φ"
+            },
+            x_label: "x",
+            y_label: "t",
+            x_range: (0.0, length),
+            y_range: (times[0], times[times.len() - 1]),
+            values: &shown,
+        };
+        // A raster image suits a dense grid; SVG would hold one rectangle per cell.
+        crate::heatmap::draw_heatmap(&dir.join("spacetime.png"), &map).map_err(plot_err)?;
+    }
+    Ok(())
+}

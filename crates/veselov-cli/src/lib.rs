@@ -5,7 +5,9 @@
 pub mod catalog;
 pub mod custom;
 pub mod error;
+pub mod field;
 pub mod figures;
+pub mod heatmap;
 pub mod output;
 pub mod plot;
 pub mod progress;

@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 use veselov_cli::error::CliError;
 use veselov_cli::route::{ScenarioKind, kind, read};
 use veselov_cli::scenario::LoadedScenario;
-use veselov_cli::{catalog, figures, output, rigid, run, systems, verify};
+use veselov_cli::{catalog, field, figures, output, rigid, run, systems, verify};
 
 /// Structure-preserving variational integrators.
 #[derive(Parser)]
@@ -105,6 +105,7 @@ fn run_scenario(path: &std::path::Path, job: run::RunJob) -> Result<(), CliError
     let text = read(path)?;
     match kind(path, &text)? {
         ScenarioKind::RigidBody => rigid::run(path, &text, job),
+        ScenarioKind::Field => field::run(path, &text, job),
         ScenarioKind::Mechanics => LoadedScenario::parse(path, &text).and_then(|s| systems::dispatch(&s, job)),
     }
 }
@@ -113,6 +114,11 @@ fn verify_scenario(path: &std::path::Path, job: verify::VerifyJob) -> Result<(),
     let text = read(path)?;
     match kind(path, &text)? {
         ScenarioKind::RigidBody => rigid::dispatch(path, &text, job),
+        ScenarioKind::Field => Err(CliError::Setup(format!(
+            "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
+             is measured by the test suite (tests/field_*.rs)",
+            path.display()
+        ))),
         ScenarioKind::Mechanics => LoadedScenario::parse(path, &text).and_then(|s| systems::dispatch(&s, job)),
     }
 }

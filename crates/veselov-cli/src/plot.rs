@@ -43,7 +43,7 @@ pub const WIDTH: u32 = 800;
 pub const HEIGHT: u32 = 600;
 
 /// Font family name under which the embedded font is registered.
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 const TITLE_SIZE: u32 = 24;
 const AXIS_LABEL_SIZE: u32 = 18;
 const TICK_LABEL_SIZE: u32 = 15;
@@ -221,7 +221,7 @@ pub fn draw(path: &Path, figure: &Figure) -> Result<(), PlotError> {
 
 /// Register the embedded font with `plotters`, once per process. Both
 /// backends need it: text extents for the layout come from its metrics.
-fn register_font() -> Result<(), String> {
+pub(crate) fn register_font() -> Result<(), String> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED
         .get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, ttf_noto_sans::REGULAR).is_ok());

@@ -13,6 +13,8 @@ pub enum ScenarioKind {
     Mechanics,
     /// Rigid bodies on SO(3) and SE(3).
     RigidBody,
+    /// Fields on a 1+1 spacetime lattice.
+    Field,
 }
 
 /// Read a scenario file.
@@ -32,6 +34,7 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
     let name = table.get("model").and_then(|m| m.get("name")).and_then(|n| n.as_str());
     Ok(match name {
         Some(n) if crate::rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
+        Some(n) if crate::field::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
         _ => ScenarioKind::Mechanics,
     })
 }

@@ -52,6 +52,44 @@ fn shorten(text: &str, steps: usize) -> String {
     out
 }
 
+/// A lattice-field example, run to t = 1: its outputs exist and agree with
+/// one another.
+fn check_field_example(name: &str, original: &str, dir: &Path) {
+    let mut text = String::new();
+    let mut skip = false;
+    for line in original.lines() {
+        if line.starts_with('[') {
+            skip = line.trim() == "[time]";
+            if skip {
+                text.push_str("[time]\nt_end = 1.0\n");
+                continue;
+            }
+        }
+        if !skip {
+            text.push_str(line);
+            text.push('\n');
+        }
+    }
+    let file = scenario(dir, &text);
+    let out = dir.join("out");
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .success();
+    let s = summary(&out);
+    assert_eq!(s["status"], "ok", "{name}: {s}");
+    assert!(s["t_final"].as_f64().expect("t_final") >= 1.0, "{name}");
+    let csv = std::fs::read_to_string(out.join("energy.csv")).expect("energy.csv");
+    assert!(csv.starts_with("t,energy"), "{name}");
+    let npy = std::fs::read(out.join("snapshots.npy")).expect("snapshots.npy");
+    assert!(npy.starts_with(b"\x93NUMPY"), "{name}");
+    for plot in ["spacetime.png", "final_waveform.svg", "energy_error.svg"] {
+        assert!(out.join(plot).exists(), "{name}: no {plot}");
+    }
+}
+
 #[test]
 fn every_example_runs() {
     let examples = std::fs::read_dir(workspace_root().join("examples")).expect("examples dir");
@@ -67,7 +105,13 @@ fn every_example_runs() {
             .unwrap_or("example")
             .to_string();
         let dir = temp_dir(&format!("example-{name}"));
-        let text = shorten(&std::fs::read_to_string(&path).expect("read example"), 40);
+        let original = std::fs::read_to_string(&path).expect("read example");
+        if original.contains("[lattice]") {
+            check_field_example(&name, &original, &dir);
+            count += 1;
+            continue;
+        }
+        let text = shorten(&original, 40);
         let file = scenario(&dir, &text);
         let out = dir.join("out");
         veselov()
@@ -539,4 +583,121 @@ fn verify_measures_the_order_of_the_lie_group_integrator() {
     let order = s["order_fitted"].as_f64().expect("fitted order");
     assert!((order - 2.0).abs() <= 0.2, "order {order}");
     assert!(out.join("convergence.csv").exists());
+}
+
+#[test]
+fn lattice_field_run_reports_energy_and_charges() {
+    let dir = temp_dir("field-wave");
+    let out = dir.join("out");
+    let path = scenario(
+        &dir,
+        "[model]\nname = \"wave\"\n[lattice]\nnodes = 64\nlength = 8.0\ncourant = 0.5\n\
+         [method]\nscheme = \"guo\"\n[initial]\nkind = \"dalembert\"\ndrift = 0.2\n\
+         [time]\nt_end = 5.0\n[output]\nsnapshot_every = 8\nenergy_every = 4\nplots = false\n",
+    );
+    veselov()
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    let s = summary(&out);
+    assert_eq!(s["status"], "ok");
+    assert_eq!(s["nodes"], 64);
+    // dt = courant·dx = 0.0625: 80 levels reach t = 5.
+    assert_eq!(s["levels"], 80);
+    // Guo's E^{j+½} is conserved exactly for N = 0 up to the solve tolerance.
+    let e0 = s["energy_initial"].as_f64().expect("energy").abs();
+    assert!(s["energy_error_max"].as_f64().expect("err") <= 1e-11 * e0, "{s}");
+    assert!(s["charges_error_max"]["shift_charge"].as_f64().expect("charge") <= 1e-12);
+    let npy = std::fs::read(out.join("snapshots.npy")).expect("npy");
+    let header = String::from_utf8_lossy(&npy[..128]).into_owned();
+    // Level 0, every 8th level from 8 to 80: 11 rows of 64 nodes.
+    assert!(header.contains("'shape': (11, 64)"), "{header}");
+}
+
+#[test]
+fn lattice_field_errors_name_the_key() {
+    let dir = temp_dir("field-errors");
+    let base = |lattice: &str, method: &str, initial: &str| {
+        format!(
+            "[model]\nname = \"sine-gordon\"\n[lattice]\n{lattice}\n[method]\n{method}\n[initial]\n{initial}\n\
+             [time]\nt_end = 1.0\n"
+        )
+    };
+    let ok_lattice = "nodes = 32\nlength = 40.0\ncourant = 0.125";
+    let cases = [
+        (
+            base(
+                "nodes = 2\nlength = 40.0\ncourant = 0.1",
+                "scheme = \"triangle\"",
+                "kind = \"kink-antikink\"",
+            ),
+            "lattice.nodes",
+        ),
+        (
+            base(
+                "nodes = 32\nlength = 40.0\ndt = 0.1\ncourant = 0.1",
+                "scheme = \"triangle\"",
+                "kind = \"kink-antikink\"",
+            ),
+            "lattice",
+        ),
+        (
+            base(
+                "nodes = 32\nlength = -4.0\ncourant = 0.1",
+                "scheme = \"triangle\"",
+                "kind = \"kink-antikink\"",
+            ),
+            "lattice.length",
+        ),
+        (
+            base(ok_lattice, "scheme = \"leapfrog\"", "kind = \"kink-antikink\""),
+            "method.scheme",
+        ),
+        (
+            base(ok_lattice, "scheme = \"triangle\"", "kind = \"soliton\""),
+            "initial.kind",
+        ),
+        (
+            base(
+                ok_lattice,
+                "scheme = \"triangle\"",
+                "kind = \"kink-antikink\"\nspeed = 0.5",
+            ),
+            "initial.speed",
+        ),
+        (
+            base(
+                ok_lattice,
+                "scheme = \"triangle\"\norder = 2",
+                "kind = \"kink-antikink\"",
+            ),
+            "order",
+        ),
+        (
+            base(
+                "nodes = 32\nlength = 40.0\ncourant = 0.1\nboundary = \"spiral\"",
+                "scheme = \"triangle\"",
+                "kind = \"kink\"",
+            ),
+            "lattice.boundary",
+        ),
+    ];
+    for (i, (text, needle)) in cases.iter().enumerate() {
+        let path = scenario(&dir, text);
+        let out = dir.join(format!("out{i}"));
+        let assert = veselov()
+            .arg("run")
+            .arg(&path)
+            .arg("--out")
+            .arg(&out)
+            .arg("--quiet")
+            .assert()
+            .failure();
+        let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+        assert!(stderr.contains(needle), "case {i}: `{needle}` not in: {stderr}");
+    }
 }

@@ -117,8 +117,12 @@ pub struct Snapshot {
     pub level: usize,
     /// Time.
     pub time: f64,
-    /// Field values at the nodes.
+    /// Field values at the nodes, as stored (the physical values minus
+    /// `recentred_by`).
     pub values: Vec<f64>,
+    /// The total 2π re-centring shift applied before this snapshot was taken:
+    /// `values[i] + recentred_by` is the unwrapped field.
+    pub recentred_by: f64,
 }
 
 /// Everything a run produced.
@@ -248,6 +252,7 @@ fn run_with<P: ScalarPotential>(
             run.snapshots.push(Snapshot {
                 level: m.level(),
                 time: m.time(),
+                recentred_by: run.recentred_by,
                 values: m.current().to_vec(),
             });
         }
