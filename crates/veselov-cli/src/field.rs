@@ -25,21 +25,24 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use nalgebra::SVector;
 use serde::Deserialize;
 use serde_json::json;
 use veselov::field::{
-    Boundary, FieldRunConfig, InitialData, Lattice, LevelInfo, Model, Scheme, SolverOptions, run_lattice,
+    Boundary, CellEnergy, ComplexKleinGordon, ComplexPlaneWave, Density, DensityRunConfig, FieldRunConfig, Generator,
+    InitialData, Lattice, LevelInfo, Levels, Model, NonlinearWave, Phi4, RectangleRule, Scheme, SineGordon,
+    SolverOptions, TriangleRule, Wave, run_density, run_lattice,
 };
 
 use crate::error::CliError;
 use crate::figures::draw_field;
-use crate::output::{Table, npy_header, prepare_dir, write_json};
+use crate::output::{Table, npy_header_shape, prepare_dir, write_json};
 use crate::progress::Progress;
 use crate::run::RunJob;
 use crate::scenario::output_dir;
 
 /// The lattice-field model names.
-pub const FIELD_MODELS: &[&str] = &["sine-gordon", "wave", "klein-gordon-phi4"];
+pub const FIELD_MODELS: &[&str] = &["sine-gordon", "wave", "klein-gordon-phi4", "klein-gordon-complex"];
 
 /// A lattice-field scenario file.
 #[derive(Debug, Clone, Deserialize)]
@@ -64,9 +67,9 @@ pub struct FieldScenario {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FieldModelSpec {
-    /// `sine-gordon | wave | klein-gordon-phi4`.
+    /// `sine-gordon | wave | klein-gordon-phi4 | klein-gordon-complex`.
     pub name: String,
-    /// `m2`, `lambda` (φ⁴).
+    /// `m2`, `lambda` (φ⁴ and complex Klein–Gordon).
     #[serde(default)]
     pub params: BTreeMap<String, f64>,
 }
@@ -75,15 +78,19 @@ pub struct FieldModelSpec {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LatticeSpec {
-    /// Number of nodes N (spacing dx = length / N on a circle).
+    /// Number of nodes N (dx = length/N on a circle, length/(N − 1) between ends).
     pub nodes: usize,
-    /// Circumference.
+    /// Circumference (periodic, winding) or distance between the end nodes.
     pub length: f64,
-    /// `periodic` (default) or `winding`.
+    /// `periodic` (default), `winding`, `dirichlet` or `free`.
     #[serde(default = "periodic")]
     pub boundary: String,
     /// Winding boundary: the jump across the seam (default 2π).
     pub jump: Option<f64>,
+    /// Dirichlet: the value at the first node (default: its initial value).
+    pub left: Option<f64>,
+    /// Dirichlet: the value at the last node (default: its initial value).
+    pub right: Option<f64>,
     /// Time step.
     pub dt: Option<f64>,
     /// Courant number dt/dx (alternative to `dt`).
@@ -110,7 +117,7 @@ pub struct SchemeSpec {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FieldInitialSpec {
-    /// `kink-antikink | kink | breather | dalembert`.
+    /// `kink-antikink | kink | breather | dalembert | plane-wave`.
     pub kind: String,
     /// Kink–antikink: κ = 1 − epsilon (default 1e-6).
     pub epsilon: Option<f64>,
@@ -122,10 +129,10 @@ pub struct FieldInitialSpec {
     pub speed: Option<f64>,
     /// Breather: frequency 0 < ω < 1 (default 0.5).
     pub omega: Option<f64>,
-    /// d'Alembert: amplitude (default 1).
+    /// d'Alembert and plane wave: amplitude (default 1).
     pub amplitude: Option<f64>,
-    /// d'Alembert: mode number ≥ 1 (default 1).
-    pub mode: Option<u32>,
+    /// d'Alembert (≥ 1) and plane wave (any integer): mode number (default 1).
+    pub mode: Option<i32>,
     /// d'Alembert: uniform drift velocity (default 0).
     pub drift: Option<f64>,
 }
@@ -230,10 +237,10 @@ impl LoadedField {
         }
     }
 
-    fn model(&self) -> Result<Model, CliError> {
+    fn model(&self) -> Result<FieldModel, CliError> {
         let m = &self.scenario.model;
         let allowed: &[&str] = match m.name.as_str() {
-            "klein-gordon-phi4" => &["m2", "lambda"],
+            "klein-gordon-phi4" | "klein-gordon-complex" => &["m2", "lambda"],
             _ => &[],
         };
         for (k, v) in &m.params {
@@ -245,13 +252,13 @@ impl LoadedField {
             }
             self.finite(&format!("model.params.{k}"), *v)?;
         }
+        let m2 = m.params.get("m2").copied().unwrap_or(1.0);
+        let lambda = m.params.get("lambda").copied().unwrap_or(1.0);
         match m.name.as_str() {
-            "sine-gordon" => Ok(Model::SineGordon),
-            "wave" => Ok(Model::Wave),
-            "klein-gordon-phi4" => Ok(Model::Phi4 {
-                m2: m.params.get("m2").copied().unwrap_or(1.0),
-                lambda: m.params.get("lambda").copied().unwrap_or(1.0),
-            }),
+            "sine-gordon" => Ok(FieldModel::Scalar(Model::SineGordon)),
+            "wave" => Ok(FieldModel::Scalar(Model::Wave)),
+            "klein-gordon-phi4" => Ok(FieldModel::Scalar(Model::Phi4 { m2, lambda })),
+            "klein-gordon-complex" => Ok(FieldModel::Complex(ComplexKleinGordon { m2, lambda })),
             other => Err(self.key_error(
                 "model.name",
                 format!(
@@ -268,7 +275,15 @@ impl LoadedField {
             return Err(self.key_error("lattice.nodes", format!("expected at least 3 nodes, got {}", l.nodes)));
         }
         let length = self.positive("lattice.length", l.length)?;
-        let dx = length / l.nodes as f64;
+        let periodic = matches!(l.boundary.as_str(), "periodic" | "winding");
+        let dx = if periodic {
+            length / l.nodes as f64
+        } else {
+            length / (l.nodes - 1) as f64
+        };
+        if (l.left.is_some() || l.right.is_some()) && l.boundary != "dirichlet" {
+            return Err(self.key_error("lattice", "`left` and `right` are values of a `dirichlet` boundary"));
+        }
         let dt = match (l.dt, l.courant) {
             (Some(_), Some(_)) => return Err(self.key_error("lattice", "give either `dt` or `courant`, not both")),
             (None, None) => return Err(self.key_error("lattice", "missing `dt` or `courant` (dt = courant·dx)")),
@@ -276,22 +291,25 @@ impl LoadedField {
             (None, Some(c)) => self.positive("lattice.courant", c)? * dx,
         };
         let boundary = match l.boundary.as_str() {
-            "periodic" => {
-                if l.jump.is_some() {
-                    return Err(self.key_error("lattice.jump", "only a `winding` boundary has a jump"));
-                }
-                Boundary::Periodic
-            }
+            "periodic" => Boundary::Periodic,
             "winding" => Boundary::Winding {
                 jump: self.finite("lattice.jump", l.jump.unwrap_or(std::f64::consts::TAU))?,
             },
+            "dirichlet" => Boundary::Dirichlet {
+                left: self.finite("lattice.left", l.left.unwrap_or(0.0))?,
+                right: self.finite("lattice.right", l.right.unwrap_or(0.0))?,
+            },
+            "free" => Boundary::Free,
             other => {
                 return Err(self.key_error(
                     "lattice.boundary",
-                    format!("unknown boundary `{other}`, expected \"periodic\" or \"winding\""),
+                    format!("unknown boundary `{other}`, expected periodic, winding, dirichlet or free"),
                 ));
             }
         };
+        if l.jump.is_some() && l.boundary != "winding" {
+            return Err(self.key_error("lattice.jump", "only a `winding` boundary has a jump"));
+        }
         Lattice::new(l.nodes, dx, dt, boundary).map_err(|e| self.key_error("lattice", e.to_string()))
     }
 
@@ -316,7 +334,7 @@ impl LoadedField {
         })
     }
 
-    fn initial(&self, length: f64) -> Result<InitialData, CliError> {
+    fn initial(&self, length: f64) -> Result<FieldInitial, CliError> {
         let i = &self.scenario.initial;
         let unused = |keys: &[(&str, bool)]| -> Result<(), CliError> {
             for (k, present) in keys {
@@ -377,26 +395,44 @@ impl LoadedField {
                     ("speed", i.speed.is_some()),
                     ("omega", i.omega.is_some()),
                 ])?;
+                let mode = i.mode.unwrap_or(1);
+                if mode < 1 {
+                    return Err(self.key_error("initial.mode", format!("expected an integer ≥ 1, got {mode}")));
+                }
                 InitialData::DAlembert {
                     amplitude: self.finite("initial.amplitude", i.amplitude.unwrap_or(1.0))?,
-                    mode: i.mode.unwrap_or(1),
+                    mode: mode.unsigned_abs(),
                     drift: self.finite("initial.drift", i.drift.unwrap_or(0.0))?,
                 }
+            }
+            "plane-wave" => {
+                unused(&[
+                    ("epsilon", i.epsilon.is_some()),
+                    ("paper_start", i.paper_start.is_some()),
+                    ("x0", i.x0.is_some()),
+                    ("speed", i.speed.is_some()),
+                    ("omega", i.omega.is_some()),
+                    ("drift", i.drift.is_some()),
+                ])?;
+                return Ok(FieldInitial::PlaneWave {
+                    amplitude: self.finite("initial.amplitude", i.amplitude.unwrap_or(1.0))?,
+                    mode: i.mode.unwrap_or(1),
+                });
             }
             other => {
                 return Err(self.key_error(
                     "initial.kind",
-                    format!("unknown initial data `{other}`, expected kink-antikink, kink, breather or dalembert"),
+                    format!(
+                        "unknown initial data `{other}`, expected kink-antikink, kink, breather, dalembert or plane-wave"
+                    ),
                 ));
             }
         };
-        Ok(data)
+        Ok(FieldInitial::Scalar(data))
     }
 
-    fn config(&self) -> Result<FieldRunConfig, CliError> {
-        let lattice = self.lattice()?;
+    fn solver(&self) -> Result<SolverOptions, CliError> {
         let s = &self.scenario;
-        let t_end = self.positive("time.t_end", s.time.t_end)?;
         let mut solver = SolverOptions::default();
         if let Some(tol) = s.method.tolerance {
             solver.rel_tol = self.positive("method.tolerance", tol)?;
@@ -416,26 +452,36 @@ impl LoadedField {
                 ),
             ));
         }
-        let model = self.model()?;
-        Ok(FieldRunConfig {
-            model,
-            scheme: self.scheme()?,
-            lattice,
-            initial: self.initial(lattice.length())?,
-            t_end,
-            snapshot_every: s.output.snapshot_every,
-            energy_block: s.output.energy_block,
-            keep_energies: true,
-            recentre_every: if model == Model::SineGordon { 1000 } else { 0 },
-            solver,
-        })
+        Ok(solver)
     }
 }
 
-/// Write `rows` (levels × nodes) as a float64 `.npy` array.
-fn write_matrix_npy(path: &Path, rows: &[Vec<f64>]) -> Result<(), CliError> {
-    let cols = rows.first().map_or(0, Vec::len);
-    let mut bytes = npy_header(rows.len(), cols);
+/// The field equation of a scenario.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum FieldModel {
+    /// A real scalar field (fast paths on periodic lattices).
+    Scalar(Model),
+    /// The complex (O(2)-invariant) Klein–Gordon field.
+    Complex(ComplexKleinGordon),
+}
+
+/// The initial data of a scenario.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum FieldInitial {
+    /// Scalar data of the library.
+    Scalar(InitialData),
+    /// The exact complex plane wave.
+    PlaneWave {
+        /// Amplitude.
+        amplitude: f64,
+        /// Mode number.
+        mode: i32,
+    },
+}
+
+/// Write a float64 `.npy` array of the given shape from rows of values.
+fn write_npy(path: &Path, shape: &[usize], rows: &[Vec<f64>]) -> Result<(), CliError> {
+    let mut bytes = npy_header_shape(shape);
     for row in rows {
         for v in row {
             bytes.extend_from_slice(&v.to_le_bytes());
@@ -447,71 +493,53 @@ fn write_matrix_npy(path: &Path, rows: &[Vec<f64>]) -> Result<(), CliError> {
     })
 }
 
-/// Run a lattice-field scenario.
-pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
-    let start = Instant::now();
-    let loaded = LoadedField::parse(path, text)?;
-    let config = loaded.config()?;
+/// What either marching path hands to the writers.
+struct Outcome {
+    /// `fast` (the scheme's own O(N) solver) or `generic` (Newton on the cell Lagrangian).
+    path: &'static str,
+    /// `(t, energy, charge)` rows, t the time of the first level of the pair.
+    energies: Vec<(f64, f64, Option<f64>)>,
+    /// Name of the charge column.
+    charge: Option<&'static str>,
+    /// Snapshot rows: nodes × components values, and their times.
+    snapshots: Vec<Vec<f64>>,
+    times: Vec<f64>,
+    components: usize,
+    levels: usize,
+    t_final: f64,
+    iterations: u64,
+    recentred_by: f64,
+    status: Result<(), veselov::Error>,
+}
+
+fn fast_outcome(loaded: &LoadedField, config: &FieldRunConfig, progress: &mut Progress) -> Result<Outcome, CliError> {
     let lattice = config.lattice;
     let (y0, _) = config
         .initial
         .levels(&lattice)
         .map_err(|e| loaded.key_error("initial", e.to_string()))?;
-    let s = &loaded.scenario;
-    let dir = prepare_dir(
-        &output_dir(&loaded.path, &output_spec(s), job.out.as_deref()),
-        job.force,
-    )?;
-    let total = (config.t_end / lattice.dt()).ceil() as u64;
-    let mut progress = Progress::new(total, job.quiet);
-    let run = run_lattice(&config, |info: &LevelInfo| {
+    let run = run_lattice(config, |info: &LevelInfo| {
         progress.set(info.level as u64);
         true
     })
     .map_err(|e| loaded.key_error("lattice", e.to_string()))?;
-    progress.finish();
-    // energies[m] is the energy of levels (m, m+1), at time (m + 1)·dt for
-    // the three-level schemes' pairs: reported at the later level's time.
     let dt = lattice.dt();
-    let charge_name = (config.model == Model::Wave).then_some("shift_charge");
-    let mut energy = Table {
-        header: vec!["t".into(), "energy".into()],
-        rows: Vec::new(),
-    };
-    if let Some(name) = charge_name {
-        energy.header.push(name.into());
-    }
-    for (m, e) in run.energies.iter().enumerate() {
-        if m % s.output.energy_every == 0 || m + 1 == run.energies.len() {
-            let mut row = vec![(m + 1) as f64 * dt, *e];
-            if charge_name.is_some() {
-                row.push(run.charges.get(m + 1).copied().unwrap_or(f64::NAN));
-            }
-            energy.rows.push(row);
-        }
-    }
-    energy.write_csv(&dir.join("energy.csv"))?;
-    if !run.energy_blocks.is_empty() {
-        let blocks = Table {
-            header: vec![
-                "t_start".into(),
-                "levels".into(),
-                "min".into(),
-                "mean".into(),
-                "max".into(),
-            ],
-            rows: run
-                .energy_blocks
-                .iter()
-                .map(|b| vec![b.first_level as f64 * dt, b.levels as f64, b.min, b.mean, b.max])
-                .collect(),
-        };
-        blocks.write_csv(&dir.join("energy_blocks.csv"))?;
-    }
-    let mut snapshots = vec![y0];
-    let mut times = vec![0.0];
+    let charge = (config.model == Model::Wave).then_some("shift_charge");
+    // energies[m] is E_{m+1}, of the levels (m + 1, m + 2) (see FastMarcher::energy);
+    // charges[m] is that of the levels (m, m + 1).
+    let energies = run
+        .energies
+        .iter()
+        .enumerate()
+        .map(|(m, e)| {
+            let q = charge.and_then(|_| run.charges.get(m + 1).copied());
+            ((m + 1) as f64 * dt, *e, q)
+        })
+        .collect();
     // Snapshots are written unwrapped (the run's 2π re-centring undone), so
     // that all rows share the frame of level 0.
+    let mut snapshots = vec![y0];
+    let mut times = vec![0.0];
     for snap in &run.snapshots {
         snapshots.push(snap.values.iter().map(|v| v + snap.recentred_by).collect());
         times.push(snap.time);
@@ -520,67 +548,345 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         snapshots.push(run.final_level.iter().map(|v| v + run.recentred_by).collect());
         times.push(run.final_time);
     }
-    write_matrix_npy(&dir.join("snapshots.npy"), &snapshots)?;
+    Ok(Outcome {
+        path: "fast",
+        energies,
+        charge,
+        snapshots,
+        times,
+        components: 1,
+        levels: run.final_index,
+        t_final: run.final_time,
+        iterations: run.iterations,
+        recentred_by: run.recentred_by,
+        status: run.status,
+    })
+}
+
+/// The generic (density) path for the variational schemes.
+fn generic_outcome<L: CellEnergy<DIM>, const DIM: usize>(
+    loaded: &LoadedField,
+    lag: L,
+    lattice: Lattice,
+    (y0, y1): Levels<DIM>,
+    charge: Option<(&'static str, Generator<'_, DIM>)>,
+    progress: &mut Progress,
+) -> Result<Outcome, CliError> {
+    let s = &loaded.scenario;
+    let config = DensityRunConfig {
+        t_end: loaded.positive("time.t_end", s.time.t_end)?,
+        snapshot_every: s.output.snapshot_every,
+        rel_tol: s.method.tolerance.unwrap_or(1e-13),
+    };
+    let flat = |level: &[SVector<f64, DIM>]| -> Vec<f64> { level.iter().flat_map(|v| v.iter().copied()).collect() };
+    let first = flat(&y0);
+    let run = run_density(
+        lag,
+        lattice,
+        y0,
+        y1,
+        &config,
+        charge.map(|c| c.1),
+        |info: &LevelInfo| {
+            progress.set(info.level as u64);
+            true
+        },
+    )
+    .map_err(|e| loaded.key_error("lattice", e.to_string()))?;
+    let dt = lattice.dt();
+    let energies = run
+        .energies
+        .iter()
+        .enumerate()
+        .map(|(m, e)| (m as f64 * dt, *e, run.charges.get(m).copied()))
+        .collect();
+    let mut snapshots = vec![first];
+    let mut times = vec![0.0];
+    for (_, t, level) in &run.snapshots {
+        snapshots.push(flat(level));
+        times.push(*t);
+    }
+    if times.last().copied() != Some(run.final_time) {
+        snapshots.push(flat(&run.final_level));
+        times.push(run.final_time);
+    }
+    Ok(Outcome {
+        path: "generic",
+        energies,
+        charge: charge.map(|c| c.0),
+        snapshots,
+        times,
+        components: DIM,
+        levels: run.final_index,
+        t_final: run.final_time,
+        iterations: run.iterations,
+        recentred_by: 0.0,
+        status: run.status,
+    })
+}
+
+/// The cell rule of a variational scheme, or an error naming `method.scheme`.
+fn variational_rule<F: Density<DIM> + Copy, const DIM: usize, R>(
+    loaded: &LoadedField,
+    scheme: Scheme,
+    density: F,
+    lattice: &Lattice,
+    go: impl FnOnce(Either<TriangleRule<F>, RectangleRule<F>>) -> R,
+) -> Result<R, CliError> {
+    let (dt, dx) = (lattice.dt(), lattice.dx());
+    match scheme {
+        Scheme::Triangle => Ok(go(Either::Triangle(TriangleRule { density, dt, dx }))),
+        Scheme::Rectangle | Scheme::SymmetricRectangle => Ok(go(Either::Rectangle(RectangleRule {
+            density,
+            dt,
+            dx,
+            symmetric: scheme == Scheme::SymmetricRectangle,
+        }))),
+        other => Err(loaded.key_error(
+            "method.scheme",
+            format!(
+                "`{}` has no cell Lagrangian: on dirichlet or free boundaries and for the complex field only \
+                 the variational schemes triangle, rectangle and symmetric-rectangle run",
+                other.name()
+            ),
+        )),
+    }
+}
+
+/// One of the two cell rules.
+enum Either<T, R> {
+    Triangle(T),
+    Rectangle(R),
+}
+
+/// Run a lattice-field scenario.
+pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    let start = Instant::now();
+    let loaded = LoadedField::parse(path, text)?;
+    let s = &loaded.scenario;
+    let solver = loaded.solver()?;
+    let model = loaded.model()?;
+    let scheme = loaded.scheme()?;
+    let mut lattice = loaded.lattice()?;
+    let initial = loaded.initial(lattice.length())?;
+    let t_end = loaded.positive("time.t_end", s.time.t_end)?;
+    let dir = prepare_dir(
+        &output_dir(&loaded.path, &output_spec(s), job.out.as_deref()),
+        job.force,
+    )?;
+    let total = (t_end / lattice.dt()).ceil() as u64;
+    let mut progress = Progress::new(total, job.quiet);
+    let initial_error = |e: veselov::Error| loaded.key_error("initial", e.to_string());
+    let outcome = match (model, initial) {
+        (FieldModel::Scalar(model), FieldInitial::Scalar(data)) => {
+            if lattice.is_periodic() {
+                let config = FieldRunConfig {
+                    model,
+                    scheme,
+                    lattice,
+                    initial: data,
+                    t_end,
+                    snapshot_every: s.output.snapshot_every,
+                    energy_block: s.output.energy_block,
+                    keep_energies: true,
+                    recentre_every: if model == Model::SineGordon { 1000 } else { 0 },
+                    solver,
+                };
+                fast_outcome(&loaded, &config, &mut progress)?
+            } else {
+                let (y0, y1) = data.levels(&lattice).map_err(initial_error)?;
+                if let Boundary::Dirichlet { .. } = lattice.boundary() {
+                    // Unless given, the end values are the initial ones.
+                    let l = &s.lattice;
+                    let n = y0.len();
+                    let boundary = Boundary::Dirichlet {
+                        left: l.left.unwrap_or(y0[0]),
+                        right: l.right.unwrap_or(y0[n - 1]),
+                    };
+                    lattice = Lattice::new(lattice.nodes(), lattice.dx(), lattice.dt(), boundary)
+                        .map_err(|e| loaded.key_error("lattice", e.to_string()))?;
+                }
+                let lift = |y: Vec<f64>| -> Vec<SVector<f64, 1>> { y.into_iter().map(SVector::from_element).collect() };
+                let levels = (lift(y0), lift(y1));
+                let shift = |_: &SVector<f64, 1>| SVector::<f64, 1>::from_element(1.0);
+                // The shift y ↦ y + s is a symmetry of the wave equation that a
+                // Dirichlet boundary breaks.
+                let charge: Option<(&'static str, Generator<'_, 1>)> = (model == Model::Wave
+                    && lattice.boundary() == Boundary::Free)
+                    .then_some(("split_shift_charge", &shift));
+                match model {
+                    Model::SineGordon => variational_rule(
+                        &loaded,
+                        scheme,
+                        NonlinearWave(SineGordon),
+                        &lattice,
+                        |rule| match rule {
+                            Either::Triangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+                            Either::Rectangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+                        },
+                    )??,
+                    Model::Wave => {
+                        variational_rule(&loaded, scheme, NonlinearWave(Wave), &lattice, |rule| match rule {
+                            Either::Triangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+                            Either::Rectangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+                        })??
+                    }
+                    Model::Phi4 { m2, lambda } => {
+                        variational_rule(&loaded, scheme, NonlinearWave(Phi4 { m2, lambda }), &lattice, |rule| {
+                            match rule {
+                                Either::Triangle(r) => {
+                                    generic_outcome(&loaded, r, lattice, levels, charge, &mut progress)
+                                }
+                                Either::Rectangle(r) => {
+                                    generic_outcome(&loaded, r, lattice, levels, charge, &mut progress)
+                                }
+                            }
+                        })??
+                    }
+                }
+            }
+        }
+        (FieldModel::Complex(kg), FieldInitial::PlaneWave { amplitude, mode }) => {
+            let wave = ComplexPlaneWave {
+                amplitude,
+                mode,
+                m2: kg.m2,
+                lambda: kg.lambda,
+            };
+            let levels = wave.levels(&lattice).map_err(initial_error)?;
+            let rotation = |y: &SVector<f64, 2>| SVector::<f64, 2>::new(-y[1], y[0]);
+            // Fixed end values (every component the same) break the phase symmetry.
+            let fixed = matches!(lattice.boundary(), Boundary::Dirichlet { .. });
+            let charge: Option<(&'static str, Generator<'_, 2>)> = (!fixed).then_some(("phase_charge", &rotation));
+            variational_rule(&loaded, scheme, NonlinearWave(kg), &lattice, |rule| match rule {
+                Either::Triangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+                Either::Rectangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+            })??
+        }
+        (FieldModel::Complex(_), FieldInitial::Scalar(_)) => {
+            return Err(loaded.key_error(
+                "initial.kind",
+                "the complex Klein–Gordon field takes `plane-wave` initial data",
+            ));
+        }
+        (FieldModel::Scalar(_), FieldInitial::PlaneWave { .. }) => {
+            return Err(loaded.key_error(
+                "initial.kind",
+                "`plane-wave` initial data are for the complex Klein–Gordon field",
+            ));
+        }
+    };
+    progress.finish();
+    write_outcome(&loaded, &dir, lattice, &outcome, start, job.quiet)?;
+    match outcome.status {
+        Ok(()) => Ok(()),
+        Err(error) => Err(CliError::Run { error, dir }),
+    }
+}
+
+/// energy.csv, snapshots.npy, snapshot_times.csv, summary.json and the plots.
+fn write_outcome(
+    loaded: &LoadedField,
+    dir: &Path,
+    lattice: Lattice,
+    outcome: &Outcome,
+    start: Instant,
+    quiet: bool,
+) -> Result<(), CliError> {
+    let s = &loaded.scenario;
+    let mut energy = Table {
+        header: vec!["t".into(), "energy".into()],
+        rows: Vec::new(),
+    };
+    if let Some(name) = outcome.charge {
+        energy.header.push(name.into());
+    }
+    let count = outcome.energies.len();
+    for (m, (t, e, q)) in outcome.energies.iter().enumerate() {
+        if m % s.output.energy_every == 0 || m + 1 == count {
+            let mut row = vec![*t, *e];
+            if outcome.charge.is_some() {
+                row.push(q.unwrap_or(f64::NAN));
+            }
+            energy.rows.push(row);
+        }
+    }
+    energy.write_csv(&dir.join("energy.csv"))?;
+    let nodes = lattice.nodes();
+    let shape: Vec<usize> = if outcome.components == 1 {
+        vec![outcome.snapshots.len(), nodes]
+    } else {
+        vec![outcome.snapshots.len(), nodes, outcome.components]
+    };
+    write_npy(&dir.join("snapshots.npy"), &shape, &outcome.snapshots)?;
     Table {
         header: vec!["t".into()],
-        rows: times.iter().map(|t| vec![*t]).collect(),
+        rows: outcome.times.iter().map(|t| vec![*t]).collect(),
     }
     .write_csv(&dir.join("snapshot_times.csv"))?;
-    let e0 = run.initial_energy;
-    let energy_error_max = run.energies.iter().fold(0.0_f64, |m, e| m.max((e - e0).abs()));
-    let charges_error_max = run
-        .charges
-        .first()
-        .map(|c0| run.charges.iter().fold(0.0_f64, |m, c| m.max((c - c0).abs())));
+    let e0 = outcome.energies.first().map_or(f64::NAN, |e| e.1);
+    let energy_error_max = outcome.energies.iter().fold(0.0_f64, |m, e| m.max((e.1 - e0).abs()));
+    let charges_error_max = match (outcome.charge, outcome.energies.first().and_then(|e| e.2)) {
+        (Some(name), Some(q0)) => {
+            let err = outcome
+                .energies
+                .iter()
+                .filter_map(|e| e.2)
+                .fold(0.0_f64, |m, q| m.max((q - q0).abs()));
+            json!({ name: err })
+        }
+        _ => json!({}),
+    };
     let summary = json!({
-        "status": if run.status.is_ok() { "ok" } else { "error" },
-        "error": run.status.as_ref().err().map(|e| e.to_string()),
+        "status": if outcome.status.is_ok() { "ok" } else { "error" },
+        "error": outcome.status.as_ref().err().map(|e| e.to_string()),
         "scenario": loaded.path.display().to_string(),
         "model": s.model.name,
         "scheme": s.method.scheme,
-        "nodes": lattice.nodes(),
+        "boundary": s.lattice.boundary,
+        "path": outcome.path,
+        "nodes": nodes,
         "dx": lattice.dx(),
-        "dt": dt,
-        "courant": dt / lattice.dx(),
-        "levels": run.final_index,
-        "t_final": run.final_time,
+        "dt": lattice.dt(),
+        "courant": lattice.dt() / lattice.dx(),
+        "levels": outcome.levels,
+        "t_final": outcome.t_final,
         "energy_initial": e0,
         "energy_error_max": energy_error_max,
-        "charges_error_max": match (charge_name, charges_error_max) {
-            (Some(name), Some(err)) => json!({ name: err }),
-            _ => json!({}),
-        },
-        "iterations_mean": run.iterations as f64 / run.final_index.saturating_sub(1).max(1) as f64,
-        "recentred_by": run.recentred_by,
+        "charges_error_max": charges_error_max,
+        "iterations_mean": outcome.iterations as f64 / outcome.levels.saturating_sub(1).max(1) as f64,
+        "recentred_by": outcome.recentred_by,
         "wall_seconds": start.elapsed().as_secs_f64(),
     });
     write_json(&dir.join("summary.json"), &summary)?;
     if s.output.plots {
+        let first_component: Vec<Vec<f64>> = outcome
+            .snapshots
+            .iter()
+            .map(|row| row.iter().step_by(outcome.components).copied().collect())
+            .collect();
         draw_field(
-            &dir,
+            dir,
             &energy,
-            &snapshots,
-            &times,
-            lattice.length(),
-            config.model == Model::SineGordon,
+            &first_component,
+            &outcome.times,
+            lattice,
+            s.model.name == "sine-gordon",
             &s.output.plot_format,
         )?;
     }
-    if !job.quiet {
+    if !quiet {
         eprintln!(
             "{} / {}: {} levels to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
             s.model.name,
             s.method.scheme,
-            run.final_index,
-            run.final_time,
+            outcome.levels,
+            outcome.t_final,
             energy_error_max,
             dir.display()
         );
     }
-    match run.status {
-        Ok(()) => Ok(()),
-        Err(error) => Err(CliError::Run { error, dir }),
-    }
+    Ok(())
 }
 
 /// The `[output]` keys `output_dir` understands.

@@ -187,10 +187,11 @@ pub fn draw_field(
     energy: &Table,
     snapshots: &[Vec<f64>],
     times: &[f64],
-    length: f64,
+    lattice: veselov::field::Lattice,
     circle_valued: bool,
     format: &str,
 ) -> Result<(), CliError> {
+    let length = lattice.length();
     let file = |name: &str| dir.join(format!("{name}.{format}"));
     if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
         let e0 = e.first().copied().unwrap_or(0.0);
@@ -213,7 +214,7 @@ pub fn draw_field(
     }
     if let Some(last) = snapshots.last() {
         let n = last.len();
-        let x: Vec<f64> = (0..n).map(|i| i as f64 * length / n as f64).collect();
+        let x: Vec<f64> = (0..n).map(|i| lattice.x(i)).collect();
         let title = format!("Waveform at t = {}", times.last().copied().unwrap_or(0.0));
         let fig = Figure {
             title: &title,

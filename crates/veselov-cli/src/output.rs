@@ -105,7 +105,18 @@ impl Table {
 
 /// The `.npy` 1.0 header for a C-order `<f8` array of shape `(rows, cols)`, padded to 64 bytes.
 pub fn npy_header(rows: usize, cols: usize) -> Vec<u8> {
-    let mut dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
+    npy_header_shape(&[rows, cols])
+}
+
+/// The `.npy` 1.0 header for a C-order `<f8` array of any shape.
+pub fn npy_header_shape(shape: &[usize]) -> Vec<u8> {
+    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+    let tuple = if dims.len() == 1 {
+        format!("({},)", dims[0])
+    } else {
+        format!("({})", dims.join(", "))
+    };
+    let mut dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {tuple}, }}");
     let unpadded = 10 + dict.len() + 1;
     dict.push_str(&" ".repeat((64 - unpadded % 64) % 64));
     dict.push('\n');

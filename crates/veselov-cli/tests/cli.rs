@@ -701,3 +701,74 @@ fn lattice_field_errors_name_the_key() {
         assert!(stderr.contains(needle), "case {i}: `{needle}` not in: {stderr}");
     }
 }
+
+#[test]
+fn generic_lattice_paths_complex_field_and_fixed_ends() {
+    let dir = temp_dir("field-generic");
+    let out = dir.join("complex");
+    let path = scenario(
+        &dir,
+        "[model]\nname = \"klein-gordon-complex\"\nparams = { m2 = 1.0, lambda = 0.5 }\n\
+         [lattice]\nnodes = 32\nlength = 10.0\ncourant = 0.25\n[method]\nscheme = \"symmetric-rectangle\"\n\
+         [initial]\nkind = \"plane-wave\"\namplitude = 0.8\nmode = 2\n[time]\nt_end = 2.0\n[output]\nplots = false\n",
+    );
+    veselov()
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    let s = summary(&out);
+    assert_eq!(s["status"], "ok", "{s}");
+    assert_eq!(s["path"], "generic");
+    let q = s["charges_error_max"]["phase_charge"].as_f64().expect("phase charge");
+    assert!(q <= 1e-12, "phase charge error {q:e}");
+    let npy = std::fs::read(out.join("snapshots.npy")).expect("npy");
+    let header = String::from_utf8_lossy(&npy[..128]).into_owned();
+    assert!(header.contains(", 32, 2)"), "{header}");
+
+    let out = dir.join("dirichlet");
+    let path = scenario(
+        &dir,
+        "[model]\nname = \"sine-gordon\"\n[lattice]\nnodes = 41\nlength = 20.0\nboundary = \"dirichlet\"\n\
+         courant = 0.25\n[method]\nscheme = \"triangle\"\n[initial]\nkind = \"kink\"\nx0 = 6.0\nspeed = 0.3\n\
+         [time]\nt_end = 4.0\n[output]\nplots = false\n",
+    );
+    veselov()
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .assert()
+        .success();
+    let s = summary(&out);
+    assert_eq!(s["status"], "ok", "{s}");
+    assert_eq!(s["boundary"], "dirichlet");
+
+    // Non-variational schemes and triangles with free ends are refused, naming the key.
+    for (lattice, scheme, needle) in [
+        ("boundary = \"dirichlet\"", "guo", "method.scheme"),
+        ("boundary = \"free\"", "triangle", "lattice"),
+    ] {
+        let path = scenario(
+            &dir,
+            &format!(
+                "[model]\nname = \"wave\"\n[lattice]\nnodes = 20\nlength = 5.0\n{lattice}\ncourant = 0.5\n\
+                 [method]\nscheme = \"{scheme}\"\n[initial]\nkind = \"dalembert\"\n[time]\nt_end = 1.0\n"
+            ),
+        );
+        let assert = veselov()
+            .arg("run")
+            .arg(&path)
+            .arg("--out")
+            .arg(dir.join(scheme))
+            .arg("--quiet")
+            .assert()
+            .failure();
+        let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+        assert!(stderr.contains(needle), "`{needle}` not in {stderr}");
+    }
+}

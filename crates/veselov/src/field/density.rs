@@ -43,14 +43,26 @@ pub struct TriangleRule<F> {
     pub dx: f64,
 }
 
+/// The jet (φ, φ_t, φ_x) a cell rule evaluates its density at.
+pub type Jet<D, const DIM: usize> = (SVector<D, DIM>, SVector<D, DIM>, SVector<D, DIM>);
+
+impl<F> TriangleRule<F> {
+    /// (φ, φ_t, φ_x) of the triangle (y¹, y², y³).
+    pub fn jet<D: Scalar, const DIM: usize>(&self, y: &[SVector<D, DIM>]) -> Jet<D, DIM> {
+        (
+            (y[0] + y[1] + y[2]) / D::from(3.0),
+            (y[1] - y[0]) / D::from(self.dt),
+            (y[2] - y[1]) / D::from(self.dx),
+        )
+    }
+}
+
 impl<const DIM: usize, F: Density<DIM>> CellLagrangian<DIM> for TriangleRule<F> {
     fn shape(&self) -> CellShape {
         CellShape::Triangle
     }
     fn lagrangian<D: Scalar>(&self, y: &[SVector<D, DIM>]) -> D {
-        let phi = (y[0] + y[1] + y[2]) / D::from(3.0);
-        let phi_t = (y[1] - y[0]) / D::from(self.dt);
-        let phi_x = (y[2] - y[1]) / D::from(self.dx);
+        let (phi, phi_t, phi_x) = self.jet(y);
         self.density.density(&phi, &phi_t, &phi_x)
     }
 }
@@ -71,11 +83,9 @@ pub struct RectangleRule<F> {
     pub symmetric: bool,
 }
 
-impl<const DIM: usize, F: Density<DIM>> CellLagrangian<DIM> for RectangleRule<F> {
-    fn shape(&self) -> CellShape {
-        CellShape::Rectangle
-    }
-    fn lagrangian<D: Scalar>(&self, y: &[SVector<D, DIM>]) -> D {
+impl<F> RectangleRule<F> {
+    /// (φ, φ_t, φ_x) of the rectangle (y¹, y², y³, y⁴).
+    pub fn jet<D: Scalar, const DIM: usize>(&self, y: &[SVector<D, DIM>]) -> Jet<D, DIM> {
         let phi = (y[0] + y[1] + y[2] + y[3]) / D::from(4.0);
         let phi_t = if self.symmetric {
             ((y[1] - y[0]) + (y[2] - y[3])) / D::from(2.0 * self.dt)
@@ -83,6 +93,16 @@ impl<const DIM: usize, F: Density<DIM>> CellLagrangian<DIM> for RectangleRule<F>
             (y[1] - y[0]) / D::from(self.dt)
         };
         let phi_x = ((y[3] - y[0]) + (y[2] - y[1])) / D::from(2.0 * self.dx);
+        (phi, phi_t, phi_x)
+    }
+}
+
+impl<const DIM: usize, F: Density<DIM>> CellLagrangian<DIM> for RectangleRule<F> {
+    fn shape(&self) -> CellShape {
+        CellShape::Rectangle
+    }
+    fn lagrangian<D: Scalar>(&self, y: &[SVector<D, DIM>]) -> D {
+        let (phi, phi_t, phi_x) = self.jet(y);
         self.density.density(&phi, &phi_t, &phi_x)
     }
 }

@@ -4,10 +4,13 @@
 //! Level `j+1` solves the DELf equations at every active node of level `j`
 //! (seed 002 (5.2) and its rectangle analogue) by a global Newton iteration on
 //! the whole new level: the exact Jacobian `∂R_i/∂y_{m,j+1}` is assembled from
-//! the cells' Hessian blocks (hyper-dual numbers) and factorised densely
-//! (LU). The cost is O((N·DIM)³) per Newton iteration: this path is meant for
-//! verification, small lattices and vector-valued fields; the scalar schemes
-//! have O(N) fast paths in [`super::fast`].
+//! the cells' Hessian blocks (hyper-dual numbers) and factored as a
+//! block-tridiagonal system (cyclic on periodic lattices; each node couples to
+//! its two neighbours on the new level), O(N·DIM³) per Newton iteration
+//! ([`crate::solve::BlockTridiagonal`]). This path serves any density,
+//! vector-valued fields and every boundary condition; the scalar schemes of
+//! seed 002 have faster paths in [`super::fast`] (fixed-point iterations that
+//! need no Hessians).
 //!
 //! Boundary conditions: periodic/winding (indices mod N, the jump added to
 //! every component), Dirichlet (end nodes fixed, equations at the inner
@@ -18,12 +21,13 @@
 //! The same Jacobian propagates first variations (tangent-linear step),
 //! used by the multisymplectic form formula.
 
-use nalgebra::{DMatrix, DVector, SVector};
+use nalgebra::SVector;
 
 use super::density::{CellJet, CellLagrangian, cell_jet, gather};
 use super::lattice::{Boundary, CellShape, Lattice, invalid};
 use super::region::Node;
 use crate::error::{Error, Result, check_finite};
+use crate::solve::BlockTridiagonal;
 
 /// Three stored levels `j−1, j` and the result `j+1`, plus tangents.
 #[derive(Debug, Clone)]
@@ -130,33 +134,38 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
     }
 
     /// Residual and Jacobian of the DELf at the active nodes of level `j`
-    /// for a trial new level.
-    fn assemble(&self, next: &[SVector<f64, DIM>], with_jac: bool) -> (DVector<f64>, Option<DMatrix<f64>>) {
+    /// for a trial new level. The Jacobian couples each node only to its two
+    /// neighbours on the new level, so it is block tridiagonal (cyclic on
+    /// periodic lattices) with DIM×DIM blocks; `None` in the Jacobian slot
+    /// means a coupling outside that pattern (not produced by triangles or
+    /// rectangles).
+    fn assemble(
+        &self,
+        next: &[SVector<f64, DIM>],
+        with_jac: bool,
+    ) -> (Vec<SVector<f64, DIM>>, Option<Option<BlockTridiagonal<DIM>>>) {
         let shape = self.lag.shape();
         let nv = shape.vertices();
         let act = self.active();
-        let m = act.len() * DIM;
-        let mut r = DVector::zeros(m);
-        let mut jac = with_jac.then(|| DMatrix::zeros(m, m));
+        let m = act.len();
+        let mut r = vec![SVector::<f64, DIM>::zeros(); m];
+        let mut jac = with_jac.then(|| Some(BlockTridiagonal::<DIM>::zeros(m, self.lattice.is_periodic())));
         let get = self.getter(next);
         for (row, i) in act.enumerate() {
             for (l, &(di, dj)) in shape.offsets().iter().enumerate() {
                 let c = (i as i64 - di, -dj);
                 let Some(v) = gather(shape, c, &get) else { continue };
                 let jet: CellJet<DIM> = cell_jet(&self.lag, &v[..nv]);
-                for a in 0..DIM {
-                    r[row * DIM + a] += jet.grad[l][a];
-                }
-                if let Some(jm) = jac.as_mut() {
+                r[row] += jet.grad[l];
+                if let Some(slot) = jac.as_mut() {
                     for (mm, &(ei, ej)) in shape.offsets().iter().enumerate() {
                         if c.1 + ej != 1 {
                             continue;
                         }
                         if let Some(col) = self.unknown(c.0 + ei) {
-                            for a in 0..DIM {
-                                for b in 0..DIM {
-                                    jm[(row * DIM + a, col * DIM + b)] += jet.hess[l][mm][(a, b)];
-                                }
+                            match slot.as_mut().and_then(|j| j.block_mut(row, col)) {
+                                Some(block) => *block += jet.hess[l][mm],
+                                None => *slot = None,
                             }
                         }
                     }
@@ -217,18 +226,18 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
         loop {
             it += 1;
             let (r, jac) = self.assemble(&next, true);
-            let Some(jac) = jac else {
-                return Err(fail(f64::NAN, it, "no Jacobian"));
+            let Some(Some(jac)) = jac else {
+                return Err(fail(f64::NAN, it, "coupling outside the block-tridiagonal pattern"));
             };
-            let Some(dx) = jac.lu().solve(&(-r)) else {
+            let Some(lu) = jac.factor() else {
                 return Err(fail(f64::NAN, it, "singular Jacobian"));
             };
+            let minus_r: Vec<SVector<f64, DIM>> = r.iter().map(|v| -v).collect();
+            let dx = lu.solve(&minus_r);
             let mut change: f64 = 0.0;
             for (row, i) in act.clone().enumerate() {
-                for a in 0..DIM {
-                    next[i][a] += dx[row * DIM + a];
-                    change = change.max(dx[row * DIM + a].abs());
-                }
+                next[i] += dx[row];
+                change = change.max(dx[row].amax());
             }
             if !change.is_finite() {
                 return Err(fail(change, it, "non-finite iterate"));
@@ -252,7 +261,7 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
 
     fn propagate(&self, next: &[SVector<f64, DIM>], tangents: &mut [Tangent<DIM>]) -> Option<()> {
         let (_, jac) = self.assemble(next, true);
-        let lu = jac?.lu();
+        let lu = jac??.factor()?;
         let shape = self.lag.shape();
         let nv = shape.vertices();
         let act = self.active();
@@ -269,7 +278,7 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
         .ok()?;
         let n = self.lattice.nodes();
         for t in tangents.iter_mut() {
-            let mut rhs = DVector::zeros(act.len() * DIM);
+            let mut rhs = vec![SVector::<f64, DIM>::zeros(); act.len()];
             for (row, i) in act.clone().enumerate() {
                 for (l, &(di, dj)) in shape.offsets().iter().enumerate() {
                     let c = (i as i64 - di, -dj);
@@ -282,20 +291,15 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
                             _ => continue,
                         };
                         if let Some(w) = node_value(&plain, level, c.0 + ei) {
-                            let contrib = jet.hess[l][mm] * w;
-                            for a in 0..DIM {
-                                rhs[row * DIM + a] -= contrib[a];
-                            }
+                            rhs[row] -= jet.hess[l][mm] * w;
                         }
                     }
                 }
             }
-            let x = lu.solve(&rhs)?;
+            let x = lu.solve(&rhs);
             let mut new = vec![SVector::zeros(); n];
             for (row, i) in act.clone().enumerate() {
-                for a in 0..DIM {
-                    new[i][a] = x[row * DIM + a];
-                }
+                new[i] = x[row];
             }
             t.0 = std::mem::replace(&mut t.1, new);
         }

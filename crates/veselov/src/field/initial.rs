@@ -5,6 +5,8 @@
 
 use std::f64::consts::{PI, TAU};
 
+use nalgebra::SVector;
+
 use super::lattice::{Lattice, invalid};
 use crate::error::{Error, Result};
 use crate::special::{complete_elliptic_k_complement, jacobi_elliptic_complement};
@@ -246,5 +248,72 @@ impl InitialData {
             }
             _ => Ok(None),
         }
+    }
+}
+
+/// Two consecutive levels (j = 0, 1) of a vector field.
+pub type Levels<const DIM: usize> = (Vec<SVector<f64, DIM>>, Vec<SVector<f64, DIM>>);
+
+/// The travelling plane wave φ = A (cos(κx − ωt), sin(κx − ωt)) of the
+/// complex Klein–Gordon equation φ_tt − φ_xx + (m² + λ|φ|²)φ = 0
+/// ([`ComplexKleinGordon`](super::ComplexKleinGordon)): |φ| = A is constant,
+/// so it is an exact solution when ω² = κ² + m² + λA², κ = 2π·mode/L.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ComplexPlaneWave {
+    /// Amplitude A.
+    pub amplitude: f64,
+    /// Mode number (κ = 2π·mode/L; may be negative or zero).
+    pub mode: i32,
+    /// m².
+    pub m2: f64,
+    /// λ.
+    pub lambda: f64,
+}
+
+impl ComplexPlaneWave {
+    /// ω = √(κ² + m² + λA²) for the lattice length L.
+    ///
+    /// # Errors
+    /// Non-finite parameters or ω² ≤ 0 (named).
+    pub fn omega(&self, lattice: &Lattice) -> Result<f64> {
+        for (name, v) in [("amplitude", self.amplitude), ("m2", self.m2), ("lambda", self.lambda)] {
+            if !v.is_finite() {
+                return Err(invalid(name, v, "must be finite"));
+            }
+        }
+        let kappa = TAU * f64::from(self.mode) / lattice.length();
+        let w2 = kappa * kappa + self.m2 + self.lambda * self.amplitude * self.amplitude;
+        if w2 > 0.0 {
+            Ok(w2.sqrt())
+        } else {
+            Err(invalid(
+                "m2",
+                self.m2,
+                "κ² + m² + λA² must be positive for a travelling plane wave",
+            ))
+        }
+    }
+
+    /// The exact field at time t on the nodes.
+    ///
+    /// # Errors
+    /// As [`omega`](Self::omega).
+    pub fn exact(&self, lattice: &Lattice, t: f64) -> Result<Vec<SVector<f64, 2>>> {
+        let w = self.omega(lattice)?;
+        let kappa = TAU * f64::from(self.mode) / lattice.length();
+        Ok((0..lattice.nodes())
+            .map(|i| {
+                let phase = kappa * lattice.x(i) - w * t;
+                SVector::<f64, 2>::new(phase.cos(), phase.sin()) * self.amplitude
+            })
+            .collect())
+    }
+
+    /// Levels j = 0 and j = 1 (the exact solution at t = 0 and t = dt).
+    ///
+    /// # Errors
+    /// As [`omega`](Self::omega).
+    pub fn levels(&self, lattice: &Lattice) -> Result<Levels<2>> {
+        Ok((self.exact(lattice, 0.0)?, self.exact(lattice, lattice.dt())?))
     }
 }

@@ -38,6 +38,8 @@
 
 pub mod cyclic;
 pub mod density;
+pub mod density_run;
+pub mod energy;
 pub mod fast;
 pub mod generic;
 pub mod initial;
@@ -52,9 +54,11 @@ pub mod trig;
 pub use density::{
     CellJet, CellLagrangian, Density, RectangleRule, TriangleRule, action, cell_gradient, cell_jet, delf_residual,
 };
+pub use density_run::{DensityRun, DensityRunConfig, Generator, run_density};
+pub use energy::{CellEnergy, level_energy};
 pub use fast::{FastMarcher, SolverOptions};
 pub use generic::{GenericMarcher, Tangent, node_value};
-pub use initial::{InitialData, PeriodicKink};
+pub use initial::{ComplexPlaneWave, InitialData, Levels, PeriodicKink};
 pub use lattice::{Boundary, CellShape, Lattice};
 pub use noether::{multisymplectic_boundary_sum, recentre_mod_2pi, shift_charge, split_charge};
 pub use potential::{ComplexKleinGordon, NonlinearWave, Phi4, Potential, ScalarPotential, SineGordon, Wave};
