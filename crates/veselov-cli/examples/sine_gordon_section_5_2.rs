@@ -122,7 +122,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             rows: run
                 .energy_blocks
                 .iter()
-                .map(|b| vec![lat.t(b.first_level), lat.t(b.first_level + b.levels), b.min, b.mean, b.max])
+                .map(|b| {
+                    vec![
+                        lat.t(b.first_level),
+                        lat.t(b.first_level + b.levels),
+                        b.min,
+                        b.mean,
+                        b.max,
+                    ]
+                })
                 .collect(),
         };
         blocks.write_csv(&dir.join("blocks.csv"))?;
@@ -135,9 +143,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &title,
             "E − E₀",
             vec![
-                Series { label: "min", x: &t, y: &lo },
-                Series { label: "mean", x: &t, y: &mean },
-                Series { label: "max", x: &t, y: &hi },
+                Series {
+                    label: "min",
+                    x: &t,
+                    y: &lo,
+                },
+                Series {
+                    label: "mean",
+                    x: &t,
+                    y: &mean,
+                },
+                Series {
+                    label: "max",
+                    x: &t,
+                    y: &hi,
+                },
             ],
             Scale::Linear,
         )?;
@@ -146,7 +166,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &dir.join("initial_energy.svg"),
             &format!("{}: initial energy error", scheme.name()),
             "E − E₀",
-            vec![Series { label: "E − E₀", x: &t0, y: &e0 }],
+            vec![Series {
+                label: "E − E₀",
+                x: &t0,
+                y: &e0,
+            }],
             Scale::Linear,
         )?;
         let n = run.energies.len();
@@ -155,7 +179,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &dir.join("final_energy.svg"),
             &format!("{}: final energy error", scheme.name()),
             "E − E₀",
-            vec![Series { label: "E − E₀", x: &t1, y: &e1 }],
+            vec![Series {
+                label: "E − E₀",
+                x: &t1,
+                y: &e1,
+            }],
             Scale::Linear,
         )?;
         let snaps: Vec<Vec<f64>> = run
@@ -165,14 +193,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .collect();
         write_npy(&dir.join("snapshots.npy"), &snaps)?;
         let x: Vec<f64> = (0..lat.nodes()).map(|i| lat.x(i)).collect();
-        let wrapped: Vec<f64> = run.final_level.iter().map(|v| v.rem_euclid(std::f64::consts::TAU)).collect();
+        let wrapped: Vec<f64> = run
+            .final_level
+            .iter()
+            .map(|v| v.rem_euclid(std::f64::consts::TAU))
+            .collect();
         let fig = Figure {
             title: &format!("{}: waveform mod 2π at t = {:.0}", scheme.name(), run.final_time),
             x_label: "x",
             y_label: "φ mod 2π",
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
-            series: vec![Series { label: "φ", x: &x, y: &wrapped }],
+            series: vec![Series {
+                label: "φ",
+                x: &x,
+                y: &wrapped,
+            }],
             markers: false,
             equal_aspect: false,
         };
@@ -215,8 +251,14 @@ fn even_odd(root: &Path, t_end: f64, rel_tol: f64) -> Result<(), Box<dyn std::er
             ..SolverOptions::default()
         };
         let mut plain = FastMarcher::new(SineGordon, Scheme::SymmetricRectangle, lattice, &y0, &y1, opts)?;
-        let mut kicked =
-            FastMarcher::new(SineGordon, Scheme::SymmetricRectangle, lattice, &seeded(&y0), &seeded(&y1), opts)?;
+        let mut kicked = FastMarcher::new(
+            SineGordon,
+            Scheme::SymmetricRectangle,
+            lattice,
+            &seeded(&y0),
+            &seeded(&y1),
+            opts,
+        )?;
         let levels = (t_end / lattice.dt()).ceil() as usize;
         let start = Instant::now();
         let mut column = Vec::new();
@@ -243,7 +285,11 @@ fn even_odd(root: &Path, t_end: f64, rel_tol: f64) -> Result<(), Box<dyn std::er
     }
     let table = Table {
         header: vec!["t".into(), "response_N256".into(), "response_N255".into()],
-        rows: columns[0].iter().zip(&columns[1]).map(|(a, b)| vec![a.0, a.1, b.1]).collect(),
+        rows: columns[0]
+            .iter()
+            .zip(&columns[1])
+            .map(|(a, b)| vec![a.0, a.1, b.1])
+            .collect(),
     };
     table.write_csv(&root.join("even_odd.csv"))?;
     let t: Vec<f64> = table.rows.iter().map(|r| r[0]).collect();
@@ -254,8 +300,16 @@ fn even_odd(root: &Path, t_end: f64, rel_tol: f64) -> Result<(), Box<dyn std::er
         "Symmetric rectangle (5.12): response to ε(−1)^i",
         "max |Δy|",
         vec![
-            Series { label: "N = 256", x: &t, y: &even },
-            Series { label: "N = 255", x: &t, y: &odd },
+            Series {
+                label: "N = 256",
+                x: &t,
+                y: &even,
+            },
+            Series {
+                label: "N = 255",
+                x: &t,
+                y: &odd,
+            },
         ],
         Scale::Log,
     )?;

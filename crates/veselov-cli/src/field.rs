@@ -39,7 +39,7 @@ use crate::figures::draw_field;
 use crate::output::{Table, npy_header_shape, prepare_dir, write_json};
 use crate::progress::Progress;
 use crate::run::RunJob;
-use crate::scenario::output_dir;
+use crate::scenario::{finite_value, key_error, output_dir, parse_toml, positive_value};
 
 /// The lattice-field model names.
 pub const FIELD_MODELS: &[&str] = &["sine-gordon", "wave", "klein-gordon-phi4", "klein-gordon-complex"];
@@ -203,10 +203,7 @@ pub struct LoadedField {
 impl LoadedField {
     /// Parse scenario text attributed to `path`.
     pub fn parse(path: &Path, text: &str) -> Result<Self, CliError> {
-        let scenario: FieldScenario = toml::from_str(text).map_err(|e| CliError::Parse {
-            file: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
+        let scenario: FieldScenario = parse_toml(path, text)?;
         Ok(Self {
             path: path.to_path_buf(),
             scenario,
@@ -214,27 +211,15 @@ impl LoadedField {
     }
 
     fn key_error(&self, key: &str, message: impl Into<String>) -> CliError {
-        CliError::Key {
-            file: self.path.clone(),
-            key: key.to_string(),
-            message: message.into(),
-        }
+        key_error(&self.path, key, message)
     }
 
     fn positive(&self, key: &str, v: f64) -> Result<f64, CliError> {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(self.key_error(key, format!("expected a finite number > 0, got {v}")))
-        }
+        positive_value(&self.path, key, v)
     }
 
     fn finite(&self, key: &str, v: f64) -> Result<f64, CliError> {
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(self.key_error(key, format!("expected a finite number, got {v}")))
-        }
+        finite_value(&self.path, key, v)
     }
 
     fn model(&self) -> Result<FieldModel, CliError> {
@@ -336,65 +321,50 @@ impl LoadedField {
 
     fn initial(&self, length: f64) -> Result<FieldInitial, CliError> {
         let i = &self.scenario.initial;
-        let unused = |keys: &[(&str, bool)]| -> Result<(), CliError> {
-            for (k, present) in keys {
-                if *present {
-                    return Err(self.key_error(&format!("initial.{k}"), format!("not used by kind `{}`", i.kind)));
-                }
+        let allowed: &[&str] = match i.kind.as_str() {
+            "kink-antikink" => &["epsilon", "paper_start"],
+            "kink" => &["x0", "speed"],
+            "breather" => &["omega", "x0"],
+            "dalembert" => &["amplitude", "mode", "drift"],
+            "plane-wave" => &["amplitude", "mode"],
+            other => {
+                return Err(self.key_error(
+                    "initial.kind",
+                    format!(
+                        "unknown initial data `{other}`, expected kink-antikink, kink, breather, dalembert or plane-wave"
+                    ),
+                ));
             }
-            Ok(())
         };
+        let present = [
+            ("epsilon", i.epsilon.is_some()),
+            ("paper_start", i.paper_start.is_some()),
+            ("x0", i.x0.is_some()),
+            ("speed", i.speed.is_some()),
+            ("omega", i.omega.is_some()),
+            ("amplitude", i.amplitude.is_some()),
+            ("mode", i.mode.is_some()),
+            ("drift", i.drift.is_some()),
+        ];
+        for (key, given) in present {
+            if given && !allowed.contains(&key) {
+                return Err(self.key_error(&format!("initial.{key}"), format!("not used by kind `{}`", i.kind)));
+            }
+        }
         let data = match i.kind.as_str() {
-            "kink-antikink" => {
-                unused(&[
-                    ("x0", i.x0.is_some()),
-                    ("speed", i.speed.is_some()),
-                    ("omega", i.omega.is_some()),
-                    ("amplitude", i.amplitude.is_some()),
-                    ("mode", i.mode.is_some()),
-                    ("drift", i.drift.is_some()),
-                ])?;
-                InitialData::KinkAntikink {
-                    epsilon: self.positive("initial.epsilon", i.epsilon.unwrap_or(1e-6))?,
-                    paper_start: i.paper_start.unwrap_or(true),
-                }
-            }
-            "kink" => {
-                unused(&[
-                    ("epsilon", i.epsilon.is_some()),
-                    ("paper_start", i.paper_start.is_some()),
-                    ("omega", i.omega.is_some()),
-                    ("amplitude", i.amplitude.is_some()),
-                    ("mode", i.mode.is_some()),
-                    ("drift", i.drift.is_some()),
-                ])?;
-                InitialData::Kink {
-                    x0: self.finite("initial.x0", i.x0.unwrap_or(0.25 * length))?,
-                    speed: self.finite("initial.speed", i.speed.unwrap_or(0.5))?,
-                }
-            }
-            "breather" => {
-                unused(&[
-                    ("epsilon", i.epsilon.is_some()),
-                    ("paper_start", i.paper_start.is_some()),
-                    ("speed", i.speed.is_some()),
-                    ("amplitude", i.amplitude.is_some()),
-                    ("mode", i.mode.is_some()),
-                    ("drift", i.drift.is_some()),
-                ])?;
-                InitialData::Breather {
-                    omega: self.finite("initial.omega", i.omega.unwrap_or(0.5))?,
-                    x0: self.finite("initial.x0", i.x0.unwrap_or(0.5 * length))?,
-                }
-            }
+            "kink-antikink" => InitialData::KinkAntikink {
+                epsilon: self.positive("initial.epsilon", i.epsilon.unwrap_or(1e-6))?,
+                paper_start: i.paper_start.unwrap_or(true),
+            },
+            "kink" => InitialData::Kink {
+                x0: self.finite("initial.x0", i.x0.unwrap_or(0.25 * length))?,
+                speed: self.finite("initial.speed", i.speed.unwrap_or(0.5))?,
+            },
+            "breather" => InitialData::Breather {
+                omega: self.finite("initial.omega", i.omega.unwrap_or(0.5))?,
+                x0: self.finite("initial.x0", i.x0.unwrap_or(0.5 * length))?,
+            },
             "dalembert" => {
-                unused(&[
-                    ("epsilon", i.epsilon.is_some()),
-                    ("paper_start", i.paper_start.is_some()),
-                    ("x0", i.x0.is_some()),
-                    ("speed", i.speed.is_some()),
-                    ("omega", i.omega.is_some()),
-                ])?;
                 let mode = i.mode.unwrap_or(1);
                 if mode < 1 {
                     return Err(self.key_error("initial.mode", format!("expected an integer ≥ 1, got {mode}")));
@@ -406,27 +376,12 @@ impl LoadedField {
                 }
             }
             "plane-wave" => {
-                unused(&[
-                    ("epsilon", i.epsilon.is_some()),
-                    ("paper_start", i.paper_start.is_some()),
-                    ("x0", i.x0.is_some()),
-                    ("speed", i.speed.is_some()),
-                    ("omega", i.omega.is_some()),
-                    ("drift", i.drift.is_some()),
-                ])?;
                 return Ok(FieldInitial::PlaneWave {
                     amplitude: self.finite("initial.amplitude", i.amplitude.unwrap_or(1.0))?,
                     mode: i.mode.unwrap_or(1),
                 });
             }
-            other => {
-                return Err(self.key_error(
-                    "initial.kind",
-                    format!(
-                        "unknown initial data `{other}`, expected kink-antikink, kink, breather, dalembert or plane-wave"
-                    ),
-                ));
-            }
+            other => return Err(self.key_error("initial.kind", format!("unknown initial data `{other}`"))),
         };
         Ok(FieldInitial::Scalar(data))
     }

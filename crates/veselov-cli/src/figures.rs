@@ -14,29 +14,34 @@ fn plot_err(e: crate::plot::PlotError) -> CliError {
     }
 }
 
+/// |E(t) − E(0)| against t on a log scale.
+fn draw_energy_error(path: &Path, title: &str, t: &[f64], e: &[f64]) -> Result<(), CliError> {
+    let e0 = e.first().copied().unwrap_or(0.0);
+    let err: Vec<f64> = e.iter().map(|x| (x - e0).abs()).collect();
+    let fig = Figure {
+        title,
+        x_label: "time t",
+        y_label: "|E(t) − E(0)|",
+        x_scale: Scale::Linear,
+        y_scale: Scale::Log,
+        series: vec![Series {
+            label: "energy",
+            x: t,
+            y: &err,
+        }],
+        markers: false,
+        equal_aspect: false,
+    };
+    draw(path, &fig).map_err(plot_err)
+}
+
 /// Energy error, momentum errors, phase portrait, (in 2-D) the orbit and (rigid
 /// bodies) the body angular momentum.
 pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(), CliError> {
     let Some(t) = table.column("t") else { return Ok(()) };
     let file = |name: &str| dir.join(format!("{name}.{format}"));
     if let Some(e) = table.column("energy") {
-        let e0 = e.first().copied().unwrap_or(0.0);
-        let err: Vec<f64> = e.iter().map(|x| (x - e0).abs()).collect();
-        let fig = Figure {
-            title: "Energy error",
-            x_label: "time t",
-            y_label: "|E(t) − E(0)|",
-            x_scale: Scale::Linear,
-            y_scale: Scale::Log,
-            series: vec![Series {
-                label: "energy",
-                x: &t,
-                y: &err,
-            }],
-            markers: false,
-            equal_aspect: false,
-        };
-        draw(&file("energy_error"), &fig).map_err(plot_err)?;
+        draw_energy_error(&file("energy_error"), "Energy error", &t, &e)?;
     }
     let momenta: Vec<(String, Vec<f64>)> = table
         .header
@@ -194,23 +199,7 @@ pub fn draw_field(
     let length = lattice.length();
     let file = |name: &str| dir.join(format!("{name}.{format}"));
     if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
-        let e0 = e.first().copied().unwrap_or(0.0);
-        let err: Vec<f64> = e.iter().map(|x| (x - e0).abs()).collect();
-        let fig = Figure {
-            title: "Discrete energy error",
-            x_label: "time t",
-            y_label: "|E(t) − E(0)|",
-            x_scale: Scale::Linear,
-            y_scale: Scale::Log,
-            series: vec![Series {
-                label: "energy",
-                x: &t,
-                y: &err,
-            }],
-            markers: false,
-            equal_aspect: false,
-        };
-        draw(&file("energy_error"), &fig).map_err(plot_err)?;
+        draw_energy_error(&file("energy_error"), "Discrete energy error", &t, &e)?;
     }
     if let Some(last) = snapshots.last() {
         let n = last.len();

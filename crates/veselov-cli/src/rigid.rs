@@ -38,7 +38,9 @@ use crate::error::CliError;
 use crate::output::{Table, prepare_dir, write_json};
 use crate::progress::Progress;
 use crate::run::RunJob;
-use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, output_dir, step_count};
+use crate::scenario::{
+    OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, output_dir, parse_toml, step_count,
+};
 use crate::verify::{Study, VerifyJob, whole_steps};
 
 /// The rigid-body model names.
@@ -121,10 +123,7 @@ pub struct LoadedRigid {
 impl LoadedRigid {
     /// Parse scenario text attributed to `path`.
     pub fn parse(path: &Path, text: &str) -> Result<Self, CliError> {
-        let scenario: RigidScenario = toml::from_str(text).map_err(|e| CliError::Parse {
-            file: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
+        let scenario: RigidScenario = parse_toml(path, text)?;
         check_time_and_output(path, &scenario.time, scenario.method.dt, &scenario.output)?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -133,11 +132,7 @@ impl LoadedRigid {
     }
 
     fn key_error(&self, key: &str, message: impl Into<String>) -> CliError {
-        CliError::Key {
-            file: self.path.clone(),
-            key: key.to_string(),
-            message: message.into(),
-        }
+        key_error(&self.path, key, message)
     }
 
     fn vector3(&self, key: &str, value: &Option<Vec<f64>>, default: [f64; 3]) -> Result<Vector3<f64>, CliError> {
@@ -157,12 +152,7 @@ impl LoadedRigid {
     }
 
     fn scalar(&self, key: &str, value: Option<f64>, default: f64) -> Result<f64, CliError> {
-        let v = value.unwrap_or(default);
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(self.key_error(key, format!("expected a finite number, got {v}")))
-        }
+        finite_value(&self.path, key, value.unwrap_or(default))
     }
 
     fn inertia(&self, default: [f64; 3]) -> Result<Matrix3<f64>, CliError> {

@@ -155,10 +155,7 @@ impl LoadedScenario {
 
     /// Parse scenario text attributed to `path`.
     pub fn parse(path: &Path, text: &str) -> Result<Self, CliError> {
-        let scenario: Scenario = toml::from_str(text).map_err(|e| CliError::Parse {
-            file: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
+        let scenario: Scenario = parse_toml(path, text)?;
         let loaded = Self {
             path: path.to_path_buf(),
             scenario,
@@ -222,11 +219,38 @@ impl LoadedScenario {
     }
 }
 
-fn key_error(file: &Path, key: &str, message: impl Into<String>) -> CliError {
+/// An error about `key` in the scenario `file`.
+pub fn key_error(file: &Path, key: &str, message: impl Into<String>) -> CliError {
     CliError::Key {
         file: file.to_path_buf(),
         key: key.to_string(),
         message: message.into(),
+    }
+}
+
+/// Parse scenario text of any schema, attributing errors to `file`.
+pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Result<T, CliError> {
+    toml::from_str(text).map_err(|e| CliError::Parse {
+        file: file.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+/// `v` if it is finite, else an error naming `key`.
+pub fn finite_value(file: &Path, key: &str, v: f64) -> Result<f64, CliError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(key_error(file, key, format!("expected a finite number, got {v}")))
+    }
+}
+
+/// `v` if it is finite and positive, else an error naming `key`.
+pub fn positive_value(file: &Path, key: &str, v: f64) -> Result<f64, CliError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(key_error(file, key, format!("expected a finite number > 0, got {v}")))
     }
 }
 

@@ -2,38 +2,14 @@
 //! Fixed-size systems allocate nothing inside a step: a counting global
 //! allocator watches the steps of every method on both paths.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::Ordering;
 
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, OneStepMap, SeparableIntegrator};
 use veselov::models::{DoublePendulum, Kepler};
 
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-thread_local! {
-    /// Only allocations made by the thread under test count (the test
-    /// harness's own threads allocate at unpredictable times).
-    static WATCHED: Cell<bool> = const { Cell::new(false) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if WATCHED.with(|w| w.get()) {
-            ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        }
-        // SAFETY: forwarding to the system allocator with the caller's layout.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` was allocated by `System` with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::{ALLOCATIONS, WATCHED};
 
 fn allocations_in_steps<M: OneStepMap<2>>(map: &mut M, x0: veselov::mechanics::PhaseState<2>) -> usize {
     let mut x = map.step(0, &x0).expect("first step").0; // warm-up
