@@ -593,7 +593,7 @@ fn lattice_field_run_reports_energy_and_charges() {
         &dir,
         "[model]\nname = \"wave\"\n[lattice]\nnodes = 64\nlength = 8.0\ncourant = 0.5\n\
          [method]\nscheme = \"guo\"\n[initial]\nkind = \"dalembert\"\ndrift = 0.2\n\
-         [time]\nt_end = 5.0\n[output]\nsnapshot_every = 8\nenergy_every = 4\nplots = false\n",
+         [time]\nt_end = 5.0\n[output]\nsnapshot_every = 8\nenergy_every = 4\nenergy_block = 20\nplots = false\n",
     );
     veselov()
         .arg("run")
@@ -616,6 +616,10 @@ fn lattice_field_run_reports_energy_and_charges() {
     let header = String::from_utf8_lossy(&npy[..128]).into_owned();
     // Level 0, every 8th level from 8 to 80: 11 rows of 64 nodes.
     assert!(header.contains("'shape': (11, 64)"), "{header}");
+    // 79 energies (levels (1, 2) … (79, 80)) in blocks of 20: 4 rows.
+    let blocks = std::fs::read_to_string(out.join("energy_blocks.csv")).expect("blocks");
+    assert!(blocks.starts_with("t_start,levels,min,mean,max"));
+    assert_eq!(blocks.lines().count(), 1 + 4);
 }
 
 #[test]
