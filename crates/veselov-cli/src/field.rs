@@ -35,7 +35,7 @@ use veselov::field::{
 };
 
 use crate::error::CliError;
-use crate::figures::draw_field;
+use crate::figures::{FieldView, draw_field};
 use crate::output::{Table, npy_header_shape, prepare_dir, write_json};
 use crate::progress::Progress;
 use crate::run::RunJob;
@@ -852,7 +852,11 @@ fn write_outcome(
             &first_component,
             &outcome.times,
             lattice,
-            s.model.name == "sine-gordon",
+            match (s.model.name.as_str(), outcome.components) {
+                ("sine-gordon", _) => FieldView::Circle,
+                (_, 1) => FieldView::Real,
+                _ => FieldView::RealPart,
+            },
             &s.output.plot_format,
         )?;
     }

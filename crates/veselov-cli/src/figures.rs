@@ -184,6 +184,17 @@ pub fn draw_convergence(
     draw(path, &fig).map_err(plot_err)
 }
 
+/// How a field's values are shown in the space–time heat map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FieldView {
+    /// A real field, as it is.
+    Real,
+    /// An S¹-valued field, as sin²(φ/2).
+    Circle,
+    /// The first component (Re φ) of a complex field.
+    RealPart,
+}
+
 /// The figures of a lattice-field run: energy error against time, the final
 /// waveform (in `format`) and the space–time heat map of the stored snapshots
 /// (always PNG; sin²(φ/2) for a circle-valued field).
@@ -193,7 +204,7 @@ pub fn draw_field(
     snapshots: &[Vec<f64>],
     times: &[f64],
     lattice: veselov::field::Lattice,
-    circle_valued: bool,
+    view: FieldView,
     format: &str,
 ) -> Result<(), CliError> {
     let length = lattice.length();
@@ -224,7 +235,7 @@ pub fn draw_field(
     if snapshots.len() >= 2 {
         // An S¹-valued field is shown as sin²(φ/2): 0 in every vacuum 2πn,
         // 1 at the centre of a kink, independent of the winding.
-        let shown: Vec<Vec<f64>> = if circle_valued {
+        let shown: Vec<Vec<f64>> = if view == FieldView::Circle {
             snapshots
                 .iter()
                 .map(|row| row.iter().map(|v| (0.5 * v).sin().powi(2)).collect())
@@ -233,10 +244,10 @@ pub fn draw_field(
             snapshots.to_vec()
         };
         let map = crate::heatmap::Heatmap {
-            title: if circle_valued {
-                "Space–time, sin²(φ/2)"
-            } else {
-                "Space–time, φ"
+            title: match view {
+                FieldView::Circle => "Space–time, sin²(φ/2)",
+                FieldView::Real => "Space–time, φ",
+                FieldView::RealPart => "Space–time, Re φ",
             },
             x_label: "x",
             y_label: "t",
