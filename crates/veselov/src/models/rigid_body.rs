@@ -126,3 +126,54 @@ impl SplitReducedLagrangian<RigidMotions, 6> for FreeRigidBodySE3 {
         D::zero()
     }
 }
+
+impl FreeRigidBody {
+    /// The exact body angular velocity Ω(t) of the Euler top (Landau &
+    /// Lifshitz, Mechanics §37) for a diagonal inertia I₁ < I₂ < I₃ and an
+    /// initial Ω(0) = (Ω₁, 0, Ω₃) with Ω₁, Ω₃ > 0 and M² > 2E·I₂ (rotation
+    /// about the axis of largest inertia):
+    ///
+    /// ```text
+    /// Ω₁ = A₁ cn τ,  Ω₂ = A₂ sn τ,  Ω₃ = A₃ dn τ,   τ = ν t,
+    /// A₁² = (2E I₃ − M²)/(I₁(I₃ − I₁)),  A₂² = (2E I₃ − M²)/(I₂(I₃ − I₂)),
+    /// A₃² = (M² − 2E I₁)/(I₃(I₃ − I₁)),  ν² = (I₃ − I₂)(M² − 2E I₁)/(I₁I₂I₃),
+    /// m = k² = (I₂ − I₁)(2E I₃ − M²)/((I₃ − I₂)(M² − 2E I₁)).
+    /// ```
+    ///
+    /// (The sign of Ω₂ follows from I₂Ω̇₂ = (I₃ − I₁)Ω₃Ω₁ > 0 at t = 0.)
+    /// Errors name the violated condition.
+    pub fn exact_body_angular_velocity(&self, omega0: &Vector3<f64>, t: f64) -> Result<Vector3<f64>> {
+        let bad = |name: &str, reason: &str| Error::InvalidParameter {
+            name: name.into(),
+            value: format!("{:?}", omega0.as_slice()),
+            reason: reason.into(),
+        };
+        let i = self.inertia;
+        let off_diagonal = i[(0, 1)].abs() + i[(0, 2)].abs() + i[(1, 2)].abs();
+        let (i1, i2, i3) = (i[(0, 0)], i[(1, 1)], i[(2, 2)]);
+        if off_diagonal != 0.0 || !(i1 < i2 && i2 < i3) {
+            return Err(bad(
+                "inertia",
+                "the exact solution needs a diagonal inertia with I₁ < I₂ < I₃",
+            ));
+        }
+        if omega0[1] != 0.0 || !(omega0[0] > 0.0 && omega0[2] > 0.0) {
+            return Err(bad(
+                "omega0",
+                "the exact solution is written for Ω(0) = (Ω₁ > 0, 0, Ω₃ > 0)",
+            ));
+        }
+        let m2 = (i1 * omega0[0]).powi(2) + (i3 * omega0[2]).powi(2);
+        let e2 = i1 * omega0[0].powi(2) + i3 * omega0[2].powi(2);
+        if m2 <= e2 * i2 {
+            return Err(bad("omega0", "the exact solution is written for M² > 2E·I₂"));
+        }
+        let a1 = ((e2 * i3 - m2) / (i1 * (i3 - i1))).sqrt();
+        let a2 = ((e2 * i3 - m2) / (i2 * (i3 - i2))).sqrt();
+        let a3 = ((m2 - e2 * i1) / (i3 * (i3 - i1))).sqrt();
+        let nu = ((i3 - i2) * (m2 - e2 * i1) / (i1 * i2 * i3)).sqrt();
+        let k2 = (i2 - i1) * (e2 * i3 - m2) / ((i3 - i2) * (m2 - e2 * i1));
+        let j = crate::special::jacobi_elliptic(nu * t, k2).map_err(|e| bad("omega0", &e.to_string()))?;
+        Ok(Vector3::new(a1 * j.cn, a2 * j.sn, a3 * j.dn))
+    }
+}
