@@ -1,15 +1,13 @@
 //! Nanoseconds per step of the Lie-group variational integrators.
 
-use std::hint::black_box;
-
 use criterion::{Criterion, criterion_group, criterion_main};
+
+mod common;
+use common::{RESTART, bench_steps};
 use nalgebra::{Matrix3, Vector3, Vector6};
 use veselov::lgvi::{GroupState, GroupStepMap, LieGroupIntegrator, SplitLieIntegrator};
 use veselov::lie::{CayleyMap, ExpMap, GroupFamily, RigidMotions, Rotations, SE3, so3};
 use veselov::models::{FreeRigidBody, FreeRigidBodySE3, HeavyTop};
-
-/// Steps between restarts from the initial state.
-const RESTART: usize = 10_000;
 
 fn bench_group<G: GroupFamily<N>, const N: usize>(
     c: &mut Criterion,
@@ -17,17 +15,7 @@ fn bench_group<G: GroupFamily<N>, const N: usize>(
     mut map: impl GroupStepMap<G, N>,
     x0: GroupState<G, N>,
 ) {
-    let mut x = x0;
-    let mut k = 0usize;
-    c.bench_function(name, |b| {
-        b.iter(|| {
-            if k.is_multiple_of(RESTART) {
-                x = x0;
-            }
-            x = map.step(k, black_box(&x)).expect("step").0;
-            k += 1;
-        })
-    });
+    bench_steps(c, name, x0, RESTART, |k, x| map.step(k, x).expect("step").0);
 }
 
 fn lgvi(c: &mut Criterion) {

@@ -1,9 +1,10 @@
 //! Nanoseconds per step of the variable-step SEM integrators (fixed-energy form).
 //! Each benchmark restarts from the first step periodically to stay on its orbit.
 
-use std::hint::black_box;
-
 use criterion::{Criterion, criterion_group, criterion_main};
+
+mod common;
+use common::bench_steps;
 use nalgebra::Vector1;
 use veselov::mechanics::Lagrangian;
 use veselov::models::{Kepler, Pendulum};
@@ -16,17 +17,8 @@ fn bench<L: Lagrangian<N>, const N: usize>(
     s1: SemState<N>,
     restart: usize,
 ) {
-    let mut s = s1;
-    let mut k = 1usize;
-    c.bench_function(name, |b| {
-        b.iter(|| {
-            if k.is_multiple_of(restart) {
-                s = s1;
-            }
-            s = sem.step(k, black_box(&s)).expect("step").0;
-            k += 1;
-        })
-    });
+    // Step indices start at 1: step 0 is the starting step of `start`.
+    bench_steps(c, name, s1, restart, |k, s| sem.step(k + 1, s).expect("step").0);
 }
 
 fn sem(c: &mut Criterion) {

@@ -8,18 +8,31 @@ use veselov::mechanics::{OneStepMap, PhaseState};
 /// Steps between restarts from the initial state.
 pub const RESTART: usize = 10_000;
 
-/// Benchmark one step of `map` along a trajectory from `x0`, restarting
-/// every [`RESTART`] steps to stay on the same orbit.
-pub fn bench_map<const N: usize, M: OneStepMap<N>>(c: &mut Criterion, name: &str, mut map: M, x0: PhaseState<N>) {
+/// Benchmark one call of `step(k, state)` along a trajectory from `x0`,
+/// restarting from `x0` every `restart` steps to stay on the same orbit.
+pub fn bench_steps<S: Copy>(
+    c: &mut Criterion,
+    name: &str,
+    x0: S,
+    restart: usize,
+    mut step: impl FnMut(usize, &S) -> S,
+) {
     let mut x = x0;
     let mut k = 0usize;
     c.bench_function(name, |b| {
         b.iter(|| {
-            if k.is_multiple_of(RESTART) {
+            if k.is_multiple_of(restart) {
                 x = x0;
             }
-            x = map.step(k, black_box(&x)).expect("step").0;
+            x = step(k, black_box(&x));
             k += 1;
         })
     });
+}
+
+/// Benchmark one step of `map` along a trajectory from `x0`, restarting
+/// every [`RESTART`] steps to stay on the same orbit.
+#[allow(dead_code)] // not every benchmark binary steps a `OneStepMap`
+pub fn bench_map<const N: usize, M: OneStepMap<N>>(c: &mut Criterion, name: &str, mut map: M, x0: PhaseState<N>) {
+    bench_steps(c, name, x0, RESTART, |k, x| map.step(k, x).expect("step").0);
 }
