@@ -29,9 +29,9 @@ use nalgebra::SVector;
 use serde::Deserialize;
 use serde_json::json;
 use veselov::field::{
-    Boundary, CellEnergy, ComplexKleinGordon, ComplexPlaneWave, Density, DensityRunConfig, FieldRunConfig, Generator,
-    InitialData, Lattice, LevelInfo, Levels, Model, NonlinearWave, Phi4, RectangleRule, Scheme, SineGordon,
-    SolverOptions, TriangleRule, Wave, run_density, run_lattice,
+    BlockAccumulator, Boundary, CellEnergy, ComplexKleinGordon, ComplexPlaneWave, Density, DensityRunConfig,
+    FieldRunConfig, Generator, InitialData, Lattice, LevelInfo, Levels, Model, NonlinearWave, Phi4, RectangleRule,
+    Scheme, SineGordon, SolverOptions, TriangleRule, Wave, run_density, run_lattice,
 };
 
 use crate::error::CliError;
@@ -770,22 +770,15 @@ fn write_outcome(
     energy.write_csv(&dir.join("energy.csv"))?;
     if s.output.energy_block > 0 {
         let e0 = outcome.energies.first().map_or(f64::NAN, |e| e.1);
-        let rows = outcome
-            .energies
-            .chunks(s.output.energy_block)
-            .map(|block| {
-                let d: Vec<f64> = block.iter().map(|e| e.1 - e0).collect();
-                let (lo, hi) = d
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
-                vec![
-                    block[0].0,
-                    d.len() as f64,
-                    lo,
-                    d.iter().sum::<f64>() / d.len() as f64,
-                    hi,
-                ]
-            })
+        let mut blocks = BlockAccumulator::new(s.output.energy_block);
+        for (m, e) in outcome.energies.iter().enumerate() {
+            blocks.push(m, e.1 - e0);
+        }
+        // `first_level` is the index into `outcome.energies`; report its time.
+        let rows = blocks
+            .finish()
+            .iter()
+            .map(|b| vec![outcome.energies[b.first_level].0, b.levels as f64, b.min, b.mean, b.max])
             .collect();
         Table {
             header: ["t_start", "levels", "min", "mean", "max"].map(String::from).to_vec(),

@@ -63,5 +63,5 @@ pub use lattice::{Boundary, CellShape, Lattice};
 pub use noether::{multisymplectic_boundary_sum, recentre_mod_2pi, shift_charge, split_charge, split_symplectic_form};
 pub use potential::{ComplexKleinGordon, NonlinearWave, Phi4, Potential, ScalarPotential, SineGordon, Wave};
 pub use region::{Node, Region, window};
-pub use run::{BlockStats, FieldRun, FieldRunConfig, LevelInfo, Model, Snapshot, run_lattice};
+pub use run::{BlockAccumulator, BlockStats, FieldRun, FieldRunConfig, LevelInfo, Model, Snapshot, run_lattice};
 pub use scheme::Scheme;

@@ -110,6 +110,71 @@ pub struct BlockStats {
     pub max: f64,
 }
 
+/// Min/mean/max of a series over consecutive blocks of fixed length, fed
+/// one value at a time (nothing is stored but the finished blocks).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlockAccumulator {
+    block: usize,
+    first: usize,
+    count: usize,
+    min: f64,
+    max: f64,
+    sum: f64,
+    blocks: Vec<BlockStats>,
+}
+
+impl BlockAccumulator {
+    /// Blocks of `block` values (0: no blocks; every value is ignored).
+    pub fn new(block: usize) -> Self {
+        Self {
+            block,
+            first: 0,
+            count: 0,
+            min: f64::INFINITY,
+            max: f64::NEG_INFINITY,
+            sum: 0.0,
+            blocks: Vec::new(),
+        }
+    }
+
+    /// Add the value `d` of the series at index `index` (the first index of
+    /// a block is recorded as its `first_level`).
+    pub fn push(&mut self, index: usize, d: f64) {
+        if self.block == 0 {
+            return;
+        }
+        if self.count == 0 {
+            self.first = index;
+        }
+        self.min = self.min.min(d);
+        self.max = self.max.max(d);
+        self.sum += d;
+        self.count += 1;
+        if self.count == self.block {
+            self.close();
+        }
+    }
+
+    fn close(&mut self) {
+        self.blocks.push(BlockStats {
+            first_level: self.first,
+            levels: self.count,
+            min: self.min,
+            mean: self.sum / self.count as f64,
+            max: self.max,
+        });
+        (self.min, self.max, self.sum, self.count) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0);
+    }
+
+    /// The blocks, the last one possibly shorter.
+    pub fn finish(mut self) -> Vec<BlockStats> {
+        if self.count > 0 {
+            self.close();
+        }
+        self.blocks
+    }
+}
+
 /// A snapshot of one level.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Snapshot {
@@ -211,8 +276,7 @@ fn run_with<P: ScalarPotential>(
     if keep_charge {
         run.charges.push(shift_charge(&y0, &y1));
     }
-    let block = config.energy_block;
-    let (mut lo, mut hi, mut sum, mut count, mut first) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize, 0usize);
+    let mut blocks = BlockAccumulator::new(config.energy_block);
     while m.level() < total_levels {
         if let Err(e) = m.step() {
             run.status = Err(e);
@@ -228,26 +292,8 @@ fn run_with<P: ScalarPotential>(
         if keep_charge {
             run.charges.push(shift_charge(m.previous(), m.current()));
         }
-        if block > 0 {
-            let d = e - run.initial_energy;
-            if count == 0 {
-                first = m.level() - 1;
-            }
-            lo = lo.min(d);
-            hi = hi.max(d);
-            sum += d;
-            count += 1;
-            if count == block {
-                run.energy_blocks.push(BlockStats {
-                    first_level: first,
-                    levels: count,
-                    min: lo,
-                    mean: sum / count as f64,
-                    max: hi,
-                });
-                (lo, hi, sum, count) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0);
-            }
-        }
+        // The energy's first level is the one before the level just computed.
+        blocks.push(m.level() - 1, e - run.initial_energy);
         if config.snapshot_every > 0 && m.level().is_multiple_of(config.snapshot_every) {
             run.snapshots.push(Snapshot {
                 level: m.level(),
@@ -271,18 +317,34 @@ fn run_with<P: ScalarPotential>(
             break;
         }
     }
-    if block > 0 && count > 0 {
-        run.energy_blocks.push(BlockStats {
-            first_level: first,
-            levels: count,
-            min: lo,
-            mean: sum / count as f64,
-            max: hi,
-        });
-    }
+    run.energy_blocks = blocks.finish();
     run.final_level = m.current().to_vec();
     run.final_index = m.level();
     run.final_time = m.time();
     run.iterations = m.total_iterations();
     Ok(run)
+}
+
+#[cfg(test)]
+mod block_tests {
+    use super::BlockAccumulator;
+
+    #[test]
+    fn blocks_of_fixed_length_and_a_short_last_one() {
+        let mut acc = BlockAccumulator::new(3);
+        for (i, d) in [1.0, -2.0, 4.0, 0.5, 0.25].into_iter().enumerate() {
+            acc.push(10 + i, d);
+        }
+        let blocks = acc.finish();
+        assert_eq!(blocks.len(), 2);
+        let (a, b) = (blocks[0], blocks[1]);
+        assert_eq!((a.first_level, a.levels, a.min, a.mean, a.max), (10, 3, -2.0, 1.0, 4.0));
+        assert_eq!(
+            (b.first_level, b.levels, b.min, b.mean, b.max),
+            (13, 2, 0.25, 0.375, 0.5)
+        );
+        let mut none = BlockAccumulator::new(0);
+        none.push(0, 1.0);
+        assert!(none.finish().is_empty());
+    }
 }
