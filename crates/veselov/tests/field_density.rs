@@ -141,10 +141,17 @@ fn region_topology_of_windows() {
     assert!(!single.is_regular());
 }
 
-/// March with two first variations and evaluate (5.6) on a window.
-fn msff<L: CellLagrangian<DIM> + Clone, const DIM: usize>(lag: L, lat: Lattice, seed: u64) -> (f64, f64) {
-    let n = lat.nodes();
-    let levels = 10;
+/// Two noisy smooth levels on `n` nodes and two random first variations,
+/// all determined by `seed`.
+fn seeded_start<const DIM: usize>(
+    n: usize,
+    seed: u64,
+) -> (
+    Vec<SVector<f64, DIM>>,
+    Vec<SVector<f64, DIM>>,
+    Tangent<DIM>,
+    Tangent<DIM>,
+) {
     let vec_of = |s: u64, amp: f64, base: &dyn Fn(usize) -> f64| -> Vec<SVector<f64, DIM>> {
         let r = noise(s, n * DIM);
         (0..n)
@@ -154,8 +161,16 @@ fn msff<L: CellLagrangian<DIM> + Clone, const DIM: usize>(lag: L, lat: Lattice, 
     let w = 2.0 * std::f64::consts::PI / n as f64;
     let y0 = vec_of(seed, 0.1, &|i| (w * i as f64).sin());
     let y1 = vec_of(seed + 1, 0.1, &|i| (w * i as f64).sin() + 0.05 * (w * i as f64).cos());
-    let mut tv: Tangent<DIM> = (vec_of(seed + 2, 1.0, &|_| 0.0), vec_of(seed + 3, 1.0, &|_| 0.0));
-    let mut tw: Tangent<DIM> = (vec_of(seed + 4, 1.0, &|_| 0.0), vec_of(seed + 5, 1.0, &|_| 0.0));
+    let tv = (vec_of(seed + 2, 1.0, &|_| 0.0), vec_of(seed + 3, 1.0, &|_| 0.0));
+    let tw = (vec_of(seed + 4, 1.0, &|_| 0.0), vec_of(seed + 5, 1.0, &|_| 0.0));
+    (y0, y1, tv, tw)
+}
+
+/// March with two first variations and evaluate (5.6) on a window.
+fn msff<L: CellLagrangian<DIM> + Clone, const DIM: usize>(lag: L, lat: Lattice, seed: u64) -> (f64, f64) {
+    let n = lat.nodes();
+    let levels = 10;
+    let (y0, y1, mut tv, mut tw) = seeded_start::<DIM>(n, seed);
     let mut ys = vec![y0.clone(), y1.clone()];
     let mut vs = vec![tv.0.clone(), tv.1.clone()];
     let mut ws = vec![tw.0.clone(), tw.1.clone()];
@@ -254,17 +269,7 @@ fn discrete_multisymplectic_form_formula() {
 fn space_time_split_map_is_symplectic() {
     fn check<L: CellLagrangian<DIM> + Clone, const DIM: usize>(lag: L, lat: Lattice, seed: u64) -> f64 {
         let n = lat.nodes();
-        let vec_of = |s: u64, amp: f64, base: &dyn Fn(usize) -> f64| -> Vec<SVector<f64, DIM>> {
-            let r = noise(s, n * DIM);
-            (0..n)
-                .map(|i| SVector::from_fn(|a, _| base(i) * (1.0 + a as f64) + amp * r[i * DIM + a]))
-                .collect()
-        };
-        let w = 2.0 * std::f64::consts::PI / n as f64;
-        let y0 = vec_of(seed, 0.1, &|i| (w * i as f64).sin());
-        let y1 = vec_of(seed + 1, 0.1, &|i| (w * i as f64).sin() + 0.05 * (w * i as f64).cos());
-        let mut tv: Tangent<DIM> = (vec_of(seed + 2, 1.0, &|_| 0.0), vec_of(seed + 3, 1.0, &|_| 0.0));
-        let mut tw: Tangent<DIM> = (vec_of(seed + 4, 1.0, &|_| 0.0), vec_of(seed + 5, 1.0, &|_| 0.0));
+        let (y0, y1, mut tv, mut tw) = seeded_start::<DIM>(n, seed);
         let mut m = GenericMarcher::new(lag.clone(), lat, y0, y1).expect("valid");
         let form = |m: &GenericMarcher<L, DIM>, tv: &Tangent<DIM>, tw: &Tangent<DIM>| {
             split_symplectic_form(&lag, &lat, (m.previous(), m.current()), (&tv.0, &tv.1), (&tw.0, &tw.1))
