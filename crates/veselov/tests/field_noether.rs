@@ -8,6 +8,20 @@ use veselov::field::{
     SolverOptions, TriangleRule, Wave, shift_charge, split_charge,
 };
 
+/// A rotating, modulated complex field on `n` nodes:
+/// y = r(x)(cos θ, sin θ), r = 1 + 0.3 cos(wx), θ = 0.8t + 0.5 sin(wx).
+fn rotating_field(n: usize, t: f64) -> Vec<SVector<f64, 2>> {
+    let w = std::f64::consts::TAU / n as f64;
+    (0..n)
+        .map(|i| {
+            let x = i as f64;
+            let r = 1.0 + 0.3 * (w * x).cos();
+            let th = 0.8 * t + 0.5 * (w * x).sin();
+            Vector2::new(r * th.cos(), r * th.sin())
+        })
+        .collect()
+}
+
 #[test]
 fn wave_shift_charge_is_conserved() {
     let lat = Lattice::periodic(64, 10.0, 1.25).expect("valid"); // h/k = 0.8
@@ -43,18 +57,7 @@ fn complex_klein_gordon_phase_charge_is_conserved() {
         dt: h,
         dx: k,
     };
-    let w = std::f64::consts::TAU / n as f64;
-    // A rotating, modulated field: y = r(x)(cos(θ), sin(θ)), θ = ωt + x-dependent.
-    let field = |t: f64| -> Vec<SVector<f64, 2>> {
-        (0..n)
-            .map(|i| {
-                let x = i as f64;
-                let r = 1.0 + 0.3 * (w * x).cos();
-                let th = 0.8 * t + 0.5 * (w * x).sin();
-                Vector2::new(r * th.cos(), r * th.sin())
-            })
-            .collect()
-    };
+    let field = |t: f64| rotating_field(n, t);
     let (y0, y1) = (field(0.0), field(h));
     let jrot = |y: &SVector<f64, 2>| Vector2::new(-y[1], y[0]);
     let q0 = split_charge(&lag, &lat, &y0, &y1, jrot);
@@ -100,17 +103,7 @@ fn complex_klein_gordon_phase_charge_with_rectangles() {
     let (n, h, k) = (12, 0.05, 0.2);
     let lat = Lattice::new(n, k, h, Boundary::Periodic).expect("valid");
     let model = ComplexKleinGordon { m2: 1.0, lambda: 0.5 };
-    let w = std::f64::consts::TAU / n as f64;
-    let field = |t: f64| -> Vec<SVector<f64, 2>> {
-        (0..n)
-            .map(|i| {
-                let x = i as f64;
-                let r = 1.0 + 0.3 * (w * x).cos();
-                let th = 0.8 * t + 0.5 * (w * x).sin();
-                Vector2::new(r * th.cos(), r * th.sin())
-            })
-            .collect()
-    };
+    let field = |t: f64| rotating_field(n, t);
     let jrot = |y: &SVector<f64, 2>| Vector2::new(-y[1], y[0]);
     for symmetric in [false, true] {
         let lag = veselov::field::RectangleRule {
