@@ -11,8 +11,9 @@
 use nalgebra::{Matrix3, SVector, Vector3};
 
 use super::discrete::left_gradient;
+use super::split::inertia_inverse;
 use super::{GroupState, SplitReducedLagrangian};
-use crate::error::{Error, Result, check_step};
+use crate::error::{Result, check_step};
 use crate::lie::{GroupFamily, Retraction, so3};
 
 /// Integrate from `x0` to `t_end` with `steps` RK4 steps.
@@ -30,11 +31,7 @@ where
     x0.check()?;
     let h = (t_end - x0.t) / steps as f64;
     check_step(h)?;
-    let inertia_inv = l.inertia().try_inverse().ok_or_else(|| Error::InvalidParameter {
-        name: "inertia".into(),
-        value: format!("{:?}", l.inertia().as_slice()),
-        reason: "must be invertible".into(),
-    })?;
+    let inertia_inv = inertia_inverse(&l.inertia())?;
     type Y<const N: usize> = (Matrix3<f64>, Vector3<f64>, SVector<f64, N>);
     let rate = |(r, x, mu): &Y<N>| -> Y<N> {
         let xi = inertia_inv * mu;

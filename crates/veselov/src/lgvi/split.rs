@@ -20,6 +20,11 @@ use crate::solve::NewtonOptions;
 /// Check that an inertia is finite, symmetric and positive definite
 /// (`InvalidParameter` naming "inertia" otherwise).
 pub fn check_inertia<const N: usize>(inertia: &SMatrix<f64, N, N>) -> Result<()> {
+    inertia_inverse(inertia).map(|_| ())
+}
+
+/// 𝕀⁻¹ of a checked inertia (see [`check_inertia`]).
+pub(crate) fn inertia_inverse<const N: usize>(inertia: &SMatrix<f64, N, N>) -> Result<SMatrix<f64, N, N>> {
     let bad = |reason: &str| Error::InvalidParameter {
         name: "inertia".into(),
         value: format!("{:?}", inertia.as_slice()),
@@ -31,10 +36,9 @@ pub fn check_inertia<const N: usize>(inertia: &SMatrix<f64, N, N>) -> Result<()>
     if (inertia - inertia.transpose()).amax() > 1e-12 * inertia.amax() {
         return Err(bad("the inertia tensor must be symmetric"));
     }
-    if nalgebra::Cholesky::new(*inertia).is_none() {
-        return Err(bad("the inertia tensor must be positive definite"));
-    }
-    Ok(())
+    nalgebra::Cholesky::new(*inertia)
+        .map(|c| c.inverse())
+        .ok_or_else(|| bad("the inertia tensor must be positive definite"))
 }
 
 /// Fixed-point iterations before falling back to Newton.
@@ -70,18 +74,12 @@ where
     pub fn new(lagrangian: L, h: f64) -> Result<Self> {
         check_step(h)?;
         let inertia = lagrangian.inertia();
-        let bad = |reason: &str| Error::InvalidParameter {
-            name: "inertia".into(),
-            value: format!("{:?}", inertia.as_slice()),
-            reason: reason.into(),
-        };
-        check_inertia(&inertia)?;
-        let chol = nalgebra::Cholesky::new(inertia).ok_or_else(|| bad("must be positive definite"))?;
+        let inertia_inv = inertia_inverse(&inertia)?;
         Ok(Self {
             lagrangian,
             h,
             inertia,
-            inertia_inv: chol.inverse(),
+            inertia_inv,
             options: NewtonOptions::default(),
             guess: None,
             previous_guess: None,
