@@ -36,11 +36,14 @@
 //! assert!((m.energy() - e0).abs() < 0.1 * e0.abs());
 //! ```
 
+pub mod cell;
+pub mod complex;
 pub mod cyclic;
 pub mod density;
 pub mod density_run;
 pub mod energy;
 pub mod fast;
+pub mod fibre;
 pub mod generic;
 pub mod initial;
 pub mod lattice;

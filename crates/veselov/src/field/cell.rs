@@ -1,0 +1,95 @@
+//! Discrete Lagrangians on complexes (note 003 §1.7): one L_β per top cell,
+//! taking the field values at the cell's ordered vertices, written once over
+//! the AD scalar; and their exact derivatives in the fibre's chart.
+//!
+//! * [`vertex_gradient`]: ∂L_β/∂y_l, the covector d_{y_β}L_β ∘ i_{y_l} in the
+//!   chart y_l·τ(ξ) (one dual pass of M directions);
+//! * [`mixed_block`]: that gradient and its derivative with respect to the
+//!   value at another vertex, ∂²L_β/∂y_a∂y_b (nested duals), the Jacobian
+//!   block of a vertex solve (note 003 §2.4, Def. 4.9).
+
+use nalgebra::{Const, SMatrix, SVector, U1};
+use num_dual::{Derivative, DualSVec, DualSVec64};
+
+use super::complex::TopCell;
+use super::fibre::Fibre;
+use crate::ad::Scalar;
+
+/// Largest number of vertices of a top cell the derivative routines accept
+/// (simplices up to dimension 15, cubes up to dimension 4).
+pub const MAX_CELL_VERTICES: usize = 16;
+
+/// A discrete Lagrangian density on a complex: L_β(y_{v₀}, …, y_{v_k}) for
+/// every top cell β, with values in the fibre `F` (Def. 3.6).
+pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Sync {
+    /// L_β at the ordered vertex values `y` of `cell` (`y.len()` = the cell's
+    /// vertex count).
+    fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[F::Point<D>]) -> D;
+}
+
+/// The seeds e_i (i = 0..M) of M-direction dual numbers over `D`.
+pub fn seeds<D: Scalar, const M: usize>() -> SVector<DualSVec<D, M>, M> {
+    SVector::from_fn(|i, _| DualSVec::<D, M>::from_re(D::zero()).derivative(i))
+}
+
+fn gradient_of<const M: usize>(x: DualSVec64<M>) -> (f64, SVector<f64, M>) {
+    (x.re, x.eps.unwrap_generic(Const::<M>, U1))
+}
+
+/// L_β and ∂L_β/∂y_l (the derivative of L_β(…, y_l·τ(ξ), …) at ξ = 0).
+pub fn vertex_gradient<F, L, const M: usize>(lag: &L, cell: &TopCell, y: &[F::Point<f64>], l: usize) -> (f64, SVector<f64, M>)
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    let k = y.len();
+    debug_assert!(k <= MAX_CELL_VERTICES && l < k);
+    let seeded = F::retract(&F::lift::<DualSVec64<M>>(&y[l]), &seeds::<f64, M>());
+    let values: [F::Point<DualSVec64<M>>; MAX_CELL_VERTICES] =
+        std::array::from_fn(|i| if i == l { seeded } else { F::lift(&y[i.min(k - 1)]) });
+    gradient_of(lag.cell_lagrangian(cell, &values[..k]))
+}
+
+/// ∂L_β/∂y_a and its derivative with respect to y_b (b ≠ a):
+/// `J[(i, j)] = ∂/∂ζ_j (∂L_β/∂y_a)_i` at y_b·τ(ζ), ζ = 0.
+pub fn mixed_block<F, L, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+    a: usize,
+    b: usize,
+) -> (SVector<f64, M>, SMatrix<f64, M, M>)
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
+    let k = y.len();
+    debug_assert!(k <= MAX_CELL_VERTICES && a < k && b < k && a != b);
+    // Inner directions seed y_a, outer directions seed y_b.
+    let inner: SVector<Outer<M>, M> = seeds::<f64, M>().map(Outer::<M>::from_re);
+    let outer: SVector<Outer<M>, M> = seeds::<DualSVec64<M>, M>();
+    let ya = F::retract(&F::lift::<Outer<M>>(&y[a]), &inner);
+    let yb = F::retract(&F::lift::<Outer<M>>(&y[b]), &outer);
+    let values: [F::Point<Outer<M>>; MAX_CELL_VERTICES] = std::array::from_fn(|i| {
+        if i == a {
+            ya
+        } else if i == b {
+            yb
+        } else {
+            F::lift(&y[i.min(k - 1)])
+        }
+    });
+    let value = lag.cell_lagrangian(cell, &values[..k]);
+    let grad = value.re.eps.unwrap_generic(Const::<M>, U1);
+    let outer_eps: SVector<DualSVec64<M>, M> = match value.eps {
+        Derivative(Some(e)) => e,
+        Derivative(None) => SVector::from_element(DualSVec64::<M>::from_re(0.0)),
+    };
+    let mut block = SMatrix::<f64, M, M>::zeros();
+    for j in 0..M {
+        let col = outer_eps[j].eps.unwrap_generic(Const::<M>, U1);
+        block.set_column(j, &col);
+    }
+    (grad, block)
+}

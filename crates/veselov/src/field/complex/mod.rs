@@ -1,0 +1,59 @@
+//! Cellular complexes (seed 003 §2): the combinatorial half of the discrete
+//! field theory core.
+//!
+//! The variational layer (action, Euler–Lagrange residuals, Noether currents,
+//! marching) needs only the *top-cell view* of a finite complex: top cells
+//! with their ordered vertices, and the star of every vertex (note 003 §1.1,
+//! "implementation note"). That view is the trait [`TopCells`]; every complex
+//! kind provides it for a finite window or a periodic quotient.
+
+/// Largest lattice dimension whose cells carry their coordinates inline in
+/// [`TopCell::origin`].
+pub const MAX_LATTICE_DIMENSION: usize = 8;
+
+/// One top (n-)cell of a finite complex, as the variational layer sees it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TopCell {
+    /// Index of the cell in its finite complex (`0..cell_count()`).
+    pub index: usize,
+    /// Shape class of the cell: the permutation index σ of a CFK simplex
+    /// (v, σ), a fixed tag for the cells of 1+1 lattices, 0 for cubes and for
+    /// explicit meshes. Cells of one shape class on a lattice are translates
+    /// of each other.
+    pub shape: usize,
+    /// Lattice coordinates of the cell's base (least-weight) vertex, zero
+    /// beyond the dimension; zero on explicit meshes.
+    pub origin: [i64; MAX_LATTICE_DIMENSION],
+}
+
+/// A top cell containing a given vertex, with the vertex's position in the
+/// cell's ordered vertex list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct StarEntry {
+    /// Index of the top cell.
+    pub cell: usize,
+    /// Position of the vertex in the cell's ordered vertices.
+    pub position: usize,
+}
+
+/// The top-cell view of a finite cellular complex (note 003 §1.1): what the
+/// action, the Euler–Lagrange residual (3.1) and the Noether current (3.2)
+/// need.
+pub trait TopCells: Sync {
+    /// Dimension n of the complex.
+    fn dimension(&self) -> usize;
+    /// Number of vertices (`0..vertex_count()` index them).
+    fn vertex_count(&self) -> usize;
+    /// Number of top cells.
+    fn cell_count(&self) -> usize;
+    /// Largest number of vertices of a top cell (n + 1 for simplices, 2ⁿ for cubes).
+    fn max_cell_vertices(&self) -> usize;
+    /// The top cell with index `index`.
+    fn cell(&self, index: usize) -> TopCell;
+    /// Writes the ordered vertices of cell `index` into `out`
+    /// (`out.len() ≥ max_cell_vertices()`) and returns their number.
+    fn cell_vertices(&self, index: usize, out: &mut [usize]) -> usize;
+    /// Replaces the contents of `out` by the star S_v of vertex `v` (Def. 2.3):
+    /// every top cell containing `v`, in increasing cell index.
+    fn star(&self, v: usize, out: &mut Vec<StarEntry>);
+}

@@ -1,0 +1,240 @@
+//! Fibres: the value space Y_v of a discrete field at a vertex (note 003
+//! §1.6), with a chart y·τ(ξ) around every point, so that variations,
+//! covectors and Newton updates live in ℝ^M in a fixed trivialisation.
+//!
+//! * [`Euclidean<M>`]: ℝ^M, chart y + ξ.
+//! * [`Rotations`] (SO(3)): chart R·exp(ξ̂), left trivialisation (note 003
+//!   §2.6); its [`Fibre::log`] is the Riemannian logarithm of the halved
+//!   Frobenius metric, log(RᵀS).
+//! * [`RigidMotions`] (SE(3), algebra (ω; v)): chart g·exp(ξ) (the group
+//!   exponential; seed 000's fields).
+//! * [`PositionRotation`] (ℝ³ × SO(3), the Cosserat rod's fibre, note 003
+//!   §3.1): tangent ordered (a; b), chart (r + a, R·exp(b̂)) — the Euclidean
+//!   part is *not* rotated, so ∇_r is the Euclidean gradient and ∇_R the
+//!   left-trivialised one, as in note 003 §3.5.
+//!
+//! The gradient of a function f at y in this chart, ∇f(y)ᵢ = d/dε f(y·τ(ε eᵢ)),
+//! is what every cell gradient, Euler–Lagrange residual and Noether pairing
+//! of the core uses.
+
+use std::fmt::Debug;
+
+use nalgebra::{Matrix3, SVector, Vector3};
+
+use crate::ad::Scalar;
+use crate::lie::{LieError, SE3, SO3, se3, so3};
+
+/// The value space at a vertex, of dimension `M`, with a chart around each point.
+pub trait Fibre<const M: usize>: Copy + Debug + Send + Sync + 'static {
+    /// A point of the fibre with scalars of type `D`.
+    type Point<D: Scalar>: Copy + Debug;
+
+    /// Short name for messages and outputs (`"R^m"`, `"SO(3)"`, …).
+    const NAME: &'static str;
+
+    /// Number of `f64` coordinates a point is written with ([`Fibre::write`]).
+    const COORDINATES: usize;
+
+    /// Lift an `f64` point into constants of the scalar type `D`.
+    fn lift<D: Scalar>(y: &Self::Point<f64>) -> Self::Point<D>;
+
+    /// The chart y·τ(ξ).
+    fn retract<D: Scalar>(y: &Self::Point<D>, xi: &SVector<D, M>) -> Self::Point<D>;
+
+    /// Its inverse: the ξ with z = y·τ(ξ), |ξ| within the injectivity radius
+    /// (errors near the cut locus of a rotation part).
+    fn log<D: Scalar>(y: &Self::Point<D>, z: &Self::Point<D>) -> Result<SVector<D, M>, LieError>;
+
+    /// Project a point that has drifted from the fibre (a rotation that is no
+    /// longer orthogonal to round-off) back onto it; identity on ℝ^M.
+    fn renormalize(y: &Self::Point<f64>) -> Self::Point<f64>;
+
+    /// Whether every coordinate of the point is finite.
+    fn is_finite(y: &Self::Point<f64>) -> bool {
+        let mut c = [0.0; 16];
+        Self::write(y, &mut c[..Self::COORDINATES]);
+        c[..Self::COORDINATES].iter().all(|x| x.is_finite())
+    }
+
+    /// The point's coordinates (ℝ^M: the vector; SO(3): the 9 entries of R
+    /// row by row; SE(3) and ℝ³ × SO(3): R's 9 entries, then the position).
+    fn write(y: &Self::Point<f64>, out: &mut [f64]);
+}
+
+/// ℝ^M with the chart y + ξ.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Euclidean<const M: usize>;
+
+impl<const M: usize> Fibre<M> for Euclidean<M> {
+    type Point<D: Scalar> = SVector<D, M>;
+    const NAME: &'static str = "R^m";
+    const COORDINATES: usize = M;
+
+    fn lift<D: Scalar>(y: &SVector<f64, M>) -> SVector<D, M> {
+        y.map(D::from)
+    }
+    fn retract<D: Scalar>(y: &SVector<D, M>, xi: &SVector<D, M>) -> SVector<D, M> {
+        y + xi
+    }
+    fn log<D: Scalar>(y: &SVector<D, M>, z: &SVector<D, M>) -> Result<SVector<D, M>, LieError> {
+        Ok(z - y)
+    }
+    fn renormalize(y: &SVector<f64, M>) -> SVector<f64, M> {
+        *y
+    }
+    fn is_finite(y: &SVector<f64, M>) -> bool {
+        y.iter().all(|x| x.is_finite())
+    }
+    fn write(y: &SVector<f64, M>, out: &mut [f64]) {
+        out[..M].copy_from_slice(y.as_slice());
+    }
+}
+
+/// SO(3) with the chart R·exp(ξ̂).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Rotations;
+
+fn write_rotation(r: &Matrix3<f64>, out: &mut [f64]) {
+    for i in 0..3 {
+        for j in 0..3 {
+            out[3 * i + j] = r[(i, j)];
+        }
+    }
+}
+
+/// One Newton–Schulz step towards the nearest rotation (polar factor).
+fn newton_schulz(r: &Matrix3<f64>) -> Matrix3<f64> {
+    r * (Matrix3::identity() * 3.0 - r.transpose() * r) * 0.5
+}
+
+impl Fibre<3> for Rotations {
+    type Point<D: Scalar> = SO3<D>;
+    const NAME: &'static str = "SO(3)";
+    const COORDINATES: usize = 9;
+
+    fn lift<D: Scalar>(y: &SO3<f64>) -> SO3<D> {
+        SO3::from_matrix_unchecked(y.matrix().map(D::from))
+    }
+    fn retract<D: Scalar>(y: &SO3<D>, xi: &SVector<D, 3>) -> SO3<D> {
+        y.compose(&so3::exp(xi))
+    }
+    fn log<D: Scalar>(y: &SO3<D>, z: &SO3<D>) -> Result<SVector<D, 3>, LieError> {
+        so3::log(&y.inverse().compose(z))
+    }
+    fn renormalize(y: &SO3<f64>) -> SO3<f64> {
+        SO3::from_matrix_unchecked(newton_schulz(y.matrix()))
+    }
+    fn write(y: &SO3<f64>, out: &mut [f64]) {
+        write_rotation(y.matrix(), out);
+    }
+}
+
+/// SE(3) (algebra ordered (ω; v)) with the chart g·exp(ξ).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct RigidMotions;
+
+impl Fibre<6> for RigidMotions {
+    type Point<D: Scalar> = SE3<D>;
+    const NAME: &'static str = "SE(3)";
+    const COORDINATES: usize = 12;
+
+    fn lift<D: Scalar>(y: &SE3<f64>) -> SE3<D> {
+        SE3::new(Rotations::lift(y.rotation()), y.translation().map(D::from))
+    }
+    fn retract<D: Scalar>(y: &SE3<D>, xi: &SVector<D, 6>) -> SE3<D> {
+        y.compose(&se3::exp(xi))
+    }
+    fn log<D: Scalar>(y: &SE3<D>, z: &SE3<D>) -> Result<SVector<D, 6>, LieError> {
+        se3::log(&y.inverse().compose(z))
+    }
+    fn renormalize(y: &SE3<f64>) -> SE3<f64> {
+        SE3::new(Rotations::renormalize(y.rotation()), *y.translation())
+    }
+    fn write(y: &SE3<f64>, out: &mut [f64]) {
+        write_rotation(y.rotation().matrix(), out);
+        out[9..12].copy_from_slice(y.translation().as_slice());
+    }
+}
+
+/// A point (r, R) of ℝ³ × SO(3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose<D> {
+    /// Position r.
+    pub position: Vector3<D>,
+    /// Frame R.
+    pub rotation: SO3<D>,
+}
+
+impl<D: Scalar> Pose<D> {
+    /// The pose (r, R).
+    pub fn new(position: Vector3<D>, rotation: SO3<D>) -> Self {
+        Self { position, rotation }
+    }
+}
+
+/// ℝ³ × SO(3) (tangent ordered (a; b): position, then rotation) with the
+/// chart (r + a, R·exp(b̂)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct PositionRotation;
+
+impl Fibre<6> for PositionRotation {
+    type Point<D: Scalar> = Pose<D>;
+    const NAME: &'static str = "R^3 x SO(3)";
+    const COORDINATES: usize = 12;
+
+    fn lift<D: Scalar>(y: &Pose<f64>) -> Pose<D> {
+        Pose::new(y.position.map(D::from), Rotations::lift(&y.rotation))
+    }
+    fn retract<D: Scalar>(y: &Pose<D>, xi: &SVector<D, 6>) -> Pose<D> {
+        let a = Vector3::new(xi[0], xi[1], xi[2]);
+        let b = Vector3::new(xi[3], xi[4], xi[5]);
+        Pose::new(y.position + a, Rotations::retract(&y.rotation, &b))
+    }
+    fn log<D: Scalar>(y: &Pose<D>, z: &Pose<D>) -> Result<SVector<D, 6>, LieError> {
+        let a = z.position - y.position;
+        let b = Rotations::log(&y.rotation, &z.rotation)?;
+        Ok(SVector::<D, 6>::new(a[0], a[1], a[2], b[0], b[1], b[2]))
+    }
+    fn renormalize(y: &Pose<f64>) -> Pose<f64> {
+        Pose::new(y.position, Rotations::renormalize(&y.rotation))
+    }
+    fn write(y: &Pose<f64>, out: &mut [f64]) {
+        write_rotation(y.rotation.matrix(), out);
+        out[9..12].copy_from_slice(y.position.as_slice());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn round_trip<F: Fibre<M>, const M: usize>(y: F::Point<f64>, xi: SVector<f64, M>) {
+        let z = F::retract(&y, &xi);
+        let back = F::log(&y, &z).expect("inside the injectivity radius");
+        assert!((back - xi).norm() < 1e-14, "{} chart round trip: {back} vs {xi}", F::NAME);
+    }
+
+    #[test]
+    fn charts_invert() {
+        let r = so3::exp(&Vector3::new(0.3, -1.1, 0.7));
+        round_trip::<Euclidean<2>, 2>(SVector::from([1.0, -2.0]), SVector::from([0.25, 0.5]));
+        round_trip::<Rotations, 3>(r, Vector3::new(0.2, 0.1, -0.4));
+        round_trip::<RigidMotions, 6>(
+            SE3::new(r, Vector3::new(1.0, 2.0, 3.0)),
+            SVector::from([0.1, -0.2, 0.3, 0.5, 0.4, -0.6]),
+        );
+        round_trip::<PositionRotation, 6>(
+            Pose::new(Vector3::new(1.0, 2.0, 3.0), r),
+            SVector::from([0.1, -0.2, 0.3, 0.5, 0.4, -0.6]),
+        );
+    }
+
+    #[test]
+    fn coordinates_are_written_and_checked() {
+        let y = Pose::new(Vector3::new(1.0, f64::NAN, 3.0), SO3::identity());
+        assert!(!PositionRotation::is_finite(&y));
+        let mut out = [0.0; 12];
+        PositionRotation::write(&Pose::new(Vector3::new(1.0, 2.0, 3.0), SO3::identity()), &mut out);
+        assert_eq!(out, [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 3.0]);
+    }
+}
