@@ -137,6 +137,22 @@ pub enum Error {
         /// Why it stopped: iteration limit, non-finite, singular.
         reason: String,
     },
+    /// A vertex solve Leg_v(y_{Δv}) = μ_v of the Cauchy marcher failed.
+    #[error(
+        "vertex {vertex} of level {level} did not converge: residual {residual:e} after {iterations} iterations ({reason})"
+    )]
+    VertexSolveFailure {
+        /// Weight level of the vertex whose equation was solved.
+        level: i64,
+        /// In-level index of that vertex.
+        vertex: usize,
+        /// Residual (max norm) at the last iterate.
+        residual: f64,
+        /// Iterations performed.
+        iterations: usize,
+        /// Why it stopped: singular Legendre map, non-finite, iteration limit, cut locus.
+        reason: String,
+    },
 }
 
 /// Check that every component of `x` is finite.

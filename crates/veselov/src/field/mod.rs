@@ -36,6 +36,7 @@
 //! assert!((m.energy() - e0).abs() < 0.1 * e0.abs());
 //! ```
 
+pub mod cauchy;
 pub mod cell;
 pub mod complex;
 pub mod cyclic;
@@ -53,6 +54,7 @@ pub mod region;
 pub mod run;
 pub mod scheme;
 pub mod trig;
+pub mod variational;
 
 pub use density::{
     CellJet, CellLagrangian, Density, RectangleRule, TriangleRule, action, cell_gradient, cell_jet, delf_residual,

@@ -7,6 +7,10 @@
 //! "implementation note"). That view is the trait [`TopCells`]; every complex
 //! kind provides it for a finite window or a periodic quotient.
 
+pub mod cfk_slab;
+
+pub use cfk_slab::{CfkSlab, CfkTorus, factorial, permutation};
+
 /// Largest lattice dimension whose cells carry their coordinates inline in
 /// [`TopCell::origin`].
 pub const MAX_LATTICE_DIMENSION: usize = 8;

@@ -1,0 +1,442 @@
+//! The Cauchy integrator of seed 003 §4 on a spatially periodic CFK lattice
+//! of any dimension n, with the flow Δv = v + (1,…,1) (Remark 4.12).
+//!
+//! Cauchy data are 2n consecutive weight levels k₀ … k₀ + 2n − 1. Solving
+//! EL_v = 0 at every vertex v of level k determines level k + n vertex by
+//! vertex: EL_v = Leg_v(y_{Δv}) − μ_v (4.4) with
+//!
+//! * μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} ∂L_β/∂y_v (4.2), known from earlier levels,
+//! * Leg_v(z) = Σ_{σ ∈ Sym(n)} ∂L_{(v,σ)}/∂y_v (4.3), the n! simplices based
+//!   at v, all of which contain Δv as their last vertex,
+//!
+//! solved by Newton in the fibre's chart z·τ(ζ) with the exact Jacobian
+//! Σ_σ ∂²L_{(v,σ)}/∂y_v∂y_{Δv} (Def. 4.9), from the linear extrapolation
+//! y_v·τ(log(y_{v−Δ}, y_v)), to round-off.
+//!
+//! Each cell's vertex gradients are computed once, when its last vertex is
+//! solved, and kept in a ring of n + 1 base levels; μ_v gathers them in a
+//! fixed order. The vertices of one level are solved in parallel (rayon) and
+//! every vertex's arithmetic is independent of the partition, so results are
+//! bit-identical for every thread count. Storage is allocated once: 2n + 1
+//! levels of values and n + 1 levels of cell gradients; nothing is allocated
+//! inside a level.
+
+use nalgebra::{SMatrix, SVector};
+use rayon::prelude::*;
+
+use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, mixed_block, vertex_gradient};
+use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, TopCell, permutation};
+use super::fibre::Fibre;
+use crate::solve::solve_small;
+use crate::{Error, Result};
+
+/// Options of the vertex solves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CauchyOptions {
+    /// Relative tolerance: a vertex is solved when
+    /// max|Leg_v(z) − μ_v| ≤ `tolerance` × (the size of the terms summed),
+    /// or when Newton stalls at round-off (the residual stops halving) within
+    /// 100 × `tolerance`. Default 1e-14.
+    pub tolerance: f64,
+    /// Newton iteration limit per vertex. Default 30.
+    pub max_iterations: usize,
+}
+
+impl Default for CauchyOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-14,
+            max_iterations: 30,
+        }
+    }
+}
+
+/// What one level cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LevelReport {
+    /// The level whose equations were solved (its Δ images form level + n).
+    pub level: i64,
+    /// Newton iterations summed over the level's vertices.
+    pub iterations: usize,
+    /// Largest final residual max|Leg_v − μ_v| relative to its scale.
+    pub max_relative_residual: f64,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct VertexOutcome {
+    iterations: usize,
+    relative_residual: f64,
+    failure: Option<Failure>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Failure {
+    Singular,
+    NonFinite,
+    IterationLimit,
+    CutLocus,
+}
+
+impl Failure {
+    fn reason(self) -> &'static str {
+        match self {
+            Failure::Singular => "singular Legendre map (the Jacobian ∂Leg_v/∂y_Δv has a zero pivot)",
+            Failure::NonFinite => "non-finite residual",
+            Failure::IterationLimit => "iteration limit",
+            Failure::CutLocus => "rotation at the cut locus of the chart",
+        }
+    }
+}
+
+/// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
+pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
+    lag: L,
+    torus: CfkTorus,
+    perms: Vec<[usize; MAX_LATTICE_DIMENSION]>,
+    options: CauchyOptions,
+    /// Values of levels k − n … k + n, slot w mod (2n + 1).
+    values: Vec<F::Point<f64>>,
+    /// Gradients of the cells based at levels k − n … k, slot w mod (n + 1);
+    /// per base vertex n!·(n + 1) vectors, cell σ then position.
+    grads: Vec<SVector<f64, M>>,
+    next_values: Vec<F::Point<f64>>,
+    next_grads: Vec<SVector<f64, M>>,
+    outcomes: Vec<VertexOutcome>,
+    level: i64,
+}
+
+impl<F, L, const M: usize> CauchyMarcher<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    /// A marcher from the Cauchy data `data[l]` = the values of level
+    /// `first_level + l`, l = 0 … 2n − 1, each in in-level index order.
+    pub fn new(
+        lag: L,
+        torus: CfkTorus,
+        first_level: i64,
+        data: &[Vec<F::Point<f64>>],
+        options: CauchyOptions,
+    ) -> Result<Self> {
+        let n = torus.dimension();
+        let size = torus.level_size();
+        if data.len() != 2 * n {
+            return Err(Error::DimensionMismatch {
+                what: "Cauchy data levels (2n consecutive weight levels)".into(),
+                expected: 2 * n,
+                got: data.len(),
+            });
+        }
+        for (l, level) in data.iter().enumerate() {
+            if level.len() != size {
+                return Err(Error::DimensionMismatch {
+                    what: format!("values of Cauchy level {l}"),
+                    expected: size,
+                    got: level.len(),
+                });
+            }
+            if let Some(i) = level.iter().position(|y| !F::is_finite(y)) {
+                return Err(Error::NonFinite {
+                    what: format!("Cauchy data, level {l}"),
+                    index: i,
+                    value: f64::NAN,
+                });
+            }
+        }
+        if !(options.tolerance > 0.0 && options.tolerance.is_finite()) || options.max_iterations == 0 {
+            return Err(Error::InvalidParameter {
+                name: "tolerance".into(),
+                value: format!("{} (max_iterations {})", options.tolerance, options.max_iterations),
+                reason: "the tolerance must be positive and finite and the iteration limit at least 1".into(),
+            });
+        }
+        let cells = torus.simplices_per_vertex();
+        let per_vertex = cells * (n + 1);
+        let mut marcher = Self {
+            perms: (0..cells).map(|s| permutation(n, s)).collect(),
+            values: vec![data[0][0]; (2 * n + 1) * size],
+            grads: vec![SVector::zeros(); (n + 1) * size * per_vertex],
+            next_values: vec![data[0][0]; size],
+            next_grads: vec![SVector::zeros(); size * per_vertex],
+            outcomes: vec![VertexOutcome::default(); size],
+            lag,
+            torus,
+            options,
+            level: first_level + n as i64,
+        };
+        for (l, level) in data.iter().enumerate() {
+            let slot = marcher.value_slot(first_level + l as i64);
+            marcher.values[slot * size..(slot + 1) * size].copy_from_slice(level);
+        }
+        // Gradients of the cells based at the first n levels (all their
+        // vertices are Cauchy data).
+        for base in first_level..first_level + n as i64 {
+            let slot = marcher.grad_slot(base);
+            let mut out = vec![SVector::zeros(); per_vertex];
+            for i in 0..size {
+                marcher.cell_gradients(base, i, None, &mut out);
+                marcher.grads[(slot * size + i) * per_vertex..(slot * size + i + 1) * per_vertex].copy_from_slice(&out);
+            }
+        }
+        Ok(marcher)
+    }
+
+    /// The periodic lattice.
+    pub fn torus(&self) -> &CfkTorus {
+        &self.torus
+    }
+
+    /// The next level whose equations [`step`](Self::step) solves.
+    pub fn level(&self) -> i64 {
+        self.level
+    }
+
+    /// The highest known level (`level() + n − 1`).
+    pub fn top_level(&self) -> i64 {
+        self.level + self.torus.dimension() as i64 - 1
+    }
+
+    /// The values of a known level `w` (`level() − n ≤ w ≤ top_level()`).
+    pub fn level_values(&self, w: i64) -> Option<&[F::Point<f64>]> {
+        let n = self.torus.dimension() as i64;
+        if w < self.level - n || w > self.top_level() {
+            return None;
+        }
+        let size = self.torus.level_size();
+        let slot = self.value_slot(w);
+        Some(&self.values[slot * size..(slot + 1) * size])
+    }
+
+    fn value_slot(&self, w: i64) -> usize {
+        w.rem_euclid(2 * self.torus.dimension() as i64 + 1) as usize
+    }
+
+    fn grad_slot(&self, w: i64) -> usize {
+        w.rem_euclid(self.torus.dimension() as i64 + 1) as usize
+    }
+
+    fn value(&self, w: i64, i: usize) -> F::Point<f64> {
+        self.values[self.value_slot(w) * self.torus.level_size() + i]
+    }
+
+    /// The cell (v, σ) for v = (level `w`, index `i`) and its vertex values,
+    /// the last one replaced by `top` if given.
+    fn cell_values(
+        &self,
+        w: i64,
+        i: usize,
+        sigma: usize,
+        top: Option<F::Point<f64>>,
+    ) -> (TopCell, [F::Point<f64>; MAX_CELL_VERTICES]) {
+        let n = self.torus.dimension();
+        let perm = &self.perms[sigma];
+        let base = self.value(w, i);
+        let mut y = [base; MAX_CELL_VERTICES];
+        for (l, slot) in y.iter_mut().enumerate().take(n + 1).skip(1) {
+            *slot = self.value(w + l as i64, self.torus.offset_index(i, perm, l, 1));
+        }
+        if let Some(z) = top {
+            y[n] = z;
+        }
+        let cell = TopCell {
+            index: 0,
+            shape: sigma,
+            origin: self.torus.vertex(w, i),
+        };
+        (cell, y)
+    }
+
+    /// All vertex gradients of the n! cells based at (w, i), into `out`
+    /// (cell σ, then position).
+    fn cell_gradients(&self, w: i64, i: usize, top: Option<F::Point<f64>>, out: &mut [SVector<f64, M>]) {
+        let n = self.torus.dimension();
+        for sigma in 0..self.perms.len() {
+            let (cell, y) = self.cell_values(w, i, sigma, top);
+            for l in 0..=n {
+                out[sigma * (n + 1) + l] = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], l).1;
+            }
+        }
+    }
+
+    /// μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} ∂L_β/∂y_v for v = (w, i), with the size of
+    /// the terms.
+    fn momentum(&self, w: i64, i: usize) -> (SVector<f64, M>, f64) {
+        let n = self.torus.dimension();
+        let size = self.torus.level_size();
+        let per_vertex = self.perms.len() * (n + 1);
+        let mut mu = SVector::zeros();
+        let mut scale = 0.0;
+        for j in 1..=n {
+            let slot = self.grad_slot(w - j as i64);
+            for (sigma, perm) in self.perms.iter().enumerate() {
+                let base = self.torus.offset_index(i, perm, j, -1);
+                let g = &self.grads[(slot * size + base) * per_vertex + sigma * (n + 1) + j];
+                mu -= g;
+                scale += g.amax();
+            }
+        }
+        (mu, scale)
+    }
+
+    /// Solves EL_v = 0 for y_{Δv}, v = (w, i); returns y_{Δv} and the solve's outcome.
+    fn solve_vertex(&self, w: i64, i: usize) -> (F::Point<f64>, VertexOutcome) {
+        let n = self.torus.dimension();
+        let (mu, mu_scale) = self.momentum(w, i);
+        let yv = self.value(w, i);
+        let back = self.torus.offset_index(i, &self.perms[0], n, -1);
+        let mut z = match F::log(&self.value(w - n as i64, back), &yv) {
+            Ok(xi) => F::retract(&yv, &xi),
+            Err(_) => yv,
+        };
+        let mut outcome = VertexOutcome::default();
+        let mut previous = f64::INFINITY;
+        for it in 0..=self.options.max_iterations {
+            let mut leg = SVector::<f64, M>::zeros();
+            let mut jac = SMatrix::<f64, M, M>::zeros();
+            let mut scale = mu_scale;
+            for sigma in 0..self.perms.len() {
+                let (cell, y) = self.cell_values(w, i, sigma, Some(z));
+                let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
+                leg += g;
+                jac += block;
+                scale += g.amax();
+            }
+            let residual = leg - mu;
+            let r = residual.amax();
+            outcome.iterations = it;
+            outcome.relative_residual = r / scale.max(f64::MIN_POSITIVE);
+            if !r.is_finite() {
+                outcome.failure = Some(Failure::NonFinite);
+                return (z, outcome);
+            }
+            // Solved, or stalled at round-off: within a hundred times the
+            // tolerance and no longer halving.
+            if r <= self.options.tolerance * scale
+                || (r <= 100.0 * self.options.tolerance * scale && r > 0.5 * previous)
+            {
+                return (F::renormalize(&z), outcome);
+            }
+            previous = r;
+            if it == self.options.max_iterations {
+                break;
+            }
+            let (delta, pivot) = solve_small(&jac, &(-residual));
+            if pivot == 0.0 {
+                outcome.failure = Some(Failure::Singular);
+                return (z, outcome);
+            }
+            let next = F::retract(&z, &delta);
+            if !F::is_finite(&next) {
+                outcome.failure = Some(Failure::NonFinite);
+                return (z, outcome);
+            }
+            // A rotation part pushed to the cut locus of the chart.
+            if F::log(&z, &next).is_err() {
+                outcome.failure = Some(Failure::CutLocus);
+                return (z, outcome);
+            }
+            z = next;
+        }
+        outcome.failure = Some(Failure::IterationLimit);
+        (z, outcome)
+    }
+
+    /// Solves every vertex of level `level()`, which determines level
+    /// `level() + n`, and advances. On failure nothing is advanced: the
+    /// marcher keeps its last complete state, and the error names the first
+    /// failing vertex (in index order, whatever the thread count).
+    pub fn step(&mut self) -> Result<LevelReport> {
+        let n = self.torus.dimension();
+        let size = self.torus.level_size();
+        let per_vertex = self.perms.len() * (n + 1);
+        let w = self.level;
+        let mut next_values = std::mem::take(&mut self.next_values);
+        let mut next_grads = std::mem::take(&mut self.next_grads);
+        let mut outcomes = std::mem::take(&mut self.outcomes);
+        {
+            let this = &*self;
+            next_values
+                .par_iter_mut()
+                .zip(next_grads.par_chunks_mut(per_vertex))
+                .zip(outcomes.par_iter_mut())
+                .enumerate()
+                .for_each(|(i, ((value, grads), outcome))| {
+                    let (z, o) = this.solve_vertex(w, i);
+                    *value = z;
+                    *outcome = o;
+                    if o.failure.is_none() {
+                        this.cell_gradients(w, i, Some(z), grads);
+                    }
+                });
+        }
+        let failure = outcomes
+            .iter()
+            .enumerate()
+            .find_map(|(i, o)| o.failure.map(|f| (i, f, *o)));
+        let report = LevelReport {
+            level: w,
+            iterations: outcomes.iter().map(|o| o.iterations).sum(),
+            max_relative_residual: outcomes.iter().map(|o| o.relative_residual).fold(0.0, f64::max),
+        };
+        if let Some((i, f, o)) = failure {
+            self.next_values = next_values;
+            self.next_grads = next_grads;
+            self.outcomes = outcomes;
+            return Err(Error::VertexSolveFailure {
+                level: w,
+                vertex: i,
+                residual: o.relative_residual,
+                iterations: o.iterations,
+                reason: f.reason().into(),
+            });
+        }
+        // Level w + n: its in-level order is that of level w shifted by Δ.
+        let top = self.value_slot(w + n as i64);
+        let shift = |i: usize| self.torus.offset_index(i, &self.perms[0], n, 1);
+        for (i, z) in next_values.iter().enumerate() {
+            let target = shift(i);
+            self.values[top * size + target] = *z;
+        }
+        let gslot = self.grad_slot(w);
+        self.grads[gslot * size * per_vertex..(gslot + 1) * size * per_vertex].copy_from_slice(&next_grads);
+        self.next_values = next_values;
+        self.next_grads = next_grads;
+        self.outcomes = outcomes;
+        self.level += 1;
+        Ok(report)
+    }
+
+    /// The level momentum of a vertical symmetry D at the cut below the
+    /// current level c = `level()` (note 003 §2.3, in n dimensions):
+    /// Φ(c) = Σ_{j=1..n} Σ_{β : w(v₀β) = c − j} Σ_{l ≥ j} ⟨∂L_β/∂y_{v_l}, D(y_{v_l})⟩.
+    /// Φ(c) − Φ(c + 1) = Σ_{w(v) = c} ⟨EL_v, D⟩, so Φ is constant along the
+    /// march when D is a symmetry (the per-cell identity Σ_l ⟨∂_l L_β, D⟩ = 0
+    /// moves the cells based at c across the cut). For n = 1 it is the
+    /// discrete Noether momentum ⟨p_k, D(q_k)⟩.
+    pub fn level_momentum(&self, generator: impl Fn(&F::Point<f64>) -> SVector<f64, M>) -> f64 {
+        let n = self.torus.dimension();
+        let size = self.torus.level_size();
+        let per_vertex = self.perms.len() * (n + 1);
+        let c = self.level;
+        let mut sum = 0.0;
+        for j in 1..=n {
+            let base_level = c - j as i64;
+            let slot = self.grad_slot(base_level);
+            for i in 0..size {
+                for (sigma, perm) in self.perms.iter().enumerate() {
+                    let g = &self.grads[(slot * size + i) * per_vertex + sigma * (n + 1)..][..n + 1];
+                    for (l, gl) in g.iter().enumerate().skip(j) {
+                        let y = self.value(base_level + l as i64, self.torus.offset_index(i, perm, l, 1));
+                        sum += gl.dot(&generator(&y));
+                    }
+                }
+            }
+        }
+        sum
+    }
+}
+
+/// Largest vertex count of a CFK simplex the marcher handles.
+const _: () = assert!(MAX_CELL_VERTICES > MAX_LATTICE_DIMENSION);
