@@ -10,6 +10,7 @@ use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::DiscreteLagrangian;
 use veselov::field::complex::{CfkSlab, CfkTorus, TopCell, TopCells, permutation};
 use veselov::field::fibre::{Euclidean, Fibre, Pose, PositionRotation, RigidMotions, Rotations};
+use veselov::field::flow::FlowMarcher;
 use veselov::field::variational::{action, euler_lagrange, noether_balance};
 use veselov::lie::{SE3, SO3, so3};
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, PhaseState, integrate};
@@ -454,4 +455,70 @@ fn bad_input_is_a_typed_error() {
     assert!(err.to_string().contains("vertex 0 of level 2"), "{err}");
     assert_eq!(m.level(), 2, "a failed level leaves the marcher where it was");
     assert!(CfkTorus::new(2, &[2]).is_err(), "a window too small for a star");
+}
+
+#[test]
+fn flow_marcher_on_a_window_agrees_with_the_ring_marcher() {
+    let mut ring = complex_field_marcher(6);
+    let torus = ring.torus().clone();
+    let levels = 20;
+    let window = CfkSlab::new(torus.clone(), 0, levels).expect("window");
+    let size = torus.level_size();
+    let mut values = vec![SVector::<f64, 2>::zeros(); window.vertex_count()];
+    let mut known = vec![false; window.vertex_count()];
+    for w in 0..6 {
+        let data = ring.level_values(w).expect("Cauchy data");
+        values[w as usize * size..(w as usize + 1) * size].copy_from_slice(data);
+        known[w as usize * size..(w as usize + 1) * size]
+            .iter_mut()
+            .for_each(|k| *k = true);
+    }
+    // Start every unknown from its level-below neighbour (a rough guess).
+    for v in 6 * size..values.len() {
+        values[v] = values[v - 3 * size];
+    }
+    let lag = AffineWave::<3, 2> {
+        dx: 0.5,
+        dt: 0.2,
+        mass2: 1.0,
+        quartic: 0.3,
+    };
+    let mut flow = FlowMarcher::<_, Euclidean<2>, _, 2>::new(&window, lag, values, known, CauchyOptions::default())
+        .expect("marcher");
+    let identity = permutation(3, 0);
+    for w in 3..levels - 4 {
+        let batch: Vec<(usize, usize)> = (0..size)
+            .map(|i| {
+                (
+                    window.vertex_index(w, i),
+                    window.vertex_index(w + 3, torus.offset_index(i, &identity, 3, 1)),
+                )
+            })
+            .collect();
+        flow.solve_batch(&batch).expect("level");
+        ring.step().expect("level");
+    }
+    let mut worst: f64 = 0.0;
+    for w in 6..levels {
+        let a = ring.level_values(w as i64);
+        if let Some(a) = a {
+            for i in 0..size {
+                worst = worst.max((a[i] - flow.values()[window.vertex_index(w, i)]).amax());
+            }
+        }
+    }
+    assert!(worst < 1e-13, "flow and ring marchers differ by {worst:e}");
+    // Errors name the vertex: a solved unknown, a flow outside the star, an unknown star.
+    let v = window.vertex_index(3, 0);
+    let err = flow.solve(v, window.vertex_index(6, 1)).expect_err("already known");
+    assert!(err.to_string().contains("already known"), "{err}");
+    let top = window.vertex_index(levels - 1, 7); // v + e₀ + e₁
+    let err = flow
+        .solve(window.vertex_index(levels - 4, 0), window.vertex_index(levels - 1, 2))
+        .expect_err("no common cell");
+    assert!(err.to_string().contains("does not admit"), "{err}");
+    let err = flow
+        .solve(window.vertex_index(levels - 3, 0), top)
+        .expect_err("star not known");
+    assert!(err.to_string().contains("not yet known"), "{err}");
 }

@@ -27,66 +27,9 @@ use rayon::prelude::*;
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, mixed_block, vertex_gradient};
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, TopCell, permutation};
 use super::fibre::Fibre;
-use crate::solve::solve_small;
+pub use super::legendre::{CauchyOptions, LevelReport};
+use super::legendre::{VertexOutcome, solve_legendre};
 use crate::{Error, Result};
-
-/// Options of the vertex solves.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CauchyOptions {
-    /// Relative tolerance: a vertex is solved when
-    /// max|Leg_v(z) − μ_v| ≤ `tolerance` × (the size of the terms summed),
-    /// or when Newton stalls at round-off (the residual stops halving) within
-    /// 100 × `tolerance`. Default 1e-14.
-    pub tolerance: f64,
-    /// Newton iteration limit per vertex. Default 30.
-    pub max_iterations: usize,
-}
-
-impl Default for CauchyOptions {
-    fn default() -> Self {
-        Self {
-            tolerance: 1e-14,
-            max_iterations: 30,
-        }
-    }
-}
-
-/// What one level cost.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LevelReport {
-    /// The level whose equations were solved (its Δ images form level + n).
-    pub level: i64,
-    /// Newton iterations summed over the level's vertices.
-    pub iterations: usize,
-    /// Largest final residual max|Leg_v − μ_v| relative to its scale.
-    pub max_relative_residual: f64,
-}
-
-#[derive(Clone, Copy, Debug, Default)]
-struct VertexOutcome {
-    iterations: usize,
-    relative_residual: f64,
-    failure: Option<Failure>,
-}
-
-#[derive(Clone, Copy, Debug)]
-enum Failure {
-    Singular,
-    NonFinite,
-    IterationLimit,
-    CutLocus,
-}
-
-impl Failure {
-    fn reason(self) -> &'static str {
-        match self {
-            Failure::Singular => "singular Legendre map (the Jacobian ∂Leg_v/∂y_Δv has a zero pivot)",
-            Failure::NonFinite => "non-finite residual",
-            Failure::IterationLimit => "iteration limit",
-            Failure::CutLocus => "rotation at the cut locus of the chart",
-        }
-    }
-}
 
 /// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
 pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
@@ -286,61 +229,23 @@ where
         let (mu, mu_scale) = self.momentum(w, i);
         let yv = self.value(w, i);
         let back = self.torus.offset_index(i, &self.perms[0], n, -1);
-        let mut z = match F::log(&self.value(w - n as i64, back), &yv) {
+        let z = match F::log(&self.value(w - n as i64, back), &yv) {
             Ok(xi) => F::retract(&yv, &xi),
             Err(_) => yv,
         };
-        let mut outcome = VertexOutcome::default();
-        let mut previous = f64::INFINITY;
-        for it in 0..=self.options.max_iterations {
+        solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();
-            let mut scale = mu_scale;
+            let mut scale = 0.0;
             for sigma in 0..self.perms.len() {
-                let (cell, y) = self.cell_values(w, i, sigma, Some(z));
+                let (cell, y) = self.cell_values(w, i, sigma, Some(*z));
                 let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
                 leg += g;
                 jac += block;
                 scale += g.amax();
             }
-            let residual = leg - mu;
-            let r = residual.amax();
-            outcome.iterations = it;
-            outcome.relative_residual = r / scale.max(f64::MIN_POSITIVE);
-            if !r.is_finite() {
-                outcome.failure = Some(Failure::NonFinite);
-                return (z, outcome);
-            }
-            // Solved, or stalled at round-off: within a hundred times the
-            // tolerance and no longer halving.
-            if r <= self.options.tolerance * scale
-                || (r <= 100.0 * self.options.tolerance * scale && r > 0.5 * previous)
-            {
-                return (F::renormalize(&z), outcome);
-            }
-            previous = r;
-            if it == self.options.max_iterations {
-                break;
-            }
-            let (delta, pivot) = solve_small(&jac, &(-residual));
-            if pivot == 0.0 {
-                outcome.failure = Some(Failure::Singular);
-                return (z, outcome);
-            }
-            let next = F::retract(&z, &delta);
-            if !F::is_finite(&next) {
-                outcome.failure = Some(Failure::NonFinite);
-                return (z, outcome);
-            }
-            // A rotation part pushed to the cut locus of the chart.
-            if F::log(&z, &next).is_err() {
-                outcome.failure = Some(Failure::CutLocus);
-                return (z, outcome);
-            }
-            z = next;
-        }
-        outcome.failure = Some(Failure::IterationLimit);
-        (z, outcome)
+            (leg, jac, scale)
+        })
     }
 
     /// Solves every vertex of level `level()`, which determines level

@@ -1,0 +1,231 @@
+//! The Cauchy integrator on any finite complex (seed 003 §4, with the
+//! scheduler of note 003 §2.4 "general complexes"): a first-order flow Δ
+//! pairs a vertex v with a vertex Δv in a common top cell; when every vertex
+//! of the star of v except Δv is known, EL_v = Leg_v(y_Δv) − μ_v = 0 (4.4)
+//! is solved for y_Δv by [`solve_legendre`], with
+//!
+//! * S_v^Δ = the cells of S_v that contain Δv (Def. 4.2),
+//! * μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} ∂L_β/∂y_v (4.2), Leg_v = Σ_{β ∈ S_v^Δ} ∂L_β/∂y_v (4.3).
+//!
+//! The caller supplies the schedule (for example seed 000's rows for time
+//! evolution, Δ(j, a) = (j + 1, a), or its columns for space evolution,
+//! Δ(j, a) = (j, a + 1)); the marcher checks every pair: a flow the complex
+//! does not admit (v and Δv in no common cell), a vertex whose star is not
+//! yet known, or an unknown already determined are typed errors that name
+//! the vertex. A batch of pairs whose stars do not involve each other's
+//! unknowns is solved in parallel, with results independent of the thread
+//! count.
+
+use nalgebra::{SMatrix, SVector};
+use rayon::prelude::*;
+
+use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, mixed_block, vertex_gradient};
+use super::complex::{StarEntry, TopCells};
+use super::fibre::Fibre;
+use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre};
+use crate::{Error, Result};
+
+/// The Cauchy integrator on a finite complex with a caller-given schedule.
+pub struct FlowMarcher<'c, C: TopCells, F: Fibre<M>, L, const M: usize> {
+    complex: &'c C,
+    lag: L,
+    values: Vec<F::Point<f64>>,
+    known: Vec<bool>,
+    options: CauchyOptions,
+}
+
+fn flow_error(v: usize, reason: String) -> Error {
+    Error::InvalidParameter {
+        name: "flow".into(),
+        value: format!("vertex {v}"),
+        reason,
+    }
+}
+
+impl<'c, C, F, L, const M: usize> FlowMarcher<'c, C, F, L, M>
+where
+    C: TopCells,
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    /// A marcher on `complex` with initial values (`values[v]` is read only
+    /// where `known[v]`; the others are starting guesses, replaced as they
+    /// are solved).
+    pub fn new(
+        complex: &'c C,
+        lag: L,
+        values: Vec<F::Point<f64>>,
+        known: Vec<bool>,
+        options: CauchyOptions,
+    ) -> Result<Self> {
+        for (what, len) in [("values", values.len()), ("known flags", known.len())] {
+            if len != complex.vertex_count() {
+                return Err(Error::DimensionMismatch {
+                    what: format!("{what} (one per vertex of the complex)"),
+                    expected: complex.vertex_count(),
+                    got: len,
+                });
+            }
+        }
+        if let Some(v) = (0..values.len()).find(|&v| known[v] && !F::is_finite(&values[v])) {
+            return Err(Error::NonFinite {
+                what: "known field values".into(),
+                index: v,
+                value: f64::NAN,
+            });
+        }
+        Ok(Self {
+            complex,
+            lag,
+            values,
+            known,
+            options,
+        })
+    }
+
+    /// The field (meaningful where [`is_known`](Self::is_known)).
+    pub fn values(&self) -> &[F::Point<f64>] {
+        &self.values
+    }
+
+    /// Whether the value at `v` is data or has been solved for.
+    pub fn is_known(&self, v: usize) -> bool {
+        self.known[v]
+    }
+
+    /// Checks that (v, Δv) can be solved now.
+    fn check_pair(&self, v: usize, dv: usize, star: &mut Vec<StarEntry>) -> Result<()> {
+        let nv = self.complex.vertex_count();
+        if v >= nv || dv >= nv {
+            return Err(flow_error(
+                v,
+                format!("vertex index out of range (the complex has {nv} vertices; Δv = {dv})"),
+            ));
+        }
+        if self.known[dv] {
+            return Err(flow_error(v, format!("Δv = {dv} is already known")));
+        }
+        self.complex.star(v, star);
+        let mut verts = [0; MAX_CELL_VERTICES];
+        let admits = star.iter().any(|e| {
+            let k = self.complex.cell_vertices(e.cell, &mut verts);
+            verts[..k].contains(&dv)
+        });
+        if !admits {
+            return Err(flow_error(
+                v,
+                format!("v and Δv = {dv} lie in no common top cell: the complex does not admit this flow"),
+            ));
+        }
+        for e in star.iter() {
+            let k = self.complex.cell_vertices(e.cell, &mut verts);
+            if let Some(&u) = verts[..k].iter().find(|&&u| u != dv && !self.known[u]) {
+                return Err(flow_error(
+                    v,
+                    format!("its star holds vertex {u}, not yet known (the Cauchy band is too narrow)"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves EL_v = 0 for y_Δv at a checked pair, from the values as they are.
+    fn solve_pair(&self, dv: usize, star: &[StarEntry], guess: F::Point<f64>) -> (F::Point<f64>, VertexOutcome) {
+        let mut verts = [0; MAX_CELL_VERTICES];
+        let mut mu = SVector::<f64, M>::zeros();
+        let mut mu_scale = 0.0;
+        let contains = |verts: &[usize]| verts.iter().position(|&u| u == dv);
+        for e in star {
+            let k = self.complex.cell_vertices(e.cell, &mut verts);
+            if contains(&verts[..k]).is_none() {
+                let y: [F::Point<f64>; MAX_CELL_VERTICES] = std::array::from_fn(|l| self.values[verts[l.min(k - 1)]]);
+                let g = vertex_gradient::<F, L, M>(&self.lag, &self.complex.cell(e.cell), &y[..k], e.position).1;
+                mu -= g;
+                mu_scale += g.amax();
+            }
+        }
+        solve_legendre::<F, M>(&mu, mu_scale, guess, &self.options, |z| {
+            let mut leg = SVector::<f64, M>::zeros();
+            let mut jac = SMatrix::<f64, M, M>::zeros();
+            let mut scale = 0.0;
+            let mut verts = [0; MAX_CELL_VERTICES];
+            for e in star {
+                let k = self.complex.cell_vertices(e.cell, &mut verts);
+                if let Some(pos) = contains(&verts[..k]) {
+                    let y: [F::Point<f64>; MAX_CELL_VERTICES] =
+                        std::array::from_fn(|l| if l == pos { *z } else { self.values[verts[l.min(k - 1)]] });
+                    let (g, block) =
+                        mixed_block::<F, L, M>(&self.lag, &self.complex.cell(e.cell), &y[..k], e.position, pos);
+                    leg += g;
+                    jac += block;
+                    scale += g.amax();
+                }
+            }
+            (leg, jac, scale)
+        })
+    }
+
+    /// Solves the pair (v, Δv), starting Newton from the current value at Δv.
+    pub fn solve(&mut self, v: usize, dv: usize) -> Result<VertexOutcome> {
+        self.solve_batch(&[(v, dv)]).map(|o| o[0])
+    }
+
+    /// Solves independent pairs (v, Δv) in parallel. Every pair is checked
+    /// first (its star known except Δv, no Δv of the batch in another pair's
+    /// star); on a failed solve nothing of the batch is stored and the error
+    /// names the first failing pair.
+    pub fn solve_batch(&mut self, pairs: &[(usize, usize)]) -> Result<Vec<VertexOutcome>> {
+        let mut stars = Vec::with_capacity(pairs.len());
+        for &(v, dv) in pairs {
+            let mut star = Vec::new();
+            self.check_pair(v, dv, &mut star)?;
+            stars.push(star);
+        }
+        // Independence: no unknown of the batch is read by another pair.
+        let owner: std::collections::HashMap<usize, usize> =
+            pairs.iter().enumerate().map(|(p, &(_, dv))| (dv, p)).collect();
+        if owner.len() != pairs.len() {
+            return Err(flow_error(
+                pairs[0].0,
+                "two pairs of the batch solve for the same Δv".into(),
+            ));
+        }
+        let mut verts = [0; MAX_CELL_VERTICES];
+        for (p, star) in stars.iter().enumerate() {
+            for e in star {
+                let k = self.complex.cell_vertices(e.cell, &mut verts);
+                if let Some(&q) = verts[..k].iter().find_map(|u| owner.get(u).filter(|&&q| q != p)) {
+                    return Err(flow_error(
+                        pairs[p].0,
+                        format!(
+                            "its star holds Δv = {} of the pair {:?} in the same batch",
+                            pairs[q].1, pairs[q]
+                        ),
+                    ));
+                }
+            }
+        }
+        let results: Vec<(F::Point<f64>, VertexOutcome)> = pairs
+            .par_iter()
+            .zip(stars.par_iter())
+            .map(|(&(_, dv), star)| self.solve_pair(dv, star, self.values[dv]))
+            .collect();
+        if let Some((p, (_, o))) = results.iter().enumerate().find(|(_, (_, o))| o.failure.is_some()) {
+            return Err(Error::VertexSolveFailure {
+                level: -1,
+                vertex: pairs[p].0,
+                residual: o.relative_residual,
+                iterations: o.iterations,
+                reason: o.failure.map_or("", |f| f.reason()).into(),
+            });
+        }
+        let mut outcomes = Vec::with_capacity(pairs.len());
+        for (&(_, dv), (z, o)) in pairs.iter().zip(results) {
+            self.values[dv] = z;
+            self.known[dv] = true;
+            outcomes.push(o);
+        }
+        Ok(outcomes)
+    }
+}

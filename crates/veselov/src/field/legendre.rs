@@ -1,0 +1,130 @@
+//! The vertex solve of the Cauchy integrator (seed 003 Thm 4.11, Def. 4.9):
+//! find y_{Δv} with Leg_v(y_{Δv}) = μ_v by Newton in the fibre's chart
+//! z·τ(ζ), with the exact Jacobian ∂Leg_v/∂ζ, to round-off. One routine for
+//! every marcher ([`CauchyMarcher`](super::cauchy::CauchyMarcher) on periodic
+//! CFK lattices, [`FlowMarcher`](super::flow::FlowMarcher) on any finite
+//! complex).
+
+use nalgebra::{SMatrix, SVector};
+
+use super::fibre::Fibre;
+use crate::solve::solve_small;
+
+/// Options of the vertex solves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CauchyOptions {
+    /// Relative tolerance: a vertex is solved when
+    /// max|Leg_v(z) − μ_v| ≤ `tolerance` × (the size of the terms summed),
+    /// or when Newton stalls at round-off (the residual stops halving) within
+    /// 100 × `tolerance`. Default 1e-14.
+    pub tolerance: f64,
+    /// Newton iteration limit per vertex. Default 30.
+    pub max_iterations: usize,
+}
+
+impl Default for CauchyOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-14,
+            max_iterations: 30,
+        }
+    }
+}
+
+/// What one level cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LevelReport {
+    /// The level whose equations were solved (its Δ images form level + n).
+    pub level: i64,
+    /// Newton iterations summed over the level's vertices.
+    pub iterations: usize,
+    /// Largest final residual max|Leg_v − μ_v| relative to its scale.
+    pub max_relative_residual: f64,
+}
+
+/// How one vertex solve ended.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct VertexOutcome {
+    /// Newton iterations (Jacobian evaluations beyond the first residual).
+    pub iterations: usize,
+    /// Final max|Leg_v − μ_v| relative to the size of the terms.
+    pub relative_residual: f64,
+    /// Why it failed, if it did.
+    pub failure: Option<Failure>,
+}
+
+/// Why a vertex solve failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Failure {
+    /// ∂Leg_v/∂y_Δv has a zero pivot.
+    Singular,
+    /// A residual or iterate is not finite.
+    NonFinite,
+    /// The iteration limit was reached.
+    IterationLimit,
+    /// A rotation part reached the cut locus of the chart.
+    CutLocus,
+}
+
+impl Failure {
+    /// A message for errors.
+    pub fn reason(self) -> &'static str {
+        match self {
+            Failure::Singular => "singular Legendre map (the Jacobian ∂Leg_v/∂y_Δv has a zero pivot)",
+            Failure::NonFinite => "non-finite residual",
+            Failure::IterationLimit => "iteration limit",
+            Failure::CutLocus => "rotation at the cut locus of the chart",
+        }
+    }
+}
+
+/// Newton for Leg(z) = μ from `z`: `legendre(z)` returns (Leg(z), ∂Leg/∂ζ at
+/// z·τ(ζ), ζ = 0, the size of the summed terms). Stops when
+/// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
+/// stalls at round-off within 100 × tolerance (the residual stops halving).
+pub fn solve_legendre<F: Fibre<M>, const M: usize>(
+    mu: &SVector<f64, M>,
+    mu_scale: f64,
+    mut z: F::Point<f64>,
+    options: &CauchyOptions,
+    legendre: impl Fn(&F::Point<f64>) -> (SVector<f64, M>, SMatrix<f64, M, M>, f64),
+) -> (F::Point<f64>, VertexOutcome) {
+    let mut outcome = VertexOutcome::default();
+    let mut previous = f64::INFINITY;
+    for it in 0..=options.max_iterations {
+        let (leg, jac, leg_scale) = legendre(&z);
+        let scale = leg_scale + mu_scale;
+        let residual = leg - mu;
+        let r = residual.amax();
+        outcome.iterations = it;
+        outcome.relative_residual = r / scale.max(f64::MIN_POSITIVE);
+        if !r.is_finite() {
+            outcome.failure = Some(Failure::NonFinite);
+            return (z, outcome);
+        }
+        if r <= options.tolerance * scale || (r <= 100.0 * options.tolerance * scale && r > 0.5 * previous) {
+            return (F::renormalize(&z), outcome);
+        }
+        previous = r;
+        if it == options.max_iterations {
+            break;
+        }
+        let (delta, pivot) = solve_small(&jac, &(-residual));
+        if pivot == 0.0 {
+            outcome.failure = Some(Failure::Singular);
+            return (z, outcome);
+        }
+        let next = F::retract(&z, &delta);
+        if !F::is_finite(&next) {
+            outcome.failure = Some(Failure::NonFinite);
+            return (z, outcome);
+        }
+        if F::log(&z, &next).is_err() {
+            outcome.failure = Some(Failure::CutLocus);
+            return (z, outcome);
+        }
+        z = next;
+    }
+    outcome.failure = Some(Failure::IterationLimit);
+    (z, outcome)
+}
