@@ -233,18 +233,23 @@ where
             Ok(xi) => F::retract(&yv, &xi),
             Err(_) => yv,
         };
-        solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z| {
+        solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, with_jacobian| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();
             let mut scale = 0.0;
             for sigma in 0..self.perms.len() {
                 let (cell, y) = self.cell_values(w, i, sigma, Some(*z));
-                let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
+                let g = if with_jacobian {
+                    let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
+                    jac += block;
+                    g
+                } else {
+                    vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], 0).1
+                };
                 leg += g;
-                jac += block;
                 scale += g.amax();
             }
-            (leg, jac, scale)
+            (leg, with_jacobian.then_some(jac), scale)
         })
     }
 
@@ -283,6 +288,7 @@ where
         let report = LevelReport {
             level: w,
             iterations: outcomes.iter().map(|o| o.iterations).sum(),
+            jacobians: outcomes.iter().map(|o| o.jacobians).sum(),
             max_relative_residual: outcomes.iter().map(|o| o.relative_residual).fold(0.0, f64::max),
         };
         if let Some((i, f, o)) = failure {

@@ -21,7 +21,7 @@ pub const MAX_CELL_VERTICES: usize = 16;
 
 /// A discrete Lagrangian density on a complex: L_β(y_{v₀}, …, y_{v_k}) for
 /// every top cell β, with values in the fibre `F` (Def. 3.6).
-pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Sync {
+pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// L_β at the ordered vertex values `y` of `cell` (`y.len()` = the cell's
     /// vertex count).
     fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[F::Point<D>]) -> D;

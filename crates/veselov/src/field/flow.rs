@@ -145,7 +145,7 @@ where
                 mu_scale += g.amax();
             }
         }
-        solve_legendre::<F, M>(&mu, mu_scale, guess, &self.options, |z| {
+        solve_legendre::<F, M>(&mu, mu_scale, guess, &self.options, |z, with_jacobian| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();
             let mut scale = 0.0;
@@ -162,7 +162,7 @@ where
                     scale += g.amax();
                 }
             }
-            (leg, jac, scale)
+            (leg, with_jacobian.then_some(jac), scale)
         })
     }
 

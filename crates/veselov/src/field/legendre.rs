@@ -38,6 +38,8 @@ pub struct LevelReport {
     pub level: i64,
     /// Newton iterations summed over the level's vertices.
     pub iterations: usize,
+    /// Jacobian evaluations summed over the level's vertices.
+    pub jacobians: usize,
     /// Largest final residual max|Leg_v − μ_v| relative to its scale.
     pub max_relative_residual: f64,
 }
@@ -47,6 +49,8 @@ pub struct LevelReport {
 pub struct VertexOutcome {
     /// Newton iterations (Jacobian evaluations beyond the first residual).
     pub iterations: usize,
+    /// Jacobian evaluations (nested-dual passes).
+    pub jacobians: usize,
     /// Final max|Leg_v − μ_v| relative to the size of the terms.
     pub relative_residual: f64,
     /// Why it failed, if it did.
@@ -78,8 +82,11 @@ impl Failure {
     }
 }
 
-/// Newton for Leg(z) = μ from `z`: `legendre(z)` returns (Leg(z), ∂Leg/∂ζ at
-/// z·τ(ζ), ζ = 0, the size of the summed terms). Stops when
+/// Simplified Newton for Leg(z) = μ from `z`: `legendre(z, jacobian)`
+/// returns (Leg(z), ∂Leg/∂ζ at z·τ(ζ), ζ = 0 when `jacobian` is asked for,
+/// the size of the summed terms). The Jacobian is evaluated at the start and
+/// again only when an iteration fails to reduce the residual fourfold, so
+/// most iterations cost one gradient pass. Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
 /// stalls at round-off within 100 × tolerance (the residual stops halving).
 pub fn solve_legendre<F: Fibre<M>, const M: usize>(
@@ -87,15 +94,30 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     mu_scale: f64,
     mut z: F::Point<f64>,
     options: &CauchyOptions,
-    legendre: impl Fn(&F::Point<f64>) -> (SVector<f64, M>, SMatrix<f64, M, M>, f64),
+    legendre: impl Fn(&F::Point<f64>, bool) -> (SVector<f64, M>, Option<SMatrix<f64, M, M>>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
     let mut outcome = VertexOutcome::default();
     let mut previous = f64::INFINITY;
+    let mut jacobian: Option<SMatrix<f64, M, M>> = None;
+    let mut fresh = false;
     for it in 0..=options.max_iterations {
-        let (leg, jac, leg_scale) = legendre(&z);
+        let (mut leg, mut jac, mut leg_scale) = legendre(&z, jacobian.is_none());
+        let mut residual = leg - mu;
+        let mut r = residual.amax();
+        // Poor contraction with an old Jacobian: refresh it at this iterate.
+        if jacobian.is_some() && !fresh && r > 0.25 * previous && r.is_finite() {
+            (leg, jac, leg_scale) = legendre(&z, true);
+            residual = leg - mu;
+            r = residual.amax();
+        }
+        if let Some(j) = jac {
+            jacobian = Some(j);
+            fresh = true;
+            outcome.jacobians += 1;
+        } else {
+            fresh = false;
+        }
         let scale = leg_scale + mu_scale;
-        let residual = leg - mu;
-        let r = residual.amax();
         outcome.iterations = it;
         outcome.relative_residual = r / scale.max(f64::MIN_POSITIVE);
         if !r.is_finite() {
@@ -109,7 +131,11 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
         if it == options.max_iterations {
             break;
         }
-        let (delta, pivot) = solve_small(&jac, &(-residual));
+        let Some(j) = jacobian else {
+            outcome.failure = Some(Failure::Singular);
+            return (z, outcome);
+        };
+        let (delta, pivot) = solve_small(&j, &(-residual));
         if pivot == 0.0 {
             outcome.failure = Some(Failure::Singular);
             return (z, outcome);
