@@ -16,6 +16,12 @@ pub trait SmoothDensity<F: Fibre<M>, const M: usize, const N: usize>: Sync {
     fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>, jet: &SMatrix<D, M, N>) -> D;
 }
 
+impl<T: SmoothDensity<F, M, N> + ?Sized, F: Fibre<M>, const M: usize, const N: usize> SmoothDensity<F, M, N> for &T {
+    fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>, jet: &SMatrix<D, M, N>) -> D {
+        (**self).density(x, y, jet)
+    }
+}
+
 /// A seed 002 density 𝓛(φ, φ_t, φ_x) on ℝ^DIM seen as a [`SmoothDensity`]
 /// on 1+1 space–time with coordinates x = (x, t) (space first, time last, as
 /// in [`super::CfkNodes::space_time`]): jet column 0 is φ_x, column 1 is φ_t.
