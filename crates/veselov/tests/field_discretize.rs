@@ -6,7 +6,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use veselov::ad::Scalar;
-use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
+use veselov::field::cell::{DiscreteLagrangian, mixed_block, vertex_gradient};
 use veselov::field::complex::TopCell;
 use veselov::field::discretize::{
     CellCheck, CellError, CfkNodes, CosseratCell, CosseratDensity, CubeCentreRule, CubeNodes, LinearPotential,
@@ -448,6 +448,41 @@ fn t26_closed_form_gradients_match_the_exact_vertex_gradients() {
     println!("T26 max rel: §3.5 vs exact {worst:.1e}; exact vs central differences {fd_worst:.1e}");
     assert!(worst < 1e-12, "{worst}");
     assert!(fd_worst < 1e-7, "{fd_worst}");
+}
+
+#[test]
+fn mixed_blocks_of_the_vertex_rule_match_the_closed_form_cell() {
+    // The Jacobian block of a vertex solve (∂/∂y₂ of ∂L/∂y₀) through nested
+    // duals and the fibre logarithm, against the closed form's and finite
+    // differences of the exact gradient.
+    let mut rng = Rng(27);
+    let (mut worst, mut fd_worst) = (0.0_f64, 0.0_f64);
+    for trial in 0..40 {
+        let p = rod_parameters(&mut rng);
+        let (ds, dt) = (0.05 + rng.next(), 0.05 + rng.next());
+        let c = rod_cell(&mut rng, trial);
+        let y = rod_values(&mut rng, 1.2);
+        let density = CosseratDensity::free(p);
+        let rod = CosseratCell::new(density, ds, dt).expect("spacings");
+        let generic = VertexRule::at_vertex(density, CfkNodes::leapfrog(ds, dt).expect("spacings"), 0).expect("u = 0");
+        let (g1, j1) = mixed_block::<PositionRotation, _, 6>(&rod, &c, &y, 0, 2);
+        let (g2, j2) = mixed_block::<PositionRotation, _, 6>(&generic, &c, &y, 0, 2);
+        worst = worst.max(rel_vec(&g1, &g2)).max((j1 - j2).norm() / j1.norm());
+        let e = 1e-6;
+        let fd = SMatrix::<f64, 6, 6>::from_fn(|i, j| {
+            let mut xi = SVector::<f64, 6>::zeros();
+            xi[j] = e;
+            let (mut plus, mut minus) = (y, y);
+            plus[2] = PositionRotation::retract(&y[2], &xi);
+            minus[2] = PositionRotation::retract(&y[2], &(-xi));
+            let gp = vertex_gradient::<PositionRotation, _, 6>(&generic, &c, &plus, 0).1;
+            let gm = vertex_gradient::<PositionRotation, _, 6>(&generic, &c, &minus, 0).1;
+            (gp[i] - gm[i]) / (2.0 * e)
+        });
+        fd_worst = fd_worst.max((fd - j2).norm() / j2.norm());
+    }
+    println!("mixed blocks: closed form vs vertex rule {worst:.1e}; vs central differences {fd_worst:.1e}");
+    assert!(worst < 1e-12 && fd_worst < 1e-7, "{worst} {fd_worst}");
 }
 
 // ---------------------------------------------------------------- T19

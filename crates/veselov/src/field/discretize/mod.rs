@@ -31,6 +31,34 @@
 //! the seed 002 adapter [`SpaceTime`]), [`rules`] (Lemma 5.15, Prop. 5.20,
 //! quadratures, suitability), [`cosserat`] (the rod), [`error`].
 //!
+//! ```
+//! use nalgebra::{Matrix3, Vector3};
+//! use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
+//! use veselov::field::complex::TopCell;
+//! use veselov::field::discretize::{CellCheck, CfkNodes, CosseratCell, CosseratDensity, RodParameters, VertexRule};
+//! use veselov::field::fibre::{Pose, PositionRotation};
+//! use veselov::lie::so3;
+//!
+//! let i3 = Matrix3::identity();
+//! let rod = CosseratDensity::free(RodParameters::new(1.0, i3 * 0.1, i3, i3, Vector3::x()).unwrap());
+//! let (ds, dt) = (0.1, 0.02);
+//! // Q_{v₀} on the leapfrog embedding (6.2) and Prop. 6.5's closed form.
+//! let generic = VertexRule::at_vertex(rod, CfkNodes::leapfrog(ds, dt).unwrap(), 0).unwrap();
+//! let closed = CosseratCell::new(rod, ds, dt).unwrap();
+//! let cell = TopCell { index: 0, shape: 0, origin: [0; 8] };
+//! let y = [
+//!     Pose::new(Vector3::zeros(), so3::exp(&Vector3::zeros())),
+//!     Pose::new(Vector3::new(0.05, 0.0, 0.0), so3::exp(&Vector3::new(0.0, 0.1, 0.0))),
+//!     Pose::new(Vector3::new(0.0, 0.01, 0.0), so3::exp(&Vector3::new(0.02, 0.0, 0.0))),
+//! ];
+//! closed.check_cell(&cell, &y).unwrap();
+//! let (a, b) = (generic.cell_lagrangian(&cell, &y), closed.cell_lagrangian(&cell, &y));
+//! assert!((a - b).abs() < 1e-14 * a.abs().max(1.0));
+//! let (_, grad) = vertex_gradient::<PositionRotation, _, 6>(&generic, &cell, &y, 0);
+//! let closed_grad = closed.gradients(&cell, &y).unwrap();
+//! assert!((grad - closed_grad[0]).norm() < 1e-12 * grad.norm());
+//! ```
+//!
 //! [`DiscreteLagrangian::cell_lagrangian`]: crate::field::cell::DiscreteLagrangian::cell_lagrangian
 
 pub mod cosserat;

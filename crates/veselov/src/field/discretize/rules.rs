@@ -289,7 +289,7 @@ where
         y: &[F::Point<D>],
     ) -> std::result::Result<D, CellError> {
         let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = self.nodes.cell_nodes(cell, &mut x);
+        let k = cell_nodes(&self.nodes, cell, &mut x);
         if k != N + 1 || y.len() != N + 1 {
             return Err(CellError::Nodes {
                 cell: cell.index,
@@ -349,7 +349,7 @@ where
         // Every vertex's jet must exist (the interpolation's suitability on
         // the faces), whatever the quadrature.
         let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = self.nodes.cell_nodes(cell, &mut x);
+        let k = cell_nodes(&self.nodes, cell, &mut x);
         if k == N + 1 && y.len() == N + 1 {
             for u in 0..=N {
                 vertex_jet::<F, f64, M, N>(cell_index, &x[..k], y, u)?;
@@ -357,6 +357,12 @@ where
         }
         finite(cell_index, self.try_cell_lagrangian(cell, y)?)
     }
+}
+
+/// The node map's vertex count, 0 if it claims more than it could write.
+fn cell_nodes<X: NodeMap<N>, const N: usize>(map: &X, cell: &TopCell, out: &mut [SVector<f64, N>]) -> usize {
+    let k = map.cell_nodes(cell, out);
+    if k > out.len() { 0 } else { k }
 }
 
 fn finite(cell: usize, value: f64) -> std::result::Result<(), CellError> {
@@ -438,7 +444,7 @@ impl<L, X, const N: usize> MidpointRule<L, X, N> {
         X: NodeMap<N>,
     {
         let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = self.nodes.cell_nodes(cell, &mut x);
+        let k = cell_nodes(&self.nodes, cell, &mut x);
         if k != N + 1 {
             return Err(CellError::Nodes {
                 cell: cell.index,
@@ -550,7 +556,7 @@ impl<L, X, const N: usize> CubeCentreRule<L, X, N> {
         X: NodeMap<N>,
     {
         let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = self.nodes.cell_nodes(cell, &mut x);
+        let k = cell_nodes(&self.nodes, cell, &mut x);
         let a = cube_centre_jet(cell.index, &x[..k], y)?;
         Ok(self.density.density(&a.centre, &a.value, &a.gradient) * a.volume)
     }
