@@ -336,6 +336,21 @@ where
 {
     fn check_cell(&self, cell: &TopCell, y: &[F::Point<f64>]) -> std::result::Result<(), CellError> {
         let cell_index = cell.index;
+        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
+        let k = cell_nodes(&self.nodes, cell, &mut x);
+        if k != N + 1 || y.len() != N + 1 {
+            return Err(CellError::Nodes {
+                cell: cell_index,
+                expected: N + 1,
+                got: if k == N + 1 { y.len() } else { k },
+            });
+        }
+        if !x[..k].iter().all(|xi| xi.iter().all(|c| c.is_finite())) {
+            return Err(CellError::NonFinite {
+                cell: cell_index,
+                what: "node",
+            });
+        }
         if !y.iter().all(F::is_finite) {
             return Err(CellError::NonFinite {
                 cell: cell_index,
@@ -348,12 +363,8 @@ where
         })?;
         // Every vertex's jet must exist (the interpolation's suitability on
         // the faces), whatever the quadrature.
-        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = cell_nodes(&self.nodes, cell, &mut x);
-        if k == N + 1 && y.len() == N + 1 {
-            for u in 0..=N {
-                vertex_jet::<F, f64, M, N>(cell_index, &x[..k], y, u)?;
-            }
+        for u in 0..=N {
+            vertex_jet::<F, f64, M, N>(cell_index, &x[..k], y, u)?;
         }
         finite(cell_index, self.try_cell_lagrangian(cell, y)?)
     }
