@@ -11,8 +11,8 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{DualSVec64, gradient};
 
 use super::error::CellError;
-use super::rules::{CellCheck, check_rotations};
 use super::smooth::SmoothDensity;
+use super::suitability::{CellCheck, check_rotations};
 use crate::ad::Scalar;
 use crate::error::Result;
 use crate::field::cell::DiscreteLagrangian;

@@ -28,8 +28,9 @@
 //! discrete Lagrangian, because the fibre logarithms are equivariant.
 //!
 //! Files: [`nodes`] (node maps, [`permutation`]), [`smooth`] (density trait,
-//! the seed 002 adapter [`SpaceTime`]), [`rules`] (Lemma 5.15, Prop. 5.20,
-//! quadratures, suitability), [`cosserat`] (the rod), [`error`].
+//! the seed 002 adapter [`SpaceTime`]), [`rules`] (Lemma 5.15, vertex
+//! quadratures), [`affine`] (Prop. 5.20, Q_mid, cube centre), [`suitability`]
+//! (Def. 5.9, Lemma 5.5, Cor. 6.3), [`cosserat`] (the rod), [`error`].
 //!
 //! ```
 //! use nalgebra::{Matrix3, Vector3};
@@ -61,17 +62,18 @@
 //!
 //! [`DiscreteLagrangian::cell_lagrangian`]: crate::field::cell::DiscreteLagrangian::cell_lagrangian
 
+pub mod affine;
 pub mod cosserat;
 pub mod error;
 pub mod nodes;
 pub mod rules;
 pub mod smooth;
+pub mod suitability;
 
+pub use affine::{AffineJet, CubeCentreRule, MidpointRule, affine_jet, cube_centre_jet};
 pub use cosserat::{CosseratCell, CosseratDensity, LinearPotential, NoPotential, RodParameters, RodPotential};
 pub use error::CellError;
 pub use nodes::{CfkNodes, CubeNodes, NodeMap, cube_corner, factorial, permutation};
-pub use rules::{
-    AffineJet, CellCheck, CubeCentreRule, GeodesicBall, MidpointRule, SINGULAR_NODES, VertexQuadrature, VertexRule,
-    affine_jet, check_rotations, cube_centre_jet, invert, vertex_jet,
-};
+pub use rules::{SINGULAR_NODES, VertexQuadrature, VertexRule, invert, vertex_jet};
 pub use smooth::{SmoothDensity, SpaceTime};
+pub use suitability::{CellCheck, GeodesicBall, check_rotations};

@@ -4,9 +4,9 @@
 //! * [`VertexRule`]: vertex nodes through Lemma 5.15 for **any** fibre —
 //!   Q_u (h(e_u)/n!, exact for constants) and Q_sym (vertex average /n!,
 //!   exact for affine h) of (5.2);
-//! * [`MidpointRule`]: Q_mid (5.2) at the barycentre for the Euclidean
+//! * [`MidpointRule`](super::MidpointRule): Q_mid (5.2) at the barycentre for the Euclidean
 //!   fibre, where the interpolation is affine (Prop. 5.20, (5.6));
-//! * [`CubeCentreRule`]: the one-point centre rule of the multilinear
+//! * [`CubeCentreRule`](super::CubeCentreRule): the one-point centre rule of the multilinear
 //!   interpolant on a cube (Euclidean fibre).
 //!
 //! Seed 002's rules are instances, up to the constant cell area that the
@@ -22,7 +22,6 @@
 //! unsuitable cell (it cannot return an error); [`CellCheck::check_cell`]
 //! names the cell and the reason, and a marcher calls it on every cell of
 //! its Cauchy data and after every vertex solve.
-
 use std::marker::PhantomData;
 
 use nalgebra::{SMatrix, SVector};
@@ -30,91 +29,17 @@ use nalgebra::{SMatrix, SVector};
 use super::error::CellError;
 use super::nodes::{NodeMap, factorial};
 use super::smooth::SmoothDensity;
+use super::suitability::{CellCheck, GeodesicBall};
 use crate::ad::Scalar;
 use crate::error::Result;
 use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES};
 use crate::field::complex::TopCell;
-use crate::field::fibre::{Euclidean, Fibre, PositionRotation, RigidMotions, Rotations};
+use crate::field::fibre::Fibre;
 use crate::field::lattice::invalid;
-use crate::lie::SO3;
 
 /// Relative size below which a node determinant counts as singular:
 /// |det T| ≤ `SINGULAR_NODES` · Π|columns of T|.
 pub const SINGULAR_NODES: f64 = 1e-12;
-
-/// Suitability check of a discretised cell (Def. 5.9).
-pub trait CellCheck<F: Fibre<M>, const M: usize> {
-    /// `Ok` if the cell is suitable for the vertex values `y` (ordered as the
-    /// cell's vertices) and the discrete Lagrangian is finite there; else the
-    /// reason, naming the cell.
-    ///
-    /// # Errors
-    /// A [`CellError`] naming `cell.index`.
-    fn check_cell(&self, cell: &TopCell, y: &[F::Point<f64>]) -> std::result::Result<(), CellError>;
-}
-
-/// A fibre-level sufficient condition for the simplicial geodesic
-/// interpolation (Def. 5.4) to be well defined (Lemma 5.5).
-pub trait GeodesicBall<const M: usize>: Fibre<M> {
-    /// `Ok` if the vertex values of a simplex lie in a ball where Lemma 5.5
-    /// applies; else why not.
-    ///
-    /// # Errors
-    /// A message for [`CellError::Unsuitable`].
-    fn check_simplex(y: &[Self::Point<f64>]) -> std::result::Result<(), String>;
-}
-
-impl<const M: usize> GeodesicBall<M> for Euclidean<M> {
-    /// Always suitable (flat, affine interpolation, Prop. 5.20).
-    fn check_simplex(_y: &[SVector<f64, M>]) -> std::result::Result<(), String> {
-        Ok(())
-    }
-}
-
-/// Some vertex u whose rotation is within π/2 of every other one,
-/// tr(R_uᵀR_v) > 1: then all data lie in the geodesic ball of radius ρ < π/2
-/// around R_u, where K = 1/4 < (π/(4ρ))² and the injectivity radius π > 2ρ
-/// (Lemma 5.5). For a triangle this is exactly Cor. 6.3 (two of the three
-/// pairwise traces > 1 share a vertex).
-pub fn check_rotations<'a>(r: impl Iterator<Item = &'a SO3<f64>> + Clone) -> std::result::Result<(), String> {
-    let mut best = f64::NEG_INFINITY;
-    for (u, ru) in r.clone().enumerate() {
-        let worst = r
-            .clone()
-            .enumerate()
-            .filter(|&(v, _)| v != u)
-            .map(|(_, rv)| (ru.matrix().transpose() * rv.matrix()).trace())
-            .fold(f64::INFINITY, f64::min);
-        if worst > 1.0 {
-            return Ok(());
-        }
-        best = best.max(worst);
-    }
-    Err(format!(
-        "no vertex rotation is within π/2 of all the others (best min trace tr(R_uᵀR_v) = {best}, needs > 1; Cor. 6.3)"
-    ))
-}
-
-impl GeodesicBall<3> for Rotations {
-    fn check_simplex(y: &[SO3<f64>]) -> std::result::Result<(), String> {
-        check_rotations(y.iter())
-    }
-}
-
-impl GeodesicBall<6> for PositionRotation {
-    /// The rotation part's criterion; the ℝ³ factor is flat (product split (5.6)).
-    fn check_simplex(y: &[<Self as Fibre<6>>::Point<f64>]) -> std::result::Result<(), String> {
-        check_rotations(y.iter().map(|p| &p.rotation))
-    }
-}
-
-impl GeodesicBall<6> for RigidMotions {
-    /// The rotation part's criterion (the group chart's log needs the rotation
-    /// angles below π).
-    fn check_simplex(y: &[<Self as Fibre<6>>::Point<f64>]) -> std::result::Result<(), String> {
-        check_rotations(y.iter().map(|g| g.rotation()))
-    }
-}
 
 /// Inverse and determinant of a small square matrix by Gauss–Jordan
 /// elimination with partial pivoting (`None` if a pivot vanishes).
@@ -158,7 +83,7 @@ pub fn invert<const N: usize>(t: &SMatrix<f64, N, N>) -> Option<(SMatrix<f64, N,
 }
 
 /// Inverse of a node matrix T (columns = edge vectors) and |det T|.
-fn invert_nodes<const N: usize>(
+pub(super) fn invert_nodes<const N: usize>(
     cell: usize,
     t: &SMatrix<f64, N, N>,
 ) -> std::result::Result<(SMatrix<f64, N, N>, f64), CellError> {
@@ -371,12 +296,12 @@ where
 }
 
 /// The node map's vertex count, 0 if it claims more than it could write.
-fn cell_nodes<X: NodeMap<N>, const N: usize>(map: &X, cell: &TopCell, out: &mut [SVector<f64, N>]) -> usize {
+pub(super) fn cell_nodes<X: NodeMap<N>, const N: usize>(map: &X, cell: &TopCell, out: &mut [SVector<f64, N>]) -> usize {
     let k = map.cell_nodes(cell, out);
     if k > out.len() { 0 } else { k }
 }
 
-fn finite(cell: usize, value: f64) -> std::result::Result<(), CellError> {
+pub(super) fn finite(cell: usize, value: f64) -> std::result::Result<(), CellError> {
     if value.is_finite() {
         Ok(())
     } else {
@@ -384,212 +309,5 @@ fn finite(cell: usize, value: f64) -> std::result::Result<(), CellError> {
             cell,
             what: "discrete Lagrangian",
         })
-    }
-}
-
-/// The affine interpolant of a simplex (Prop. 5.20): barycentre x̄, value ȳ
-/// there, its constant gradient ∂y/∂x (columns ∂/∂x^a) and the simplex volume
-/// vol_β = |det X_β|/n! (= |det T^X|/n!).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AffineJet<D, const M: usize, const N: usize> {
-    /// Barycentre x̄ of the nodes.
-    pub centre: SVector<f64, N>,
-    /// ȳ = mean of the vertex values = the interpolant at x̄.
-    pub value: SVector<D, M>,
-    /// The gradient, the same at every point of the simplex.
-    pub gradient: SMatrix<D, M, N>,
-    /// vol_β = |det X_β|/n!.
-    pub volume: f64,
-}
-
-/// The affine interpolant of values `y` at nodes `x` (n + 1 each), (5.6).
-///
-/// # Errors
-/// [`CellError::Nodes`] for wrong lengths, [`CellError::SingularNodes`] if
-/// X_β is singular (the cell is then not suitable, Prop. 5.20).
-pub fn affine_jet<D: Scalar, const M: usize, const N: usize>(
-    cell: usize,
-    x: &[SVector<f64, N>],
-    y: &[SVector<D, M>],
-) -> std::result::Result<AffineJet<D, M, N>, CellError> {
-    let (gradient, jac) = vertex_jet::<Euclidean<M>, D, M, N>(cell, x, y, 0)?;
-    let w = 1.0 / (N + 1) as f64;
-    let centre = x.iter().fold(SVector::<f64, N>::zeros(), |a, b| a + b) * w;
-    let value = y.iter().fold(SVector::<D, M>::from_element(D::zero()), |a, b| a + b) * D::from(w);
-    Ok(AffineJet {
-        centre,
-        value,
-        gradient,
-        volume: jac / factorial(N) as f64,
-    })
-}
-
-/// Q_mid for the Euclidean fibre ℝ^M (Prop. 5.20): L = 𝓛(x̄, ȳ, ∂y/∂x)·vol_β
-/// with the affine interpolant's barycentre value and constant gradient.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MidpointRule<L, X, const N: usize> {
-    /// The smooth density.
-    pub density: L,
-    /// The node map (simplices).
-    pub nodes: X,
-}
-
-impl<L, X, const N: usize> MidpointRule<L, X, N> {
-    /// Q_mid of `density` on the simplices of `nodes`.
-    pub fn new(density: L, nodes: X) -> Self {
-        Self { density, nodes }
-    }
-
-    /// The discrete Lagrangian with its failure named.
-    ///
-    /// # Errors
-    /// As [`affine_jet`]; [`CellError::Nodes`] if the node map does not know
-    /// the cell.
-    pub fn try_cell_lagrangian<D: Scalar, const M: usize>(
-        &self,
-        cell: &TopCell,
-        y: &[SVector<D, M>],
-    ) -> std::result::Result<D, CellError>
-    where
-        L: SmoothDensity<Euclidean<M>, M, N>,
-        X: NodeMap<N>,
-    {
-        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = cell_nodes(&self.nodes, cell, &mut x);
-        if k != N + 1 {
-            return Err(CellError::Nodes {
-                cell: cell.index,
-                expected: N + 1,
-                got: k,
-            });
-        }
-        let a = affine_jet(cell.index, &x[..k], y)?;
-        Ok(self.density.density(&a.centre, &a.value, &a.gradient) * a.volume)
-    }
-}
-
-impl<L, X, const M: usize, const N: usize> DiscreteLagrangian<Euclidean<M>, M> for MidpointRule<L, X, N>
-where
-    L: SmoothDensity<Euclidean<M>, M, N>,
-    X: NodeMap<N>,
-{
-    /// NaN on a degenerate cell; see [`CellCheck::check_cell`].
-    fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[SVector<D, M>]) -> D {
-        self.try_cell_lagrangian(cell, y).unwrap_or(D::from(f64::NAN))
-    }
-}
-
-impl<L, X, const M: usize, const N: usize> CellCheck<Euclidean<M>, M> for MidpointRule<L, X, N>
-where
-    L: SmoothDensity<Euclidean<M>, M, N>,
-    X: NodeMap<N>,
-{
-    fn check_cell(&self, cell: &TopCell, y: &[SVector<f64, M>]) -> std::result::Result<(), CellError> {
-        finite(cell.index, self.try_cell_lagrangian(cell, y)?)
-    }
-}
-
-/// The centre jet of the multilinear interpolant on a cube with 2^N vertices
-/// in binary order: (x̄, ȳ, ∂y/∂x at the centre, |det ∂x/∂ξ| at the centre).
-/// ∂/∂ξ_a at ξ = (½, …, ½) is (Σ_{bit a of k set} − Σ_{bit a clear}) / 2^{N−1}.
-///
-/// # Errors
-/// [`CellError::Nodes`] for wrong lengths, [`CellError::SingularNodes`].
-pub fn cube_centre_jet<D: Scalar, const M: usize, const N: usize>(
-    cell: usize,
-    x: &[SVector<f64, N>],
-    y: &[SVector<D, M>],
-) -> std::result::Result<AffineJet<D, M, N>, CellError> {
-    let count = 1usize << N;
-    if x.len() != count || y.len() != count {
-        return Err(CellError::Nodes {
-            cell,
-            expected: count,
-            got: if x.len() == count { y.len() } else { x.len() },
-        });
-    }
-    let w = 1.0 / count as f64;
-    let half = 2.0 / count as f64;
-    let mut centre = SVector::<f64, N>::zeros();
-    let mut value = SVector::<D, M>::from_element(D::zero());
-    let mut xxi = SMatrix::<f64, N, N>::zeros();
-    let mut yxi = SMatrix::<D, M, N>::from_element(D::zero());
-    for k in 0..count {
-        centre += x[k] * w;
-        value += y[k] * D::from(w);
-        for a in 0..N {
-            let s = if (k >> a) & 1 == 1 { half } else { -half };
-            let mut cx = xxi.column_mut(a);
-            cx += x[k] * s;
-            let mut cy = yxi.column_mut(a);
-            cy += y[k] * D::from(s);
-        }
-    }
-    let (inv, jac) = invert_nodes(cell, &xxi)?;
-    Ok(AffineJet {
-        centre,
-        value,
-        gradient: yxi * inv.map(D::from),
-        volume: jac,
-    })
-}
-
-/// The one-point centre rule of the multilinear interpolant on cubes
-/// (Euclidean fibre): L = 𝓛(x̄, ȳ, ∂y/∂x(x̄))·|det ∂x/∂ξ(centre)|, vertices
-/// in binary order. The weight is the exact cell volume for parallelepipeds
-/// (affine node maps such as [`super::CubeNodes`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CubeCentreRule<L, X, const N: usize> {
-    /// The smooth density.
-    pub density: L,
-    /// The node map (cubes, binary vertex order).
-    pub nodes: X,
-}
-
-impl<L, X, const N: usize> CubeCentreRule<L, X, N> {
-    /// The centre rule of `density` on the cubes of `nodes`.
-    pub fn new(density: L, nodes: X) -> Self {
-        Self { density, nodes }
-    }
-
-    /// The discrete Lagrangian with its failure named.
-    ///
-    /// # Errors
-    /// As [`cube_centre_jet`]; [`CellError::Nodes`] if the node map does not
-    /// know the cell.
-    pub fn try_cell_lagrangian<D: Scalar, const M: usize>(
-        &self,
-        cell: &TopCell,
-        y: &[SVector<D, M>],
-    ) -> std::result::Result<D, CellError>
-    where
-        L: SmoothDensity<Euclidean<M>, M, N>,
-        X: NodeMap<N>,
-    {
-        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = cell_nodes(&self.nodes, cell, &mut x);
-        let a = cube_centre_jet(cell.index, &x[..k], y)?;
-        Ok(self.density.density(&a.centre, &a.value, &a.gradient) * a.volume)
-    }
-}
-
-impl<L, X, const M: usize, const N: usize> DiscreteLagrangian<Euclidean<M>, M> for CubeCentreRule<L, X, N>
-where
-    L: SmoothDensity<Euclidean<M>, M, N>,
-    X: NodeMap<N>,
-{
-    /// NaN on a degenerate cell; see [`CellCheck::check_cell`].
-    fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[SVector<D, M>]) -> D {
-        self.try_cell_lagrangian(cell, y).unwrap_or(D::from(f64::NAN))
-    }
-}
-
-impl<L, X, const M: usize, const N: usize> CellCheck<Euclidean<M>, M> for CubeCentreRule<L, X, N>
-where
-    L: SmoothDensity<Euclidean<M>, M, N>,
-    X: NodeMap<N>,
-{
-    fn check_cell(&self, cell: &TopCell, y: &[SVector<f64, M>]) -> std::result::Result<(), CellError> {
-        finite(cell.index, self.try_cell_lagrangian(cell, y)?)
     }
 }
