@@ -18,7 +18,9 @@
 //! their energies), [`cyclic`] (prefactored cyclic tridiagonal solves),
 //! [`initial`] (kink–antikink, kink, breather, d'Alembert data), [`noether`]
 //! (charges, multisymplectic form formula, mod-2π re-centring) and [`run`]
-//! (a driver for front ends).
+//! (a driver for front ends); [`discretize`] (node maps, smooth densities
+//! over a fibre and the quadratures of seed 003 §5 turning them into
+//! discrete Lagrangians on cells, the Cosserat rod of §6).
 //!
 //! ```
 //! use veselov::field::{FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
@@ -42,6 +44,7 @@ pub mod complex;
 pub mod cyclic;
 pub mod density;
 pub mod density_run;
+pub mod discretize;
 pub mod energy;
 pub mod fast;
 pub mod fibre;

@@ -1,0 +1,223 @@
+//! Rules for the Euclidean fibre ℝ^M (affine bundle, Prop. 5.20):
+//! Q_mid at the barycentre of a simplex with the affine interpolant's value
+//! and constant gradient (5.6), and the centre rule of the multilinear
+//! interpolant on cubes.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::error::CellError;
+use super::nodes::{NodeMap, factorial};
+use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
+use super::smooth::SmoothDensity;
+use super::suitability::CellCheck;
+use crate::ad::Scalar;
+use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES};
+use crate::field::complex::TopCell;
+use crate::field::fibre::Euclidean;
+
+/// The affine interpolant of a simplex (Prop. 5.20): barycentre x̄, value ȳ
+/// there, its constant gradient ∂y/∂x (columns ∂/∂x^a) and the simplex volume
+/// vol_β = |det X_β|/n! (= |det T^X|/n!).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AffineJet<D, const M: usize, const N: usize> {
+    /// Barycentre x̄ of the nodes.
+    pub centre: SVector<f64, N>,
+    /// ȳ = mean of the vertex values = the interpolant at x̄.
+    pub value: SVector<D, M>,
+    /// The gradient, the same at every point of the simplex.
+    pub gradient: SMatrix<D, M, N>,
+    /// vol_β = |det X_β|/n!.
+    pub volume: f64,
+}
+
+/// The affine interpolant of values `y` at nodes `x` (n + 1 each), (5.6).
+///
+/// # Errors
+/// [`CellError::Nodes`] for wrong lengths, [`CellError::SingularNodes`] if
+/// X_β is singular (the cell is then not suitable, Prop. 5.20).
+pub fn affine_jet<D: Scalar, const M: usize, const N: usize>(
+    cell: usize,
+    x: &[SVector<f64, N>],
+    y: &[SVector<D, M>],
+) -> std::result::Result<AffineJet<D, M, N>, CellError> {
+    let (gradient, jac) = vertex_jet::<Euclidean<M>, D, M, N>(cell, x, y, 0)?;
+    let w = 1.0 / (N + 1) as f64;
+    let centre = x.iter().fold(SVector::<f64, N>::zeros(), |a, b| a + b) * w;
+    let value = y.iter().fold(SVector::<D, M>::from_element(D::zero()), |a, b| a + b) * D::from(w);
+    Ok(AffineJet {
+        centre,
+        value,
+        gradient,
+        volume: jac / factorial(N) as f64,
+    })
+}
+
+/// Q_mid for the Euclidean fibre ℝ^M (Prop. 5.20): L = 𝓛(x̄, ȳ, ∂y/∂x)·vol_β
+/// with the affine interpolant's barycentre value and constant gradient.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MidpointRule<L, X, const N: usize> {
+    /// The smooth density.
+    pub density: L,
+    /// The node map (simplices).
+    pub nodes: X,
+}
+
+impl<L, X, const N: usize> MidpointRule<L, X, N> {
+    /// Q_mid of `density` on the simplices of `nodes`.
+    pub fn new(density: L, nodes: X) -> Self {
+        Self { density, nodes }
+    }
+
+    /// The discrete Lagrangian with its failure named.
+    ///
+    /// # Errors
+    /// As [`affine_jet`]; [`CellError::Nodes`] if the node map does not know
+    /// the cell.
+    pub fn try_cell_lagrangian<D: Scalar, const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<D, M>],
+    ) -> std::result::Result<D, CellError>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+        X: NodeMap<N>,
+    {
+        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
+        let k = cell_nodes(&self.nodes, cell, &mut x);
+        if k != N + 1 {
+            return Err(CellError::Nodes {
+                cell: cell.index,
+                expected: N + 1,
+                got: k,
+            });
+        }
+        let a = affine_jet(cell.index, &x[..k], y)?;
+        Ok(self.density.density(&a.centre, &a.value, &a.gradient) * a.volume)
+    }
+}
+
+impl<L, X, const M: usize, const N: usize> DiscreteLagrangian<Euclidean<M>, M> for MidpointRule<L, X, N>
+where
+    L: SmoothDensity<Euclidean<M>, M, N>,
+    X: NodeMap<N>,
+{
+    /// NaN on a degenerate cell; see [`CellCheck::check_cell`].
+    fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[SVector<D, M>]) -> D {
+        self.try_cell_lagrangian(cell, y).unwrap_or(D::from(f64::NAN))
+    }
+}
+
+impl<L, X, const M: usize, const N: usize> CellCheck<Euclidean<M>, M> for MidpointRule<L, X, N>
+where
+    L: SmoothDensity<Euclidean<M>, M, N>,
+    X: NodeMap<N>,
+{
+    fn check_cell(&self, cell: &TopCell, y: &[SVector<f64, M>]) -> std::result::Result<(), CellError> {
+        finite(cell.index, self.try_cell_lagrangian(cell, y)?)
+    }
+}
+
+/// The centre jet of the multilinear interpolant on a cube with 2^N vertices
+/// in binary order: (x̄, ȳ, ∂y/∂x at the centre, |det ∂x/∂ξ| at the centre).
+/// ∂/∂ξ_a at ξ = (½, …, ½) is (Σ_{bit a of k set} − Σ_{bit a clear}) / 2^{N−1}.
+///
+/// # Errors
+/// [`CellError::Nodes`] for wrong lengths, [`CellError::SingularNodes`].
+pub fn cube_centre_jet<D: Scalar, const M: usize, const N: usize>(
+    cell: usize,
+    x: &[SVector<f64, N>],
+    y: &[SVector<D, M>],
+) -> std::result::Result<AffineJet<D, M, N>, CellError> {
+    let count = 1usize << N;
+    if x.len() != count || y.len() != count {
+        return Err(CellError::Nodes {
+            cell,
+            expected: count,
+            got: if x.len() == count { y.len() } else { x.len() },
+        });
+    }
+    let w = 1.0 / count as f64;
+    let half = 2.0 / count as f64;
+    let mut centre = SVector::<f64, N>::zeros();
+    let mut value = SVector::<D, M>::from_element(D::zero());
+    let mut xxi = SMatrix::<f64, N, N>::zeros();
+    let mut yxi = SMatrix::<D, M, N>::from_element(D::zero());
+    for k in 0..count {
+        centre += x[k] * w;
+        value += y[k] * D::from(w);
+        for a in 0..N {
+            let s = if (k >> a) & 1 == 1 { half } else { -half };
+            let mut cx = xxi.column_mut(a);
+            cx += x[k] * s;
+            let mut cy = yxi.column_mut(a);
+            cy += y[k] * D::from(s);
+        }
+    }
+    let (inv, jac) = invert_nodes(cell, &xxi)?;
+    Ok(AffineJet {
+        centre,
+        value,
+        gradient: yxi * inv.map(D::from),
+        volume: jac,
+    })
+}
+
+/// The one-point centre rule of the multilinear interpolant on cubes
+/// (Euclidean fibre): L = 𝓛(x̄, ȳ, ∂y/∂x(x̄))·|det ∂x/∂ξ(centre)|, vertices
+/// in binary order. The weight is the exact cell volume for parallelepipeds
+/// (affine node maps such as [`super::CubeNodes`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CubeCentreRule<L, X, const N: usize> {
+    /// The smooth density.
+    pub density: L,
+    /// The node map (cubes, binary vertex order).
+    pub nodes: X,
+}
+
+impl<L, X, const N: usize> CubeCentreRule<L, X, N> {
+    /// The centre rule of `density` on the cubes of `nodes`.
+    pub fn new(density: L, nodes: X) -> Self {
+        Self { density, nodes }
+    }
+
+    /// The discrete Lagrangian with its failure named.
+    ///
+    /// # Errors
+    /// As [`cube_centre_jet`]; [`CellError::Nodes`] if the node map does not
+    /// know the cell.
+    pub fn try_cell_lagrangian<D: Scalar, const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<D, M>],
+    ) -> std::result::Result<D, CellError>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+        X: NodeMap<N>,
+    {
+        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
+        let k = cell_nodes(&self.nodes, cell, &mut x);
+        let a = cube_centre_jet(cell.index, &x[..k], y)?;
+        Ok(self.density.density(&a.centre, &a.value, &a.gradient) * a.volume)
+    }
+}
+
+impl<L, X, const M: usize, const N: usize> DiscreteLagrangian<Euclidean<M>, M> for CubeCentreRule<L, X, N>
+where
+    L: SmoothDensity<Euclidean<M>, M, N>,
+    X: NodeMap<N>,
+{
+    /// NaN on a degenerate cell; see [`CellCheck::check_cell`].
+    fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[SVector<D, M>]) -> D {
+        self.try_cell_lagrangian(cell, y).unwrap_or(D::from(f64::NAN))
+    }
+}
+
+impl<L, X, const M: usize, const N: usize> CellCheck<Euclidean<M>, M> for CubeCentreRule<L, X, N>
+where
+    L: SmoothDensity<Euclidean<M>, M, N>,
+    X: NodeMap<N>,
+{
+    fn check_cell(&self, cell: &TopCell, y: &[SVector<f64, M>]) -> std::result::Result<(), CellError> {
+        finite(cell.index, self.try_cell_lagrangian(cell, y)?)
+    }
+}

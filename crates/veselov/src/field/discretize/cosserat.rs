@@ -1,0 +1,375 @@
+//! The Cosserat rod (note 003 §3; paper §6): the smooth density (6.1) over
+//! ℝ³ × SO(3) and the closed-form discrete Lagrangian of Prop. 6.5 on the
+//! leapfrog-embedded 2-D CFK lattice (6.2), with the §3.5 gradients (kinetic
+//! sign corrected, note 003 §5 erratum 2).
+//!
+//! Coordinates x = (s, t) (material point, time); fibre [`PositionRotation`]
+//! with chart (r + a, R exp(b̂)), so the jet is φ = [∂_s r, ∂_t r; Ω, ω]
+//! with Ω̂ = Rᵀ∂_sR, ω̂ = Rᵀ∂_tR (body vectors).
+
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use num_dual::{DualSVec64, gradient};
+
+use super::error::CellError;
+use super::smooth::SmoothDensity;
+use super::suitability::{CellCheck, check_rotations};
+use crate::ad::Scalar;
+use crate::error::Result;
+use crate::field::cell::DiscreteLagrangian;
+use crate::field::complex::TopCell;
+use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
+use crate::field::lattice::invalid;
+use crate::lie::so3;
+
+/// External potential P(s, r) of the rod (enters (6.1) as −½P).
+pub trait RodPotential: Sync {
+    /// P(s, r).
+    fn potential<D: Scalar>(&self, s: f64, r: &Vector3<D>) -> D;
+}
+
+/// P ≡ 0: the density is then invariant under the left SE(3) action
+/// (r, R) ↦ (Qr + c, QR) (note 003 §3.1, erratum 5).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct NoPotential;
+
+impl RodPotential for NoPotential {
+    fn potential<D: Scalar>(&self, _s: f64, _r: &Vector3<D>) -> D {
+        D::zero()
+    }
+}
+
+/// A uniform field P(s, r) = g·r (e.g. gravity with g = 2ρ·gravity vector,
+/// since P enters as ½P); breaks all symmetries but translations ⊥ g and
+/// rotations about g.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearPotential {
+    /// The gradient g.
+    pub gradient: Vector3<f64>,
+}
+
+impl RodPotential for LinearPotential {
+    fn potential<D: Scalar>(&self, _s: f64, r: &Vector3<D>) -> D {
+        r.dot(&self.gradient.map(D::from))
+    }
+}
+
+/// Constant material parameters of the rod (6.1): mass density ρ ≥ 0,
+/// inertia J (symmetric positive semidefinite), elasticities C₁, C₂
+/// (symmetric positive definite) and unstressed linear strain e.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RodParameters {
+    rho: f64,
+    inertia: Matrix3<f64>,
+    c1: Matrix3<f64>,
+    c2: Matrix3<f64>,
+    strain: Vector3<f64>,
+}
+
+fn symmetric(name: &str, m: &Matrix3<f64>) -> Result<()> {
+    if !m.iter().all(|x| x.is_finite()) || (m - m.transpose()).amax() > 1e-12 * m.amax().max(1.0) {
+        return Err(invalid(name, format!("{m}"), "must be finite and symmetric"));
+    }
+    Ok(())
+}
+
+impl RodParameters {
+    /// Validated parameters.
+    ///
+    /// # Errors
+    /// [`crate::error::Error::InvalidParameter`] naming `rho` (negative or not
+    /// finite), `inertia` (not symmetric positive semidefinite), `c1`/`c2`
+    /// (not symmetric positive definite) or `strain` (not finite).
+    pub fn new(
+        rho: f64,
+        inertia: Matrix3<f64>,
+        c1: Matrix3<f64>,
+        c2: Matrix3<f64>,
+        strain: Vector3<f64>,
+    ) -> Result<Self> {
+        if !(rho.is_finite() && rho >= 0.0) {
+            return Err(invalid("rho", rho, "must be finite and non-negative"));
+        }
+        symmetric("inertia", &inertia)?;
+        if inertia.symmetric_eigenvalues().min() < -1e-14 * inertia.amax() {
+            return Err(invalid(
+                "inertia",
+                format!("{inertia}"),
+                "must be positive semidefinite",
+            ));
+        }
+        for (name, c) in [("c1", &c1), ("c2", &c2)] {
+            symmetric(name, c)?;
+            if c.cholesky().is_none() {
+                return Err(invalid(name, format!("{c}"), "must be positive definite"));
+            }
+        }
+        if !strain.iter().all(|x| x.is_finite()) {
+            return Err(invalid("strain", format!("{strain}"), "must be finite"));
+        }
+        Ok(Self {
+            rho,
+            inertia,
+            c1,
+            c2,
+            strain,
+        })
+    }
+
+    /// Mass density ρ.
+    pub fn rho(&self) -> f64 {
+        self.rho
+    }
+    /// Inertia J.
+    pub fn inertia(&self) -> &Matrix3<f64> {
+        &self.inertia
+    }
+    /// Linear elasticity C₁.
+    pub fn c1(&self) -> &Matrix3<f64> {
+        &self.c1
+    }
+    /// Angular elasticity C₂.
+    pub fn c2(&self) -> &Matrix3<f64> {
+        &self.c2
+    }
+    /// Unstressed linear strain e.
+    pub fn strain(&self) -> &Vector3<f64> {
+        &self.strain
+    }
+}
+
+/// ½xᵀAx with A in f64.
+fn quad<D: Scalar>(a: &Matrix3<f64>, x: &Vector3<D>) -> D {
+    x.dot(&(a.map(D::from) * x)) * 0.5
+}
+
+/// The rod density (6.1):
+/// 𝓛 = ½[ρ|∂_t r|² + ωᵀJω − εᵀC₁ε − ΩᵀC₂Ω − P(s, r)], ε = Rᵀ∂_s r − e.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CosseratDensity<P = NoPotential> {
+    /// Material parameters.
+    pub parameters: RodParameters,
+    /// External potential.
+    pub potential: P,
+}
+
+impl CosseratDensity<NoPotential> {
+    /// The free rod (P = 0).
+    pub fn free(parameters: RodParameters) -> Self {
+        Self {
+            parameters,
+            potential: NoPotential,
+        }
+    }
+}
+
+impl<P: RodPotential> SmoothDensity<PositionRotation, 6, 2> for CosseratDensity<P> {
+    fn density<D: Scalar>(&self, x: &SVector<f64, 2>, y: &Pose<D>, jet: &SMatrix<D, 6, 2>) -> D {
+        let col = |r: usize, c: usize| Vector3::new(jet[(r, c)], jet[(r + 1, c)], jet[(r + 2, c)]);
+        let p = &self.parameters;
+        let v = col(0, 1);
+        let eps = y.rotation.matrix().transpose() * col(0, 0) - p.strain.map(D::from);
+        v.dot(&v) * (0.5 * p.rho) + quad(&p.inertia, &col(3, 1))
+            - quad(&p.c1, &eps)
+            - quad(&p.c2, &col(3, 0))
+            - self.potential.potential(x[0], &y.position) * 0.5
+    }
+}
+
+/// Prop. 6.5: the rod's discrete Lagrangian on triangle β = (i, j, σ) of the
+/// 2-D CFK lattice under the leapfrog map (6.2), one node at v₀ (Q_{v₀}).
+/// Shape 0 is σ = + (v₁ = v₀ + (1, 0)), shape 1 is σ = − (the
+/// [`super::permutation`] order). With A_β = ΔsΔt/4, a = log(R₀ᵀR₁),
+/// b = log(R₀ᵀR₂), g = (2r₁ − r₀ − r₂)/(σΔs), ε = R₀ᵀg − e,
+/// u = (2a − b)/(σΔs), ω_d = b/Δt, v_d = (r₂ − r₀)/Δt:
+///
+/// L_β = A_β[½ρ|v_d|² + ½ω_dᵀJω_d − ½εᵀC₁ε − ½uᵀC₂u − ½P(s₀, r₀)],
+/// s₀ = (i − j)Δs/2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CosseratCell<P = NoPotential> {
+    /// The smooth density whose Q_{v₀} discretisation this is.
+    pub density: CosseratDensity<P>,
+    ds: f64,
+    dt: f64,
+}
+
+/// The quantities of Prop. 6.5 on one triangle.
+struct Cell<D> {
+    sigma: f64,
+    s0: f64,
+    a: Vector3<D>,
+    b: Vector3<D>,
+    g: Vector3<D>,
+    eps: Vector3<D>,
+    u: Vector3<D>,
+    omega: Vector3<D>,
+    v: Vector3<D>,
+}
+
+impl<P: RodPotential> CosseratCell<P> {
+    /// The rod cell with spacings Δs, Δt.
+    ///
+    /// # Errors
+    /// [`crate::error::Error::InvalidParameter`] unless Δs, Δt are positive and finite.
+    pub fn new(density: CosseratDensity<P>, ds: f64, dt: f64) -> Result<Self> {
+        for (name, v) in [("ds", ds), ("dt", dt)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(invalid(name, v, "must be positive and finite"));
+            }
+        }
+        Ok(Self { density, ds, dt })
+    }
+
+    /// Δs.
+    pub fn ds(&self) -> f64 {
+        self.ds
+    }
+    /// Δt.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+    /// The cell area A_β = ΔsΔt/4.
+    pub fn area(&self) -> f64 {
+        0.25 * self.ds * self.dt
+    }
+
+    fn cell<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>]) -> std::result::Result<Cell<D>, CellError> {
+        let sigma = match cell.shape {
+            0 => 1.0,
+            1 => -1.0,
+            _ => {
+                return Err(CellError::Nodes {
+                    cell: cell.index,
+                    expected: 3,
+                    got: 0,
+                });
+            }
+        };
+        if y.len() != 3 {
+            return Err(CellError::Nodes {
+                cell: cell.index,
+                expected: 3,
+                got: y.len(),
+            });
+        }
+        let log = |to: usize| {
+            Rotations::log(&y[0].rotation, &y[to].rotation).map_err(|source| CellError::Logarithm {
+                cell: cell.index,
+                from: 0,
+                to,
+                source,
+            })
+        };
+        let (a, b) = (log(1)?, log(2)?);
+        let p = &self.density.parameters;
+        let sds = sigma * self.ds;
+        let g = (y[1].position * D::from(2.0) - y[0].position - y[2].position) / D::from(sds);
+        let eps = y[0].rotation.matrix().transpose() * g - p.strain.map(D::from);
+        Ok(Cell {
+            sigma,
+            s0: (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * self.ds,
+            u: (a * D::from(2.0) - b) / D::from(sds),
+            omega: b / D::from(self.dt),
+            v: (y[2].position - y[0].position) / D::from(self.dt),
+            a,
+            b,
+            g,
+            eps,
+        })
+    }
+
+    /// Prop. 6.5 with its failure named.
+    ///
+    /// # Errors
+    /// [`CellError::Nodes`] for a shape other than 0, 1 or not 3 values;
+    /// [`CellError::Logarithm`] at the cut locus.
+    pub fn try_cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>]) -> std::result::Result<D, CellError> {
+        let c = self.cell(cell, y)?;
+        let p = &self.density.parameters;
+        let l = c.v.dot(&c.v) * (0.5 * p.rho) + quad(&p.inertia, &c.omega)
+            - quad(&p.c1, &c.eps)
+            - quad(&p.c2, &c.u)
+            - self.density.potential.potential(c.s0, &y[0].position) * 0.5;
+        Ok(l * self.area())
+    }
+
+    /// The closed-form gradients of note 003 §3.5 (kinetic sign corrected):
+    /// [(∇_{r_k}L_β; ∇_{R_k}L_β)]_{k=0,1,2} in the chart of
+    /// [`PositionRotation`] (Euclidean, then left-trivialised), with
+    /// D_a = dlog a, D_b = dlog b (left-trivialised, Def. 6.9):
+    ///
+    /// * ∇_{r₀} = −(ρΔs/4)v_d + (σΔt/4)R₀C₁ε − (ΔsΔt/8)∇_rP(s₀, r₀)
+    /// * ∇_{r₁} = −(σΔt/2)R₀C₁ε
+    /// * ∇_{r₂} = (ρΔs/4)v_d + (σΔt/4)R₀C₁ε
+    /// * ∇_{R₀} = −(Δs/4)D_bJω_d + A_β (R₀ᵀg)^ C₁ε + (σΔt/4)(2D_a − D_b)C₂u
+    /// * ∇_{R₁} = −(σΔt/2)D_aᵀC₂u
+    /// * ∇_{R₂} = (Δs/4)D_bᵀJω_d + (σΔt/4)D_bᵀC₂u
+    ///
+    /// ∇_rP is exact (forward-mode AD of the potential).
+    ///
+    /// # Errors
+    /// As [`CosseratCell::try_cell_lagrangian`].
+    pub fn gradients(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<[SVector<f64, 6>; 3], CellError> {
+        let c = self.cell(cell, y)?;
+        let p = &self.density.parameters;
+        let (ds, dt, st) = (self.ds, self.dt, c.sigma * self.dt);
+        let r0 = y[0].rotation.matrix();
+        let (_, grad_p) = gradient(
+            |r: SVector<DualSVec64<3>, 3>| self.density.potential.potential(c.s0, &r),
+            &y[0].position,
+        );
+        let da = so3::dexp_inv(&(-c.a));
+        let db = so3::dexp_inv(&(-c.b));
+        let c1e = r0 * p.c1 * c.eps;
+        let jw = p.inertia * c.omega;
+        let c2u = p.c2 * c.u;
+        let gr = [
+            -c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0) - grad_p * (ds * dt / 8.0),
+            -c1e * (st / 2.0),
+            c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0),
+        ];
+        let gq = [
+            -db * jw * (ds / 4.0)
+                + so3::hat(&(r0.transpose() * c.g)) * p.c1 * c.eps * self.area()
+                + (da * 2.0 - db) * c2u * (st / 4.0),
+            -da.transpose() * c2u * (st / 2.0),
+            db.transpose() * jw * (ds / 4.0) + db.transpose() * c2u * (st / 4.0),
+        ];
+        Ok(std::array::from_fn(|k| {
+            SVector::<f64, 6>::new(gr[k][0], gr[k][1], gr[k][2], gq[k][0], gq[k][1], gq[k][2])
+        }))
+    }
+}
+
+impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P> {
+    /// Prop. 6.5; NaN on an unsuitable cell (see [`CellCheck::check_cell`]).
+    fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>]) -> D {
+        self.try_cell_lagrangian(cell, y).unwrap_or(D::from(f64::NAN))
+    }
+}
+
+impl<P: RodPotential> CellCheck<PositionRotation, 6> for CosseratCell<P> {
+    /// Cor. 6.3 (two of tr(R₀ᵀR₁), tr(R₁ᵀR₂), tr(R₂ᵀR₀) above 1 — the nodes
+    /// of (6.2) are never collinear), finite values, both logarithms and a
+    /// finite L_β.
+    fn check_cell(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<(), CellError> {
+        if !y.iter().all(PositionRotation::is_finite) {
+            return Err(CellError::NonFinite {
+                cell: cell.index,
+                what: "vertex value",
+            });
+        }
+        let value = self.try_cell_lagrangian(cell, y)?;
+        check_rotations(y.iter().map(|p| &p.rotation)).map_err(|reason| CellError::Unsuitable {
+            cell: cell.index,
+            reason,
+        })?;
+        if value.is_finite() {
+            Ok(())
+        } else {
+            Err(CellError::NonFinite {
+                cell: cell.index,
+                what: "discrete Lagrangian",
+            })
+        }
+    }
+}

@@ -1,0 +1,37 @@
+//! Smooth Lagrangian densities 𝓛: J¹Y → ℝ over a fibre (note 003 §2.5):
+//! 𝓛(x, y, φ) with x ∈ X = ℝ^N, y a fibre point and φ ∈ ℝ^{M×N} the jet in
+//! the fibre's chart at y (column a = ∂/∂x^a; for SO(3) the left-trivialised
+//! body vector, e.g. Ω = (Rᵀ∂_sR)^∨ for the rod).
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::ad::Scalar;
+use crate::field::density::Density;
+use crate::field::fibre::{Euclidean, Fibre};
+
+/// A smooth first-order Lagrangian density 𝓛(x, y, φ) with respect to the
+/// coordinate volume dx¹ ∧ … ∧ dx^N, written once over the AD scalar.
+pub trait SmoothDensity<F: Fibre<M>, const M: usize, const N: usize>: Sync {
+    /// 𝓛(x, y, φ).
+    fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>, jet: &SMatrix<D, M, N>) -> D;
+}
+
+impl<T: SmoothDensity<F, M, N> + ?Sized, F: Fibre<M>, const M: usize, const N: usize> SmoothDensity<F, M, N> for &T {
+    fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>, jet: &SMatrix<D, M, N>) -> D {
+        (**self).density(x, y, jet)
+    }
+}
+
+/// A seed 002 density 𝓛(φ, φ_t, φ_x) on ℝ^DIM seen as a [`SmoothDensity`]
+/// on 1+1 space–time with coordinates x = (x, t) (space first, time last, as
+/// in [`super::CfkNodes::space_time`]): jet column 0 is φ_x, column 1 is φ_t.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpaceTime<L>(pub L);
+
+impl<L: Density<DIM> + Sync, const DIM: usize> SmoothDensity<Euclidean<DIM>, DIM, 2> for SpaceTime<L> {
+    fn density<D: Scalar>(&self, _x: &SVector<f64, 2>, y: &SVector<D, DIM>, jet: &SMatrix<D, DIM, 2>) -> D {
+        let phi_x: SVector<D, DIM> = jet.column(0).into_owned();
+        let phi_t: SVector<D, DIM> = jet.column(1).into_owned();
+        self.0.density(y, &phi_t, &phi_x)
+    }
+}
