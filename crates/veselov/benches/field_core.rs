@@ -69,7 +69,8 @@ impl DiscreteLagrangian<Euclidean<1>, 1> for SineGordonP1 {
 struct FrameField;
 
 fn edge<D: Scalar>(a: &Pose<D>, b: &Pose<D>, rest: f64) -> D {
-    let strain = a.rotation.matrix().transpose() * (b.position - a.position) - Vector3::new(D::from(rest), D::zero(), D::zero());
+    let strain =
+        a.rotation.matrix().transpose() * (b.position - a.position) - Vector3::new(D::from(rest), D::zero(), D::zero());
     let bend = so3::log(&a.rotation.inverse().compose(&b.rotation)).unwrap_or_else(|_| Vector3::zeros());
     (strain.dot(&strain) + bend.dot(&bend)) * 0.5
 }
@@ -105,7 +106,10 @@ fn frame_data(torus: &CfkTorus) -> Vec<Vec<Pose<f64>>> {
                 .map(|i| {
                     let v = torus.vertex(w, i);
                     let s = (v[0] - v[1]) as f64 * 0.5;
-                    Pose::new(Vector3::new(s, 0.01 * w as f64, 0.0), so3::exp(&Vector3::new(0.01 * s, 0.0, 0.001 * w as f64)))
+                    Pose::new(
+                        Vector3::new(s, 0.01 * w as f64, 0.0),
+                        so3::exp(&Vector3::new(0.01 * s, 0.0, 0.001 * w as f64)),
+                    )
                 })
                 .collect()
         })
@@ -115,16 +119,20 @@ fn frame_data(torus: &CfkTorus) -> Vec<Vec<Pose<f64>>> {
 fn bench_marcher<F: Fibre<M>, L: DiscreteLagrangian<F, M>, const M: usize>(
     c: &mut Criterion,
     name: &str,
+    nodes: usize,
     make: impl Fn() -> CauchyMarcher<F, L, M>,
 ) where
     F::Point<f64>: Send + Sync,
 {
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
         let mut m = make();
         let (mut iterations, mut jacobians, mut solved) = (0usize, 0usize, 0usize);
         let mut levels = 0usize;
-        c.bench_function(&format!("{name}/{NODES}x{NODES}/threads={threads}"), |b| {
+        c.bench_function(&format!("{name}/{nodes}x{nodes}/threads={threads}"), |b| {
             b.iter(|| {
                 if levels >= 400 {
                     m = make();
@@ -133,24 +141,42 @@ fn bench_marcher<F: Fibre<M>, L: DiscreteLagrangian<F, M>, const M: usize>(
                 let report = pool.install(|| m.step()).expect("level");
                 iterations += report.iterations;
                 jacobians += report.jacobians;
-                solved += NODES * NODES;
+                solved += nodes * nodes;
                 levels += 1;
                 black_box(report)
             })
         });
         let per = |k: usize| k as f64 / solved.max(1) as f64;
-        println!("{name}: {:.2} Newton iterations, {:.2} Jacobians per vertex", per(iterations), per(jacobians));
+        println!(
+            "{name}: {:.2} Newton iterations, {:.2} Jacobians per vertex",
+            per(iterations),
+            per(jacobians)
+        );
     }
 }
 
 fn field_core(c: &mut Criterion) {
     let torus = CfkTorus::new(3, &[NODES, NODES]).expect("torus");
-    bench_marcher(c, "sine-gordon-2+1", || {
-        CauchyMarcher::new(SineGordonP1::new(0.2, 0.05), torus.clone(), 0, &scalar_data(&torus), CauchyOptions::default())
-            .expect("marcher")
+    bench_marcher(c, "sine-gordon-2+1", NODES, || {
+        CauchyMarcher::new(
+            SineGordonP1::new(0.2, 0.05),
+            torus.clone(),
+            0,
+            &scalar_data(&torus),
+            CauchyOptions::default(),
+        )
+        .expect("marcher")
     });
-    bench_marcher(c, "frame-field-2+1", || {
-        CauchyMarcher::new(FrameField, torus.clone(), 0, &frame_data(&torus), CauchyOptions::default()).expect("marcher")
+    let frames = CfkTorus::new(3, &[FRAME_NODES, FRAME_NODES]).expect("torus");
+    bench_marcher(c, "frame-field-2+1", FRAME_NODES, || {
+        CauchyMarcher::new(
+            FrameField,
+            frames.clone(),
+            0,
+            &frame_data(&frames),
+            CauchyOptions::default(),
+        )
+        .expect("marcher")
     });
 }
 

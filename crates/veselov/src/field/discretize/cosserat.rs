@@ -22,7 +22,7 @@ use crate::field::lattice::invalid;
 use crate::lie::so3;
 
 /// External potential P(s, r) of the rod (enters (6.1) as −½P).
-pub trait RodPotential: Sync {
+pub trait RodPotential: Send + Sync {
     /// P(s, r).
     fn potential<D: Scalar>(&self, s: f64, r: &Vector3<D>) -> D;
 }

@@ -16,17 +16,14 @@ use crate::error::Result;
 use crate::field::lattice::invalid;
 
 /// Positions x(v) ∈ ℝ^N of the ordered vertices of top cells.
-pub trait NodeMap<const N: usize>: Sync {
+pub trait NodeMap<const N: usize>: Send + Sync {
     /// Writes x(v₀), …, x(v_k) of `cell` into `out` and returns their number
     /// k + 1, or 0 if the map does not know the cell (a shape index outside
     /// the complex's shape classes) or `out` is too short.
     fn cell_nodes(&self, cell: &TopCell, out: &mut [SVector<f64, N>]) -> usize;
 }
 
-/// n! (n ≤ 20).
-pub fn factorial(n: usize) -> usize {
-    (1..=n).product()
-}
+pub use crate::field::complex::factorial;
 
 /// The permutation σ ∈ Sym(n) with index `shape` in the **lexicographic
 /// order** of Sym(n) written as sequences (σ(0), …, σ(n−1)): index 0 is the
@@ -44,25 +41,7 @@ pub fn permutation(n: usize, shape: usize) -> Result<[usize; MAX_LATTICE_DIMENSI
     if shape >= factorial(n) {
         return Err(invalid("shape", shape, "permutation index must be below n!"));
     }
-    Ok(decode(n, shape))
-}
-
-/// Lehmer decoding of a lexicographic index (`n ≤ 8`, `shape < n!` checked by
-/// the caller).
-fn decode(n: usize, shape: usize) -> [usize; MAX_LATTICE_DIMENSION] {
-    let mut out: [usize; MAX_LATTICE_DIMENSION] = std::array::from_fn(|i| i);
-    let mut free: [usize; MAX_LATTICE_DIMENSION] = std::array::from_fn(|i| i);
-    let mut left = n;
-    let mut rest = shape;
-    for slot in out.iter_mut().take(n) {
-        let f = factorial(left - 1);
-        let k = rest / f;
-        rest %= f;
-        *slot = free[k];
-        free.copy_within(k + 1..left, k);
-        left -= 1;
-    }
-    out
+    Ok(crate::field::complex::permutation(n, shape))
 }
 
 /// Corner k (0 ≤ k < 2ⁿ) of the unit cube in **binary order**: coordinate i
@@ -175,7 +154,7 @@ impl<const N: usize> NodeMap<N> for CfkNodes<N> {
         if out.len() < N + 1 || cell.shape >= factorial(N) {
             return 0;
         }
-        let sigma = decode(N, cell.shape);
+        let sigma = crate::field::complex::permutation(N, cell.shape);
         let mut v = cell.origin;
         out[0] = self.node(&v);
         for i in 0..N {

@@ -11,7 +11,7 @@ use crate::field::fibre::{Euclidean, Fibre};
 
 /// A smooth first-order Lagrangian density 𝓛(x, y, φ) with respect to the
 /// coordinate volume dx¹ ∧ … ∧ dx^N, written once over the AD scalar.
-pub trait SmoothDensity<F: Fibre<M>, const M: usize, const N: usize>: Sync {
+pub trait SmoothDensity<F: Fibre<M>, const M: usize, const N: usize>: Send + Sync {
     /// 𝓛(x, y, φ).
     fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>, jet: &SMatrix<D, M, N>) -> D;
 }
@@ -28,7 +28,7 @@ impl<T: SmoothDensity<F, M, N> + ?Sized, F: Fibre<M>, const M: usize, const N: u
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpaceTime<L>(pub L);
 
-impl<L: Density<DIM> + Sync, const DIM: usize> SmoothDensity<Euclidean<DIM>, DIM, 2> for SpaceTime<L> {
+impl<L: Density<DIM> + Send + Sync, const DIM: usize> SmoothDensity<Euclidean<DIM>, DIM, 2> for SpaceTime<L> {
     fn density<D: Scalar>(&self, _x: &SVector<f64, 2>, y: &SVector<D, DIM>, jet: &SMatrix<D, DIM, 2>) -> D {
         let phi_x: SVector<D, DIM> = jet.column(0).into_owned();
         let phi_t: SVector<D, DIM> = jet.column(1).into_owned();
