@@ -319,6 +319,24 @@ where
         Ok(report)
     }
 
+    /// Calls `f` on every cell straddling the cut below the current level
+    /// c = `level()`: the n!·n·(level size) simplices based at levels
+    /// c − n … c − 1, with their vertex values. Together they fill one slab
+    /// of duration Δt (one flow step) of the lattice, so the sum of a cell
+    /// energy over them divided by Δt is a level energy.
+    pub fn for_each_straddling_cell(&self, mut f: impl FnMut(&TopCell, &[F::Point<f64>])) {
+        let n = self.torus.dimension();
+        for j in 1..=n {
+            let base = self.level - j as i64;
+            for i in 0..self.torus.level_size() {
+                for sigma in 0..self.perms.len() {
+                    let (cell, y) = self.cell_values(base, i, sigma, None);
+                    f(&cell, &y[..=n]);
+                }
+            }
+        }
+    }
+
     /// The level momentum of a vertical symmetry D at the cut below the
     /// current level c = `level()` (note 003 §2.3, in n dimensions):
     /// Φ(c) = Σ_{j=1..n} Σ_{β : w(v₀β) = c − j} Σ_{l ≥ j} ⟨∂L_β/∂y_{v_l}, D(y_{v_l})⟩.

@@ -8,7 +8,7 @@ use nalgebra::{SMatrix, SVector};
 use super::error::CellError;
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
-use super::smooth::SmoothDensity;
+use super::smooth::{SmoothDensity, energy_density};
 use super::suitability::CellCheck;
 use crate::ad::Scalar;
 use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES};
@@ -93,6 +93,33 @@ impl<L, X, const N: usize> MidpointRule<L, X, N> {
         }
         let a = affine_jet(cell.index, &x[..k], y)?;
         Ok(self.density.density(&a.centre, &a.value, &a.gradient) * a.volume)
+    }
+
+    /// The cell's energy vol_β·ℰ(x̄, ȳ, ∂y/∂x) with the energy density
+    /// ℰ = φ_t·∂𝓛/∂φ_t − 𝓛 (time the last coordinate) at the rule's node.
+    ///
+    /// # Errors
+    /// As [`try_cell_lagrangian`](Self::try_cell_lagrangian).
+    pub fn cell_energy<const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<f64, M>],
+    ) -> std::result::Result<f64, CellError>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+        X: NodeMap<N>,
+    {
+        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
+        let k = cell_nodes(&self.nodes, cell, &mut x);
+        if k != N + 1 {
+            return Err(CellError::Nodes {
+                cell: cell.index,
+                expected: N + 1,
+                got: k,
+            });
+        }
+        let a = affine_jet(cell.index, &x[..k], y)?;
+        Ok(energy_density(&self.density, &a.centre, &a.value, &a.gradient) * a.volume)
     }
 }
 

@@ -138,7 +138,9 @@ pub fn vertex_jet<F: Fibre<M>, D: Scalar, const M: usize, const N: usize>(
         ty.set_column(c, &t);
     }
     let (inv, jac) = invert_nodes(cell, &tx)?;
-    Ok((ty * inv.map(D::from), jac))
+    // φ_u = T_Y·(T^X)⁻¹ with f64 factors (cheaper than lifting the inverse).
+    let jet = SMatrix::<D, M, N>::from_fn(|k, a| (0..N).fold(D::zero(), |acc, c| acc + ty[(k, c)] * inv[(c, a)]));
+    Ok((jet, jac))
 }
 
 /// Which vertex nodes a [`VertexRule`] uses (5.2).

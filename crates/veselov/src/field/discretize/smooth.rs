@@ -8,6 +8,8 @@ use nalgebra::{SMatrix, SVector};
 use crate::ad::Scalar;
 use crate::field::density::Density;
 use crate::field::fibre::{Euclidean, Fibre};
+use crate::field::potential::{NonlinearWave, Potential};
+use num_dual::Dual64;
 
 /// A smooth first-order Lagrangian density 𝓛(x, y, φ) with respect to the
 /// coordinate volume dx¹ ∧ … ∧ dx^N, written once over the AD scalar.
@@ -34,4 +36,42 @@ impl<L: Density<DIM> + Send + Sync, const DIM: usize> SmoothDensity<Euclidean<DI
         let phi_t: SVector<D, DIM> = jet.column(1).into_owned();
         self.0.density(y, &phi_t, &phi_x)
     }
+}
+
+/// Any potential gives the nonlinear-wave density on N − 1 space dimensions
+/// and time (the last coordinate): 𝓛 = ½(|φ_t|² − Σ_a |φ_{x_a}|²) + N(φ)
+/// (seed 002 (4.32) in more space dimensions).
+impl<P: Potential<DIM> + Send + Sync, const DIM: usize, const N: usize> SmoothDensity<Euclidean<DIM>, DIM, N>
+    for NonlinearWave<P>
+{
+    fn density<D: Scalar>(&self, _x: &SVector<f64, N>, y: &SVector<D, DIM>, jet: &SMatrix<D, DIM, N>) -> D {
+        let mut kin = D::zero();
+        for k in 0..DIM {
+            kin += jet[(k, N - 1)] * jet[(k, N - 1)];
+            for a in 0..N - 1 {
+                kin -= jet[(k, a)] * jet[(k, a)];
+            }
+        }
+        kin * 0.5 + self.0.potential(y)
+    }
+}
+
+/// The energy density ℰ = Σ_k φ_t^k ∂𝓛/∂φ_t^k − 𝓛 of a density on ℝ^M with
+/// time the last base coordinate (exact derivative through a dual number).
+pub fn energy_density<S, const M: usize, const N: usize>(
+    density: &S,
+    x: &SVector<f64, N>,
+    y: &SVector<f64, M>,
+    jet: &SMatrix<f64, M, N>,
+) -> f64
+where
+    S: SmoothDensity<Euclidean<M>, M, N>,
+{
+    // d/dε 𝓛(x, y, jet + ε·(φ_t column)) at ε = 0 is Σ_k φ_t^k ∂𝓛/∂φ_t^k.
+    let mut seeded = jet.map(Dual64::from);
+    for k in 0..M {
+        seeded[(k, N - 1)] = Dual64::new(jet[(k, N - 1)], jet[(k, N - 1)]);
+    }
+    let value = density.density(x, &y.map(Dual64::from), &seeded);
+    value.eps - value.re
 }
