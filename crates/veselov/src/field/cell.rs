@@ -55,8 +55,10 @@ where
     gradient_of(lag.cell_lagrangian(cell, &values[..k]))
 }
 
-/// ∂L_β/∂y_a and its derivative with respect to y_b (b ≠ a):
-/// `J[(i, j)] = ∂/∂ζ_j (∂L_β/∂y_a)_i` at y_b·τ(ζ), ζ = 0.
+/// ∂L_β/∂y_a and its derivative with respect to y_b:
+/// `J[(i, j)] = ∂/∂ζ_j (∂L_β/∂y_a)_i` at y_b·τ(ζ), ζ = 0. For b = a it is
+/// the second derivative of L_β(…, y_a·τ(ξ)·τ(ζ), …) at ξ = ζ = 0 (the
+/// Hessian in the chart; symmetric on ℝ^M).
 pub fn mixed_block<F, L, const M: usize>(
     lag: &L,
     cell: &TopCell,
@@ -70,16 +72,17 @@ where
 {
     type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
     let k = y.len();
-    debug_assert!(k <= MAX_CELL_VERTICES && a < k && b < k && a != b);
+    debug_assert!(k <= MAX_CELL_VERTICES && a < k && b < k);
     // Inner directions seed y_a, outer directions seed y_b.
     let inner: SVector<Outer<M>, M> = seeds::<f64, M>().map(Outer::<M>::from_re);
     let outer: SVector<Outer<M>, M> = seeds::<DualSVec64<M>, M>();
     let ya = F::retract(&F::lift::<Outer<M>>(&y[a]), &inner);
+    let ya = if a == b { F::retract(&ya, &outer) } else { ya };
     let yb = F::retract(&F::lift::<Outer<M>>(&y[b]), &outer);
     let values: [F::Point<Outer<M>>; MAX_CELL_VERTICES] = std::array::from_fn(|i| {
         if i == a {
             ya
-        } else if i == b {
+        } else if i == b && b != a {
             yb
         } else {
             F::lift(&y[i.min(k - 1)])

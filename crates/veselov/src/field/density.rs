@@ -10,15 +10,17 @@
 //! residuals are exactly the printed forms (5.8), (5.10), (5.12).
 
 use nalgebra::{SMatrix, SVector};
-use num_dual::{DualSVec64, HyperDualSVec64, gradient, partial_hessian};
 
+use super::cell::{DiscreteLagrangian, mixed_block, vertex_gradient};
+use super::complex::{MAX_LATTICE_DIMENSION, TopCell};
+use super::fibre::Euclidean;
 use super::lattice::CellShape;
 use super::region::{Node, Region};
 use crate::ad::Scalar;
 
 /// A per-cell discrete Lagrangian `L_Δ(y¹, …, yⁿ)` with field values in
 /// `ℝ^DIM` (`n = 3` for triangles, `4` for rectangles).
-pub trait CellLagrangian<const DIM: usize> {
+pub trait CellLagrangian<const DIM: usize>: Sync {
     /// The cell shape (fixes the number and order of the vertices).
     fn shape(&self) -> CellShape;
     /// `L(y¹, …, yⁿ)`, `y.len() == self.shape().vertices()`.
@@ -26,7 +28,7 @@ pub trait CellLagrangian<const DIM: usize> {
 }
 
 /// A smooth Lagrangian density `𝓛(φ, φ_t, φ_x)`.
-pub trait Density<const DIM: usize> {
+pub trait Density<const DIM: usize>: Sync {
     /// `𝓛(φ, φ_t, φ_x)`.
     fn density<D: Scalar>(&self, phi: &SVector<D, DIM>, phi_t: &SVector<D, DIM>, phi_x: &SVector<D, DIM>) -> D;
 }
@@ -118,40 +120,40 @@ pub struct CellJet<const DIM: usize> {
     pub hess: [[SMatrix<f64, DIM, DIM>; 4]; 4],
 }
 
-fn with_vertex<D: Scalar, const DIM: usize>(
-    y: &[SVector<f64, DIM>],
-    set: impl Fn(usize) -> Option<SVector<D, DIM>>,
-) -> [SVector<D, DIM>; 4] {
-    let mut v = [SVector::<D, DIM>::from_element(D::zero()); 4];
-    for (m, ym) in y.iter().enumerate() {
-        v[m] = set(m).unwrap_or_else(|| ym.map(D::from));
+/// A 1+1 cell Lagrangian seen by the field core: a
+/// [`DiscreteLagrangian`] on the Euclidean fibre ℝ^DIM, so that its
+/// derivatives come from the core's one differentiation path.
+struct CoreCell<'a, L>(&'a L);
+
+impl<L: CellLagrangian<DIM>, const DIM: usize> DiscreteLagrangian<Euclidean<DIM>, DIM> for CoreCell<'_, L> {
+    fn cell_lagrangian<D: Scalar>(&self, _cell: &TopCell, y: &[SVector<D, DIM>]) -> D {
+        self.0.lagrangian(y)
     }
-    v
 }
 
-/// `∂L/∂y^l` for every vertex `l` (forward mode, one pass per vertex).
+const ANY_CELL: TopCell = TopCell {
+    index: 0,
+    shape: 0,
+    origin: [0; MAX_LATTICE_DIMENSION],
+};
+
+/// `∂L/∂y^l` for every vertex `l` (the core's [`vertex_gradient`]).
 pub fn cell_gradient<L: CellLagrangian<DIM>, const DIM: usize>(
     lag: &L,
     y: &[SVector<f64, DIM>],
 ) -> [SVector<f64, DIM>; 4] {
-    let n = y.len();
+    let core = CoreCell(lag);
     let mut out = [SVector::zeros(); 4];
-    for l in 0..n {
-        let (_, g) = gradient(
-            |x: SVector<DualSVec64<DIM>, DIM>| {
-                let v = with_vertex(y, |m| (m == l).then_some(x));
-                lag.lagrangian(&v[..n])
-            },
-            &y[l],
-        );
-        out[l] = g;
+    for (l, slot) in out.iter_mut().enumerate().take(y.len()) {
+        *slot = vertex_gradient::<Euclidean<DIM>, _, DIM>(&core, &ANY_CELL, y, l).1;
     }
     out
 }
 
-/// Gradient and Hessian blocks of a cell Lagrangian (hyper-dual numbers, one
-/// pass per vertex pair `l ≤ m`).
+/// Gradient and Hessian blocks of a cell Lagrangian (the core's
+/// [`mixed_block`], one nested-dual pass per vertex pair `l ≤ m`).
 pub fn cell_jet<L: CellLagrangian<DIM>, const DIM: usize>(lag: &L, y: &[SVector<f64, DIM>]) -> CellJet<DIM> {
+    let core = CoreCell(lag);
     let n = y.len();
     let mut jet = CellJet {
         vertices: n,
@@ -160,27 +162,7 @@ pub fn cell_jet<L: CellLagrangian<DIM>, const DIM: usize>(lag: &L, y: &[SVector<
     };
     for l in 0..n {
         for m in l..n {
-            let (_, gl, _, h) = partial_hessian(
-                |(a, b): (
-                    SVector<HyperDualSVec64<DIM, DIM>, DIM>,
-                    SVector<HyperDualSVec64<DIM, DIM>, DIM>,
-                )| {
-                    let v = with_vertex(y, |q| {
-                        if l == m && q == l {
-                            // both perturbations on the same vertex: a + b − y
-                            Some(a + b - y[l].map(HyperDualSVec64::<DIM, DIM>::from))
-                        } else if q == l {
-                            Some(a)
-                        } else if q == m {
-                            Some(b)
-                        } else {
-                            None
-                        }
-                    });
-                    lag.lagrangian(&v[..n])
-                },
-                (&y[l], &y[m]),
-            );
+            let (gl, h) = mixed_block::<Euclidean<DIM>, _, DIM>(&core, &ANY_CELL, y, l, m);
             if m == l {
                 jet.grad[l] = gl;
             }

@@ -14,7 +14,7 @@ use num_dual::{Dual2_64, second_derivative};
 use crate::ad::Scalar;
 
 /// A potential `N: ℝ^DIM → ℝ`, written once generic over the scalar.
-pub trait Potential<const DIM: usize> {
+pub trait Potential<const DIM: usize>: Send + Sync {
     /// `N(y)`.
     fn potential<D: Scalar>(&self, y: &SVector<D, DIM>) -> D;
 }
