@@ -37,7 +37,12 @@ fn gradient_of<const M: usize>(x: DualSVec64<M>) -> (f64, SVector<f64, M>) {
 }
 
 /// L_β and ∂L_β/∂y_l (the derivative of L_β(…, y_l·τ(ξ), …) at ξ = 0).
-pub fn vertex_gradient<F, L, const M: usize>(lag: &L, cell: &TopCell, y: &[F::Point<f64>], l: usize) -> (f64, SVector<f64, M>)
+pub fn vertex_gradient<F, L, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+    l: usize,
+) -> (f64, SVector<f64, M>)
 where
     F: Fibre<M>,
     L: DiscreteLagrangian<F, M> + ?Sized,

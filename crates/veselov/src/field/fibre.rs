@@ -211,7 +211,11 @@ mod tests {
     fn round_trip<F: Fibre<M>, const M: usize>(y: F::Point<f64>, xi: SVector<f64, M>) {
         let z = F::retract(&y, &xi);
         let back = F::log(&y, &z).expect("inside the injectivity radius");
-        assert!((back - xi).norm() < 1e-14, "{} chart round trip: {back} vs {xi}", F::NAME);
+        assert!(
+            (back - xi).norm() < 1e-14,
+            "{} chart round trip: {back} vs {xi}",
+            F::NAME
+        );
     }
 
     #[test]
