@@ -91,6 +91,9 @@ impl SpacetimeLattice {
                 "at least one cell per level (window too small)",
             ));
         }
+        if space.cells > (i64::MAX / 4) as usize || time_cells > (i64::MAX / 4) as usize {
+            return Err(invalid("space.cells", space.cells, "the lattice is too large"));
+        }
         let l = Self {
             kind,
             space,

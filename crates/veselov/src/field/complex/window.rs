@@ -95,9 +95,12 @@ impl Extent {
                 ));
             }
             let overflow = || invalid(&format!("axes[{i}].cells"), a.cells, "the window is too large");
+            // doubled coordinates up to 2·cells + 1 must fit an i64
+            if a.cells > (i64::MAX / 4) as usize {
+                return Err(overflow());
+            }
             vertex_count = vertex_count.checked_mul(a.vertices()).ok_or_else(overflow)?;
             base_count = base_count.checked_mul(a.cells).ok_or_else(overflow)?;
-            i64::try_from(2 * a.cells + 2).map_err(|_| overflow())?;
         }
         Ok(Self {
             n: axes.len(),
