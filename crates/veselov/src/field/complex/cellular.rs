@@ -290,3 +290,24 @@ pub fn sort_sign<T: Ord>(keys: &[T]) -> i8 {
     }
     if inversions % 2 == 0 { 1 } else { -1 }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chains_cancel_and_signs_sort() {
+        let mut c = Chain::new();
+        c.add(3u8, 2);
+        c.add(3u8, -2);
+        assert!(c.is_zero());
+        c.add(1, 4);
+        let mut w = Cochain::new();
+        w.set(1u8, 0.5);
+        w.set(2u8, 7.0);
+        assert_eq!(c.pair(&w), 2.0);
+        assert_eq!(sort_sign(&[0, 1, 2]), 1);
+        assert_eq!(sort_sign(&[1, 0, 2]), -1);
+        assert_eq!(sort_sign(&[2, 0, 1]), 1);
+    }
+}

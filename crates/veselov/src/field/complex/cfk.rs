@@ -321,3 +321,46 @@ pub(crate) fn top_record(n: usize, index: usize, cell: &CfkCell) -> TopCell {
         origin: cell.base,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn faces_of_a_triangle_in_closed_form() {
+        let v = [0; MAX_LATTICE_DIMENSION];
+        // (i,j,+) = {(0,0), (1,0), (1,1)}: σ = (0, 1), positively oriented
+        let t = CfkCell::top(&v, &[0, 1]);
+        assert_eq!(t.orientation(), 1);
+        let (f0, s0) = t.face(0);
+        assert_eq!((f0.base[0], f0.base[1], f0.subset(1), s0), (1, 0, 0b10, 1));
+        let (f1, s1) = t.face(1);
+        assert_eq!((f1.subset(1), s1), (0b11, -1));
+        let (f2, s2) = t.face(2);
+        assert_eq!((f2.subset(1), s2), (0b01, 1));
+        // (i,j,−) is negatively oriented in weight order
+        assert_eq!(CfkCell::top(&v, &[1, 0]).orientation(), -1);
+    }
+
+    #[test]
+    fn a_vertex_has_two_times_two_to_the_n_minus_one_edges() {
+        for n in 1..=4 {
+            let mut out = Vec::new();
+            cofaces_in(n, &CfkCell::vertex(&[0; MAX_LATTICE_DIMENSION]), &mut out);
+            assert_eq!(out.len(), 2 * ((1 << n) - 1));
+        }
+    }
+
+    #[test]
+    fn vertex_sets_determine_cells() {
+        let l = CfkLattice::new(3).expect("lattice");
+        let c = CfkCell::new(&[1, 2, 3, 0, 0, 0, 0, 0], &[&[1], &[0, 2]]).expect("cell");
+        let mut vs = l.vertices(&c);
+        vs.reverse();
+        assert_eq!(l.simplex(&vs), Some(c));
+        let mut far = vs.clone();
+        far[0].base[0] += 1;
+        assert_eq!(l.simplex(&far), None);
+        assert_eq!(CfkCell::new(&[0; MAX_LATTICE_DIMENSION], &[&[0], &[0]]), None);
+    }
+}

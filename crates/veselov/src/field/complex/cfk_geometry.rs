@@ -153,3 +153,36 @@ pub fn carrier_cube(cell: &CfkCell) -> CubicCell {
     }
     CubicCell { doubled }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integer_determinant_signs() {
+        assert_eq!(det_sign(vec![vec![2]]), 1);
+        assert_eq!(det_sign(vec![vec![0, 1], vec![1, 0]]), -1);
+        assert_eq!(det_sign(vec![vec![1, 2], vec![2, 4]]), 0);
+        assert_eq!(det_sign(vec![vec![0, 2, 1], vec![1, 0, 0], vec![0, 1, 3]]), -1);
+        assert_eq!(det_sign(vec![vec![1, 2, 3], vec![4, 5, 6], vec![7, 8, 10]]), -1);
+        assert_eq!(
+            det_sign(vec![
+                vec![2, 1, 0, 0],
+                vec![1, 3, 0, 0],
+                vec![0, 0, 0, 1],
+                vec![0, 0, 1, 0]
+            ]),
+            -1
+        );
+    }
+
+    #[test]
+    fn lattice_points_locate_to_vertices() {
+        let c = locate(&[3.0, -2.0], 0.0).expect("locate");
+        assert_eq!((c.dimension(), c.base[0], c.base[1]), (0, 3, -2));
+        let rounded = locate(&[2.9999999999, -2.0], 1e-6).expect("locate");
+        assert_eq!(rounded, c);
+        let edge = locate(&[0.25, 0.25, 0.0], 0.0).expect("locate");
+        assert_eq!((edge.dimension(), edge.subset(1)), (1, 0b011));
+    }
+}

@@ -330,3 +330,39 @@ impl TopCells for CubicWindow {
         out.sort_unstable_by_key(|e| e.cell);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::complex::cellular::Chain;
+
+    fn cell(d: &[i64]) -> CubicCell {
+        let mut doubled = [0; MAX_LATTICE_DIMENSION];
+        doubled[..d.len()].copy_from_slice(d);
+        CubicCell { doubled }
+    }
+
+    #[test]
+    fn boundary_of_an_edge_and_a_square() {
+        let l = CubicLattice::new(2).expect("lattice");
+        // ∂[0, 1] along x = [1] − [0] ("outward vector first")
+        let edge = Chain::characteristic([cell(&[1, 0])]).boundary(&l);
+        assert_eq!((edge.get(&cell(&[2, 0])), edge.get(&cell(&[0, 0]))), (1, -1));
+        // ∂ of the unit square is its counter-clockwise boundary: edges are
+        // oriented along +x or +y, so bottom and right count +1, top and left −1
+        let square = Chain::characteristic([cell(&[1, 1])]).boundary(&l);
+        assert_eq!(square.get(&cell(&[1, 0])), 1, "bottom");
+        assert_eq!(square.get(&cell(&[2, 1])), 1, "right");
+        assert_eq!(square.get(&cell(&[1, 2])), -1, "top");
+        assert_eq!(square.get(&cell(&[0, 1])), -1, "left");
+        assert!(square.boundary(&l).is_zero());
+    }
+
+    #[test]
+    fn windows_count_their_cells() {
+        let w = CubicWindow::open(&[2, 3]).expect("window");
+        assert_eq!([0, 1, 2].map(|k| w.cells(k).len()), [12, 17, 6]);
+        let t = CubicWindow::periodic(&[3, 4]).expect("torus");
+        assert_eq!([0, 1, 2].map(|k| t.cells(k).len()), [12, 24, 12]);
+    }
+}

@@ -395,3 +395,27 @@ impl TopCells for SimplicialMesh {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_triangles_make_a_square() {
+        let m = SimplicialMesh::new(4, &[[0, 1, 2], [0, 2, 3]]).expect("mesh");
+        assert_eq!([0, 1, 2].map(|k| m.count(k)), [4, 5, 2]);
+        m.check_orientation().expect("coherent");
+        let mut star = Vec::new();
+        TopCells::star(&m, 2, &mut star);
+        assert_eq!(
+            star,
+            vec![StarEntry { cell: 0, position: 2 }, StarEntry { cell: 1, position: 1 }]
+        );
+        let diagonal = m.simplex(&[MeshCell { dim: 0, index: 2 }, MeshCell { dim: 0, index: 0 }]);
+        let diagonal = diagonal.expect("the diagonal is an edge");
+        let mut cof = Vec::new();
+        m.cofaces(&diagonal, &mut cof);
+        assert_eq!(cof.len(), 2);
+        assert_eq!(cof[0].1, -cof[1].1);
+    }
+}

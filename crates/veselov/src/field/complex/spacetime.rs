@@ -232,3 +232,24 @@ impl TopCells for SpacetimeLattice {
         out.sort_unstable_by_key(|e| e.cell);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_and_wrap() {
+        let free = Lattice::new(5, 0.1, 0.1, crate::field::lattice::Boundary::Free).expect("lattice");
+        let t = SpacetimeLattice::seed002(CellShape::Triangle, &free, 3).expect("triangles");
+        assert_eq!((t.vertex_count(), t.cell_count(), t.max_cell_vertices()), (15, 8, 3));
+        let mut star = Vec::new();
+        t.star(t.vertex_at(0, 0).expect("node"), &mut star);
+        assert_eq!(star, vec![StarEntry { cell: 0, position: 0 }]);
+        let per = SpacetimeLattice::new(SpacetimeKind::Seed002Triangle, Axis::periodic(4), 2).expect("periodic");
+        assert_eq!(per.vertex_at(-1, 0), Some(3));
+        let mut out = [0; 3];
+        per.cell_vertices(3, &mut out);
+        assert_eq!(out, [3, 7, 4]);
+        assert!(SpacetimeLattice::seed002(CellShape::Triangle, &free, 1).is_err());
+    }
+}

@@ -237,3 +237,47 @@ pub fn permutation(n: usize, mut index: usize, sigma: &mut [usize]) {
         sigma[a] = s;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn permutation_indexing_is_a_bijection() {
+        for n in 1..=6 {
+            let mut seen = vec![false; factorial(n)];
+            let mut sigma = [0usize; MAX_LATTICE_DIMENSION];
+            for index in 0..factorial(n) {
+                permutation(n, index, &mut sigma);
+                assert_eq!(permutation_index(&sigma[..n]), index);
+                let mut sorted = sigma[..n].to_vec();
+                sorted.sort_unstable();
+                assert_eq!(sorted, (0..n).collect::<Vec<_>>());
+                seen[index] = true;
+            }
+            assert!(seen.iter().all(|&s| s));
+            let reversal: Vec<usize> = (0..n).rev().collect();
+            assert_eq!(permutation_index(&reversal), factorial(n) - 1);
+            assert_eq!(permutation_index(&(0..n).collect::<Vec<_>>()), 0);
+        }
+    }
+
+    #[test]
+    fn extent_numbers_vertices_and_wraps() {
+        let e = Extent::new(&[Axis::periodic(3), Axis::open(2)]).expect("extent");
+        assert_eq!((e.vertex_count(), e.base_count()), (9, 6));
+        for v in 0..e.vertex_count() {
+            assert_eq!(e.vertex_index(&e.vertex(v)), Some(v));
+        }
+        for b in 0..e.base_count() {
+            assert_eq!(e.base_index(&e.base(b)), Some(b));
+        }
+        let mut p = [0; MAX_LATTICE_DIMENSION];
+        p[0] = -1;
+        p[1] = 2;
+        assert_eq!(e.wrap(&p).map(|q| (q[0], q[1])), Some((2, 2)));
+        assert_eq!(e.base_index(&p), None, "the cube at the open end leaves the window");
+        p[1] = 3;
+        assert_eq!(e.vertex_index(&p), None);
+    }
+}
