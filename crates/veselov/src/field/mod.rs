@@ -19,6 +19,10 @@
 //! [`initial`] (kink–antikink, kink, breather, d'Alembert data), [`noether`]
 //! (charges, multisymplectic form formula, mod-2π re-centring) and [`run`]
 //! (a driver for front ends).
+//! [`complex`] holds the cellular complexes of seed 003 §2 (abstract complex,
+//! chains and cochains, cubic and CFK lattices with windows and periodic
+//! quotients, explicit simplicial meshes, the 1+1 lattices of seeds 002 and
+//! 000) and their top-cell view [`complex::TopCells`].
 //!
 //! ```
 //! use veselov::field::{FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};

@@ -274,8 +274,7 @@ pub fn orientation<K: Simplicial>(complex: &K, ordered: &[K::Cell]) -> Result<i8
 pub fn incidence_from_orientation<K: Simplicial>(complex: &K, ordered: &[K::Cell], j: usize) -> Result<i8> {
     let mut face: Vec<K::Cell> = ordered.to_vec();
     face.remove(j);
-    let parity = if j % 2 == 0 { 1 } else { -1 };
-    Ok(parity * orientation(complex, ordered)? * orientation(complex, &face)?)
+    Ok(parity(j) * orientation(complex, ordered)? * orientation(complex, &face)?)
 }
 
 /// The sign of the permutation that sorts `keys` (distinct keys).
@@ -288,7 +287,12 @@ pub fn sort_sign<T: Ord>(keys: &[T]) -> i8 {
             }
         }
     }
-    if inversions % 2 == 0 { 1 } else { -1 }
+    parity(inversions)
+}
+
+/// (−1)^j.
+pub fn parity(j: usize) -> i8 {
+    if j.is_multiple_of(2) { 1 } else { -1 }
 }
 
 #[cfg(test)]

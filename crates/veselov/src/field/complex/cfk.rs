@@ -145,7 +145,7 @@ impl CfkCell {
                 *l -= 1;
             }
         }
-        let parity: i8 = if j % 2 == 0 { 1 } else { -1 };
+        let parity: i8 = super::cellular::parity(j);
         (f, parity * self.orientation() * f.orientation())
     }
 }
@@ -167,7 +167,7 @@ pub(crate) fn cofaces_in(n: usize, c: &CfkCell, out: &mut Vec<(CfkCell, i8)>) {
     }
     let free: Vec<usize> = (0..n).filter(|&i| c.labels[i] == 0).collect();
     let sign = |beta: &CfkCell, j: usize| {
-        let parity: i8 = if j % 2 == 0 { 1 } else { -1 };
+        let parity: i8 = super::cellular::parity(j);
         parity * beta.orientation() * c.orientation()
     };
     for mask in 1u32..1 << free.len() {

@@ -48,7 +48,7 @@ pub fn locate(p: &[f64], tol: f64) -> Result<CfkCell> {
     let mut cell = CfkCell::vertex(&base);
     let mut last = f64::NAN;
     for &i in &order {
-        if !(last - frac[i] <= tol) {
+        if last.is_nan() || last - frac[i] > tol {
             cell.k += 1;
             last = frac[i];
         }

@@ -57,7 +57,7 @@ fn half_positions(n: usize, c: &CubicCell) -> impl Iterator<Item = usize> + '_ {
 fn raw_faces(n: usize, c: &CubicCell, out: &mut Vec<(CubicCell, i8)>) {
     out.clear();
     for (j, h) in half_positions(n, c).enumerate() {
-        let parity: i8 = if j % 2 == 0 { 1 } else { -1 };
+        let parity: i8 = super::cellular::parity(j);
         for s in [-1i8, 1] {
             let mut a = *c;
             a.doubled[h] += i64::from(s);
@@ -74,7 +74,7 @@ fn raw_cofaces(n: usize, c: &CubicCell, out: &mut Vec<(CubicCell, i8)>) {
             j += 1;
             continue;
         }
-        let parity: i8 = if j % 2 == 0 { 1 } else { -1 };
+        let parity: i8 = super::cellular::parity(j);
         for t in [-1i8, 1] {
             let mut b = *c;
             b.doubled[i] += i64::from(t);

@@ -57,7 +57,7 @@ impl SimplicialMesh {
             return Err(invalid("cells", "[]", "a mesh needs at least one cell"));
         };
         let size = first.as_ref().len();
-        if size < 2 || size > MAX_LATTICE_DIMENSION + 1 {
+        if !(2..=MAX_LATTICE_DIMENSION + 1).contains(&size) {
             return Err(invalid(
                 "cells[0]",
                 format!("{:?}", first.as_ref()),
@@ -297,7 +297,7 @@ impl CellComplex for SimplicialMesh {
         let w = &self.simplices[cell.dim][cell.index];
         for j in 0..w.len() {
             let face: Vec<usize> = w.iter().enumerate().filter(|&(i, _)| i != j).map(|(_, &v)| v).collect();
-            let parity: i8 = if j % 2 == 0 { 1 } else { -1 };
+            let parity: i8 = super::cellular::parity(j);
             let sign = parity * sort_sign(&face);
             let mut key = face;
             key.sort_unstable();
