@@ -1,5 +1,5 @@
 //! The abstract cellular complex (seed 003 Def. 2.1, note 003 §1.1): cells
-//! graded by dimension, incidence numbers [β:α] ∈ {−1, 0, +1}, faces and
+//! graded by dimension, incidence numbers \[β:α\] ∈ {−1, 0, +1}, faces and
 //! cofaces, ordered vertices and vertex stars (Def. 2.3); integer chains of
 //! finite support and real cochains with the boundary ∂, the coboundary d and
 //! the pairing ⟨c, ω⟩, so that Stokes' theorem ⟨c, dω⟩ = ⟨∂c, ω⟩ (2.2) holds.
@@ -13,7 +13,7 @@ use std::hash::Hash;
 
 use crate::error::{Error, Result};
 
-/// A cellular complex (V, dim, [·:·]) of Def. 2.1.
+/// A cellular complex (V, dim, \[·:·\]) of Def. 2.1.
 pub trait CellComplex {
     /// A cell (an element of V).
     type Cell: Clone + Ord + Hash + Debug;
@@ -22,10 +22,10 @@ pub trait CellComplex {
     /// dim α.
     fn cell_dimension(&self, cell: &Self::Cell) -> usize;
     /// Replaces `out` by the faces α of `cell` with nonzero incidence, as
-    /// `(α, [cell:α])`.
+    /// `(α, \[cell:α\])`.
     fn faces(&self, cell: &Self::Cell, out: &mut Vec<(Self::Cell, i8)>);
     /// Replaces `out` by the cofaces β of `cell` with nonzero incidence, as
-    /// `(β, [β:cell])`.
+    /// `(β, \[β:cell\])`.
     fn cofaces(&self, cell: &Self::Cell, out: &mut Vec<(Self::Cell, i8)>);
     /// The ordered vertices (0-cells) of `cell` (weight order on lattices,
     /// stored order on meshes).
@@ -33,7 +33,7 @@ pub trait CellComplex {
     /// Replaces `out` by the star S_v (Def. 2.3): the top cells containing the
     /// vertex `v`.
     fn star_cells(&self, v: &Self::Cell, out: &mut Vec<Self::Cell>);
-    /// The incidence number [β:α] (0 when α is not a face of β).
+    /// The incidence number \[β:α\] (0 when α is not a face of β).
     fn incidence(&self, beta: &Self::Cell, alpha: &Self::Cell) -> i8 {
         let mut faces = Vec::new();
         self.faces(beta, &mut faces);
@@ -101,7 +101,7 @@ impl<C: Ord + Clone> Chain<C> {
     pub fn iter(&self) -> impl Iterator<Item = (&C, i64)> {
         self.coefficients.iter().map(|(c, &a)| (c, a))
     }
-    /// ∂c: (∂c)(α) = Σ_β [β:α] c(β).
+    /// ∂c: (∂c)(α) = Σ_β \[β:α\] c(β).
     pub fn boundary<K: CellComplex<Cell = C>>(&self, complex: &K) -> Self {
         let mut out = Self::new();
         let mut faces = Vec::new();
@@ -155,7 +155,7 @@ impl<C: Ord + Clone> Cochain<C> {
     pub fn iter(&self) -> impl Iterator<Item = (&C, f64)> {
         self.values.iter().map(|(c, &a)| (c, a))
     }
-    /// (dω)(β) = Σ_α [β:α] ω(α) at one cell β.
+    /// (dω)(β) = Σ_α \[β:α\] ω(α) at one cell β.
     pub fn coboundary_at<K: CellComplex<Cell = C>>(&self, complex: &K, beta: &C) -> f64 {
         let mut faces = Vec::new();
         complex.faces(beta, &mut faces);
@@ -186,7 +186,7 @@ fn axiom_error<C: Debug>(cell: &C, reason: String) -> Error {
 /// Checks axioms 2–4 of Def. 2.1 on the given cells of any complex: every
 /// nonzero incidence joins dimensions k and k − 1 and is ±1 (axiom 2); faces
 /// and cofaces are finite and agree with each other, with the same sign
-/// (axiom 3); and ∂∂ = 0 on every cell: Σ_α [β:α][α:γ] = 0 (axiom 4).
+/// (axiom 3); and ∂∂ = 0 on every cell: Σ_α \[β:α\]\[α:γ\] = 0 (axiom 4).
 ///
 /// # Errors
 /// [`Error::Complex`] naming the first offending cell.
@@ -247,7 +247,7 @@ pub fn validate<K: FiniteComplex>(complex: &K) -> Result<()> {
 }
 
 /// The orientation o_α(v₀, …, v_k) of an ordered simplex from the incidence
-/// numbers, (2.6): Π_{j=1}^{k} [{v_{j−1}, …, v_k} : {v_j, …, v_k}], and
+/// numbers, (2.6): Π_{j=1}^{k} \[{v_{j−1}, …, v_k} : {v_j, …, v_k}\], and
 /// o_α(v) = 1.
 ///
 /// # Errors
@@ -267,7 +267,7 @@ pub fn orientation<K: Simplicial>(complex: &K, ordered: &[K::Cell]) -> Result<i8
 }
 
 /// The incidence number from orientations, (2.7):
-/// [β : β∖{v_j}] = (−1)^j · o_β(v₀, …, v_k) · o_α(v₀, …, v̂_j, …, v_k).
+/// \[β : β∖{v_j}\] = (−1)^j · o_β(v₀, …, v_k) · o_α(v₀, …, v̂_j, …, v_k).
 ///
 /// # Errors
 /// As [`orientation`].

@@ -4,7 +4,7 @@
 //!
 //! A k-cell is (v, (S₁, …, S_k)) (Lemma 2.12 / Cor. 2.13): a base vertex v (the
 //! least-weight vertex) and an ordered sequence of disjoint nonempty subsets
-//! of [n]; its vertices in weight order are v₀ = v, v_a = v_{a−1} + e_{S_a}. It
+//! of \[n\]; its vertices in weight order are v₀ = v, v_a = v_{a−1} + e_{S_a}. It
 //! is stored as the base and a label per axis: label i = a when i ∈ S_a, 0 when
 //! i is in no S_a. Top cells are (v, σ), σ ∈ Sym(n), v_{a+1} = v_a + e_{σ_a}
 //! (Cor. 2.17); σ is indexed by [`permutation_index`] (lexicographic rank).
@@ -12,7 +12,7 @@
 //! Incidence, closed form (derived in note 003 §1.4; checked here against the
 //! geometric Def. 2.18 in [`super::cfk_geometry`]): with
 //! o(v, (S₁..S_k)) = sgn of the permutation sorting (min S₁, …, min S_k),
-//! [β : β∖{v_j}] = (−1)^j o_β o_α; the faces are (v₁, (S₂..S_k)) for j = 0,
+//! \[β : β∖{v_j}\] = (−1)^j o_β o_α; the faces are (v₁, (S₂..S_k)) for j = 0,
 //! (v₀, (S₁..S_{k−1})) for j = k and (v₀, (S₁, …, S_j ∪ S_{j+1}, …, S_k)) else.
 
 use super::cellular::{CellComplex, Simplicial, sort_sign};
@@ -124,7 +124,7 @@ impl CfkCell {
         }
         sort_sign(&mins[..self.dimension()])
     }
-    /// The face β∖{v_j} (closed form) and [β : β∖{v_j}] = (−1)^j o_β o_α.
+    /// The face β∖{v_j} (closed form) and \[β : β∖{v_j}\] = (−1)^j o_β o_α.
     pub fn face(&self, j: usize) -> (Self, i8) {
         let k = self.k;
         let mut f = *self;

@@ -119,7 +119,7 @@ fn volume_sign(axes: &[usize], columns: &[Point]) -> i8 {
 }
 
 /// The geometric incidence of Def. 2.18: for a face α = β∖{v} of β,
-/// [β:α] vol_α ∼ i_{v̄−v} vol_β on the tangent space of H_α (v̄ ∈ α any vertex),
+/// \[β:α\] vol_α ∼ i_{v̄−v} vol_β on the tangent space of H_α (v̄ ∈ α any vertex),
 /// i.e. the sign of vol_β(v̄ − v, t₁, …, t_{k−1}) · vol_α(t₁, …, t_{k−1}) for a
 /// basis t of H_α. Returns 0 when α is not a face of β.
 pub fn geometric_incidence(beta: &CfkCell, alpha: &CfkCell) -> i8 {

@@ -5,7 +5,7 @@
 //! Orientation: a k-simplex with k < n is oriented by its sorted vertex list;
 //! a top simplex by the vertex order it was given in. The incidence numbers
 //! are then (2.7) with o_β = +1 on the cell's own order:
-//! [β : β∖{w_j}] = (−1)^j · o_α(w₀, …, ŵ_j, …, w_k). The orientation of any
+//! \[β : β∖{w_j}\] = (−1)^j · o_α(w₀, …, ŵ_j, …, w_k). The orientation of any
 //! ordered simplex follows back from the incidences by (2.6)
 //! ([`orientation`](super::cellular::orientation)).
 
