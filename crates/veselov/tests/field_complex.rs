@@ -481,6 +481,13 @@ fn top_cells_of_every_kind_are_consistent() {
             assert_eq!(torus.top_index(&top), Some(c));
         }
     }
+    for n in 1..=4 {
+        let cubes = CubicWindow::periodic(&periodic_sizes(n)).expect("cubic torus");
+        for c in 0..cubes.cell_count() {
+            assert_eq!(cubes.top_index(&cubes.top_cell(c)), Some(c));
+            assert_eq!(cubes.cell(c).origin, cubes.top_cell(c).base());
+        }
+    }
     check_top_cells(&CfkWindow::new(&[Axis::periodic(5), Axis::open(3), Axis::open(1)]).expect("mixed"));
     check_top_cells(&SimplicialMesh::from_top_cells(&CfkWindow::open(&[2, 3]).expect("CFK")).expect("mesh"));
     for boundary in [Boundary::Periodic, Boundary::Free] {
@@ -571,6 +578,20 @@ fn mesh_orientation_and_boundaries() {
     let boundary = Chain::characteristic(square.cells(2)).boundary(&square);
     assert_eq!(boundary.iter().count(), 12);
     assert!(boundary.boundary(&square).is_zero());
+    // the 1+1 triangle lattices as simplicial complexes
+    let beam = SimplicialMesh::from_top_cells(&SpacetimeLattice::seed000(3, 4).expect("beam")).expect("mesh");
+    validate(&beam).expect("beam axioms");
+    beam.check_orientation()
+        .expect("translates of one triangle share no edge");
+    let lattice = Lattice::periodic(5, 1.0, 1.0).expect("lattice");
+    let tri = SpacetimeLattice::seed002(CellShape::Triangle, &lattice, 3).expect("triangles");
+    validate(&SimplicialMesh::from_top_cells(&tri).expect("mesh")).expect("triangle axioms");
+    assert!(
+        SimplicialMesh::from_top_cells(
+            &SpacetimeLattice::seed002(CellShape::Rectangle, &lattice, 3).expect("rectangles")
+        )
+        .is_err()
+    );
     // the same counts of cells as the implicit window
     for k in 0..=2 {
         assert_eq!(mesh.cells(k).len(), torus.cells(k).len());

@@ -50,8 +50,9 @@ impl SimplicialMesh {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for no cells, cells of different sizes, a
-    /// dimension 0 or above [`MAX_LATTICE_DIMENSION`], a vertex index out of
-    /// range, a repeated vertex in a cell, or a repeated cell.
+    /// dimension 0 or above [`MAX_LATTICE_DIMENSION`], more than 2³² − 1
+    /// vertices, a vertex index out of range, a repeated vertex in a cell, or a
+    /// repeated cell.
     pub fn new<C: AsRef<[usize]>>(vertex_count: usize, cells: &[C]) -> Result<Self> {
         let Some(first) = cells.first() else {
             return Err(invalid("cells", "[]", "a mesh needs at least one cell"));
@@ -63,6 +64,9 @@ impl SimplicialMesh {
                 format!("{:?}", first.as_ref()),
                 &format!("a top cell needs 2..={} vertices", MAX_LATTICE_DIMENSION + 1),
             ));
+        }
+        if vertex_count > u32::MAX as usize {
+            return Err(invalid("vertex_count", vertex_count, "at most 2^32 − 1 vertices"));
         }
         let n = size - 1;
         let mut top: Vec<Vec<usize>> = Vec::with_capacity(cells.len());
