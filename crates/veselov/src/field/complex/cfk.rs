@@ -20,6 +20,9 @@ use super::window::{Point, check_dimension, factorial, permutation, permutation_
 use super::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::error::Result;
 
+// Labels are u8 and axis sets u32 bit masks.
+const _: () = assert!(MAX_LATTICE_DIMENSION <= 8);
+
 /// A cell (v, (S₁, …, S_k)) of the CFK lattice.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct CfkCell {
@@ -94,7 +97,7 @@ impl CfkCell {
             .fold(0, |m, i| m | 1 << i)
     }
     /// The permutation σ of a top cell (axis σ_a has label a + 1), written into
-    /// `sigma[..k]`, and its index in Sym(k) when k = n.
+    /// `sigma[..k]` (`sigma.len() ≥ k`), and its index in Sym(k).
     pub fn sigma(&self, sigma: &mut [usize]) -> usize {
         for (i, &l) in self.labels.iter().enumerate() {
             if l > 0 {
@@ -124,9 +127,13 @@ impl CfkCell {
         }
         sort_sign(&mins[..self.dimension()])
     }
-    /// The face β∖{v_j} (closed form) and \[β : β∖{v_j}\] = (−1)^j o_β o_α.
-    pub fn face(&self, j: usize) -> (Self, i8) {
+    /// The face β∖{v_j} (closed form) and \[β : β∖{v_j}\] = (−1)^j o_β o_α;
+    /// `None` for a vertex or j > k.
+    pub fn face(&self, j: usize) -> Option<(Self, i8)> {
         let k = self.k;
+        if k == 0 || j > k as usize {
+            return None;
+        }
         let mut f = *self;
         f.k = k - 1;
         for (i, l) in f.labels.iter_mut().enumerate() {
@@ -146,14 +153,14 @@ impl CfkCell {
             }
         }
         let parity: i8 = super::cellular::parity(j);
-        (f, parity * self.orientation() * f.orientation())
+        Some((f, parity * self.orientation() * f.orientation()))
     }
 }
 
 pub(crate) fn faces_of(c: &CfkCell, out: &mut Vec<(CfkCell, i8)>) {
     out.clear();
     if c.k > 0 {
-        out.extend((0..=c.dimension()).map(|j| c.face(j)));
+        out.extend((0..=c.dimension()).filter_map(|j| c.face(j)));
     }
 }
 
@@ -332,12 +339,14 @@ mod tests {
         // (i,j,+) = {(0,0), (1,0), (1,1)}: σ = (0, 1), positively oriented
         let t = CfkCell::top(&v, &[0, 1]);
         assert_eq!(t.orientation(), 1);
-        let (f0, s0) = t.face(0);
+        let (f0, s0) = t.face(0).expect("face");
         assert_eq!((f0.base[0], f0.base[1], f0.subset(1), s0), (1, 0, 0b10, 1));
-        let (f1, s1) = t.face(1);
+        let (f1, s1) = t.face(1).expect("face");
         assert_eq!((f1.subset(1), s1), (0b11, -1));
-        let (f2, s2) = t.face(2);
+        let (f2, s2) = t.face(2).expect("face");
         assert_eq!((f2.subset(1), s2), (0b01, 1));
+        assert_eq!(t.face(3), None);
+        assert_eq!(CfkCell::vertex(&v).face(0), None);
         // (i,j,−) is negatively oriented in weight order
         assert_eq!(CfkCell::top(&v, &[1, 0]).orientation(), -1);
     }

@@ -85,7 +85,8 @@ impl CfkWindow {
         }
         let c = self.wrap(cell)?;
         let base = self.extent.base_index(&c.base)?;
-        Some(top_record(n, base * self.simplices_per_cube, &c).shape + base * self.simplices_per_cube)
+        let mut sigma = [0usize; MAX_LATTICE_DIMENSION];
+        Some(base * self.simplices_per_cube + c.sigma(&mut sigma[..n]))
     }
     /// Index of a vertex (0-cell), `None` when it is not in the window.
     pub fn vertex_index(&self, v: &CfkCell) -> Option<usize> {
@@ -231,5 +232,3 @@ impl TopCells for CfkWindow {
         out.sort_unstable_by_key(|e| e.cell);
     }
 }
-
-const _: () = assert!(MAX_LATTICE_DIMENSION <= 8);
