@@ -7,11 +7,12 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use veselov::Error;
 use veselov::field::Lattice;
+use veselov::field::complex::window::factorial;
 use veselov::field::complex::{
     Axis, CellComplex, CfkCell, CfkLattice, CfkWindow, Chain, Cochain, CubicCell, CubicLattice, CubicWindow,
     FiniteComplex, MAX_LATTICE_DIMENSION, Point, Simplicial, SimplicialMesh, SpacetimeKind, SpacetimeLattice,
-    StarEntry, TopCells, carrier_cube, factorial, geometric_incidence, incidence_from_orientation, locate, orientation,
-    validate, validate_cells,
+    StarEntry, TopCells, carrier_cube, geometric_incidence, incidence_from_orientation, locate, orientation, validate,
+    validate_cells,
 };
 use veselov::field::lattice::{Boundary, CellShape};
 

@@ -16,7 +16,7 @@
 //! (v₀, (S₁..S_{k−1})) for j = k and (v₀, (S₁, …, S_j ∪ S_{j+1}, …, S_k)) else.
 
 use super::cellular::{CellComplex, Simplicial, sort_sign};
-use super::window::{Point, check_dimension, factorial, permutation, permutation_index};
+use super::window::{Point, check_dimension, factorial, permutation_index, permutation_into};
 use super::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::error::Result;
 
@@ -83,7 +83,7 @@ impl CfkCell {
     /// The top cell with base `base` and permutation index `shape` in Sym(n).
     pub fn top_from_index(n: usize, base: &Point, shape: usize) -> Self {
         let mut sigma = [0usize; MAX_LATTICE_DIMENSION];
-        permutation(n, shape, &mut sigma);
+        permutation_into(n, shape, &mut sigma);
         Self::top(base, &sigma[..n])
     }
     /// Dimension k.
@@ -246,7 +246,7 @@ impl CfkLattice {
 pub(crate) fn star_walk(n: usize, p: &Point, visit: &mut impl FnMut(&Point, usize, usize)) {
     let mut sigma = [0usize; MAX_LATTICE_DIMENSION];
     for shape in 0..factorial(n) {
-        permutation(n, shape, &mut sigma);
+        permutation_into(n, shape, &mut sigma);
         let mut base = *p;
         visit(&base, shape, 0);
         for (q, &axis) in sigma[..n].iter().enumerate() {

@@ -51,7 +51,7 @@ pub use cfk_window::CfkWindow;
 pub use cubic::{CubicCell, CubicLattice, CubicWindow};
 pub use mesh::{MeshCell, SimplicialMesh};
 pub use spacetime::{SpacetimeKind, SpacetimeLattice};
-pub use window::{Axis, Extent, Point, factorial, permutation, permutation_index};
+pub use window::{Axis, Extent, Point, permutation_index, permutation_into};
 
 /// Largest lattice dimension whose cells carry their coordinates inline in
 /// [`TopCell::origin`].

@@ -211,8 +211,10 @@ pub fn permutation_index(sigma: &[usize]) -> usize {
 }
 
 /// The permutation with the given index (inverse of [`permutation_index`]),
-/// written into `sigma[..n]`.
-pub fn permutation(n: usize, mut index: usize, sigma: &mut [usize]) {
+/// written into `sigma[..n]` (`index < n!`, `sigma.len() ≥ n`). This is the
+/// lexicographic indexing of Sym(n) used for [`TopCell::shape`](super::TopCell::shape)
+/// throughout the complex module.
+pub fn permutation_into(n: usize, mut index: usize, sigma: &mut [usize]) {
     let mut digits = [0usize; MAX_LATTICE_DIMENSION];
     for a in (0..n).rev() {
         let radix = n - a;
@@ -248,7 +250,7 @@ mod tests {
             let mut seen = vec![false; factorial(n)];
             let mut sigma = [0usize; MAX_LATTICE_DIMENSION];
             for index in 0..factorial(n) {
-                permutation(n, index, &mut sigma);
+                permutation_into(n, index, &mut sigma);
                 assert_eq!(permutation_index(&sigma[..n]), index);
                 let mut sorted = sigma[..n].to_vec();
                 sorted.sort_unstable();
