@@ -121,6 +121,15 @@ pub enum Error {
     /// that is not a rotation, a zero quaternion).
     #[error("Lie group: {0}")]
     Lie(#[from] crate::lie::LieError),
+    /// A cellular complex breaks an axiom of Def. 2.1, or a mesh cannot be
+    /// oriented or is not a manifold where an orientation is asked for.
+    #[error("cellular complex: cell {cell}: {reason}")]
+    Complex {
+        /// The offending cell, formatted.
+        cell: String,
+        /// What fails.
+        reason: String,
+    },
     /// The implicit solve of a lattice time level did not converge.
     #[error(
         "lattice level {level} (t = {t}) did not converge: correction {residual:e} after {iterations} iterations ({reason})"

@@ -9,6 +9,11 @@
 //! (`t = j·dt`). The paper's `h` is the time step `dt` and its `k` the space
 //! step `dx`.
 //!
+//! [`complex`] holds the cellular complexes of seed 003 §2 (abstract complex,
+//! chains and cochains, cubic and CFK lattices with windows and periodic
+//! quotients, explicit simplicial meshes, the 1+1 lattices of seeds 002 and
+//! 000) and their top-cell view [`complex::TopCells`].
+//!
 //! Files: [`lattice`] (lattice, boundary conditions, cell shapes), [`region`]
 //! (interior, closure, boundary, regularity, windows), [`density`] (cell
 //! Lagrangians, the triangle and rectangle rules, DELf assembly, discrete

@@ -6,6 +6,52 @@
 //! with their ordered vertices, and the star of every vertex (note 003 §1.1,
 //! "implementation note"). That view is the trait [`TopCells`]; every complex
 //! kind provides it for a finite window or a periodic quotient.
+//!
+//! Files: [`cellular`] (the abstract complex of Def. 2.1: [`CellComplex`],
+//! chains, cochains, ∂, d, the pairing, axiom checks, orientation (2.6)/(2.7)),
+//! [`window`] (finite windows of ℤⁿ with open or periodic axes, Sym(n)
+//! indexing), [`cubic`] (the cubic lattice, Def. 2.9), [`cfk`] (the CFK
+//! lattice, Defs. 2.11–2.18, closed-form incidence), [`cfk_window`] (its
+//! windows and periodic quotients), [`cfk_geometry`] (point location Cor. 2.16,
+//! the geometric incidence Def. 2.18, the CFK → cubic map (3.4)), [`mesh`]
+//! (explicit simplicial meshes) and [`spacetime`] (the 1+1 lattices of seeds
+//! 002 and 000).
+//!
+//! ```
+//! use veselov::field::complex::{CfkWindow, SpacetimeLattice, StarEntry, TopCells};
+//!
+//! // A periodic 4 × 5 CFK torus: 2 simplices per square, 6 in every star.
+//! let torus = CfkWindow::periodic(&[4, 5]).unwrap();
+//! assert_eq!(torus.cell_count(), 40);
+//! let mut star: Vec<StarEntry> = Vec::new();
+//! torus.star(7, &mut star);
+//! assert_eq!(star.len(), 6);
+//!
+//! // Seed 000's beam lattice, N = 3 time cells, A = 4 space cells.
+//! let beam = SpacetimeLattice::seed000(3, 4).unwrap();
+//! assert_eq!((beam.vertex_count(), beam.cell_count()), (20, 12));
+//! ```
+
+pub mod cellular;
+pub mod cfk;
+pub mod cfk_geometry;
+pub mod cfk_window;
+pub mod cubic;
+pub mod mesh;
+pub mod spacetime;
+pub mod window;
+
+pub use cellular::{
+    CellComplex, Chain, Cochain, FiniteComplex, Simplicial, incidence_from_orientation, orientation, validate,
+    validate_cells,
+};
+pub use cfk::{CfkCell, CfkLattice};
+pub use cfk_geometry::{carrier_cube, geometric_incidence, locate};
+pub use cfk_window::CfkWindow;
+pub use cubic::{CubicCell, CubicLattice, CubicWindow};
+pub use mesh::{MeshCell, SimplicialMesh};
+pub use spacetime::{SpacetimeKind, SpacetimeLattice};
+pub use window::{Axis, Extent, Point, permutation_index, permutation_into};
 
 pub mod cfk_slab;
 
