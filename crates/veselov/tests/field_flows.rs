@@ -67,10 +67,12 @@ fn time_evolution_is_the_five_point_scheme() {
     let (r, dt2) = (LAG.c2 * LAG.dt * LAG.dt / (LAG.ds * LAG.ds), LAG.dt * LAG.dt);
     for j in 1..n {
         for a in 1..a_max {
-            u[j + 1][a] = 2.0 * u[j][a] - u[j - 1][a] + r * (u[j][a + 1] - 2.0 * u[j][a] + u[j][a - 1]) - dt2 * LAG.m2 * u[j][a];
+            u[j + 1][a] =
+                2.0 * u[j][a] - u[j - 1][a] + r * (u[j][a + 1] - 2.0 * u[j][a] + u[j][a - 1]) - dt2 * LAG.m2 * u[j][a];
         }
     }
-    let mut m = FlowMarcher::<_, Euclidean<1>, _, 1>::new(&lat, LAG, values, known, CauchyOptions::default()).expect("marcher");
+    let mut m =
+        FlowMarcher::<_, Euclidean<1>, _, 1>::new(&lat, LAG, values, known, CauchyOptions::default()).expect("marcher");
     // Row by row; within a row in order of a (the equation at (j, a) also
     // holds the unknown (j+1, a−1) through △_{a−1}^j).
     for j in 1..n {
@@ -84,7 +86,10 @@ fn time_evolution_is_the_five_point_scheme() {
             worst = worst.max((m.values()[vertex(j, a)][0] - u[j][a]).abs());
         }
     }
-    assert!(worst < 1e-12, "time evolution differs from the five-point scheme by {worst:e}");
+    assert!(
+        worst < 1e-12,
+        "time evolution differs from the five-point scheme by {worst:e}"
+    );
 }
 
 #[test]
@@ -116,7 +121,8 @@ fn space_evolution_is_the_five_point_scheme() {
             u[j][a + 1] = 2.0 * u[j][a] - u[j][a - 1] + q * (utt + LAG.m2 * u[j][a]);
         }
     }
-    let mut m = FlowMarcher::<_, Euclidean<1>, _, 1>::new(&lat, LAG, values, known, CauchyOptions::default()).expect("marcher");
+    let mut m =
+        FlowMarcher::<_, Euclidean<1>, _, 1>::new(&lat, LAG, values, known, CauchyOptions::default()).expect("marcher");
     for a in 1..a_max {
         for j in 1..n {
             m.solve(vertex(j, a), vertex(j, a + 1)).expect("vertex solve");
@@ -132,7 +138,10 @@ fn space_evolution_is_the_five_point_scheme() {
     }
     // Space marching amplifies high temporal frequencies (note 000 §14):
     // compare relative to the solution's size.
-    assert!(worst <= 1e-11 * size, "space evolution differs from the five-point scheme by {worst:e} (size {size:e})");
+    assert!(
+        worst <= 1e-11 * size,
+        "space evolution differs from the five-point scheme by {worst:e} (size {size:e})"
+    );
 }
 
 #[test]
@@ -141,7 +150,10 @@ fn a_flow_outside_the_star_is_refused() {
     let vertex = |j: usize, a: usize| lat.vertex_at(a as i64, j as i64).expect("node");
     let known: Vec<bool> = (0..lat.vertex_count()).map(|v| lat.node(v).1 <= 1).collect();
     let values = vec![SVector::<f64, 1>::zeros(); lat.vertex_count()];
-    let mut m = FlowMarcher::<_, Euclidean<1>, _, 1>::new(&lat, LAG, values, known, CauchyOptions::default()).expect("marcher");
-    let err = m.solve(vertex(1, 1), vertex(2, 2)).expect_err("(2,2) is not in a cell with (1,1)");
+    let mut m =
+        FlowMarcher::<_, Euclidean<1>, _, 1>::new(&lat, LAG, values, known, CauchyOptions::default()).expect("marcher");
+    let err = m
+        .solve(vertex(1, 1), vertex(2, 2))
+        .expect_err("(2,2) is not in a cell with (1,1)");
     assert!(err.to_string().contains("does not admit"), "{err}");
 }

@@ -20,29 +20,15 @@
 use super::{MAX_LATTICE_DIMENSION, StarEntry, TopCell, TopCells};
 use crate::{Error, Result};
 
-/// The permutation with lexicographic index `index` in Sym(n)
-/// (`index < n!`); entries beyond `n` are zero.
-pub fn permutation(n: usize, index: usize) -> [usize; MAX_LATTICE_DIMENSION] {
-    let mut pool: [usize; MAX_LATTICE_DIMENSION] = std::array::from_fn(|i| i);
-    let mut left = n;
-    let mut rest = index;
-    let mut out = [0; MAX_LATTICE_DIMENSION];
-    for slot in out.iter_mut().take(n) {
-        let block = factorial(left - 1);
-        let pick = rest / block;
-        rest %= block;
-        *slot = pool[pick];
-        for j in pick..left - 1 {
-            pool[j] = pool[j + 1];
-        }
-        left -= 1;
-    }
-    out
-}
+pub use super::window::factorial;
 
-/// n! (n ≤ 20).
-pub fn factorial(n: usize) -> usize {
-    (1..=n).product()
+/// The permutation with lexicographic index `index` in Sym(n)
+/// (`index < n!`; the indexing of [`super::window::permutation_into`]);
+/// entries beyond `n` are zero.
+pub fn permutation(n: usize, index: usize) -> [usize; MAX_LATTICE_DIMENSION] {
+    let mut out = [0; MAX_LATTICE_DIMENSION];
+    super::window::permutation_into(n, index, &mut out);
+    out
 }
 
 /// The shape of a spatially periodic CFK lattice: dimension and periods.

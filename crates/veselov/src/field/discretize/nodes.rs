@@ -29,7 +29,7 @@ pub use crate::field::complex::factorial;
 /// order** of Sym(n) written as sequences (σ(0), …, σ(n−1)): index 0 is the
 /// identity, index n! − 1 the reversal. For n = 2, index 0 = (0, 1) is the
 /// note's (i, j, +) (v₁ = v₀ + e₀) and index 1 = (1, 0) is (i, j, −).
-/// Entries beyond n are the identity (σ(i) = i).
+/// Entries beyond n are zero.
 ///
 /// # Errors
 /// [`crate::error::Error::InvalidParameter`] if n > [`MAX_LATTICE_DIMENSION`]
