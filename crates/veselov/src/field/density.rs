@@ -120,10 +120,13 @@ pub struct CellJet<const DIM: usize> {
     pub hess: [[SMatrix<f64, DIM, DIM>; 4]; 4],
 }
 
-/// A 1+1 cell Lagrangian seen by the field core: a
-/// [`DiscreteLagrangian`] on the Euclidean fibre ℝ^DIM, so that its
-/// derivatives come from the core's one differentiation path.
-struct CoreCell<'a, L>(&'a L);
+/// A 1+1 cell Lagrangian seen by the field core: a [`DiscreteLagrangian`]
+/// on the Euclidean fibre ℝ^DIM over the cells of a
+/// [`SpacetimeLattice`](super::complex::SpacetimeLattice) of its shape, so
+/// that its derivatives come from the core's one differentiation path and it
+/// marches on the core's complexes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoreCell<'a, L>(pub &'a L);
 
 impl<L: CellLagrangian<DIM>, const DIM: usize> DiscreteLagrangian<Euclidean<DIM>, DIM> for CoreCell<'_, L> {
     fn cell_lagrangian<D: Scalar>(&self, _cell: &TopCell, y: &[SVector<D, DIM>]) -> D {

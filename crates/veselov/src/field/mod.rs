@@ -58,6 +58,7 @@ pub mod generic;
 pub mod initial;
 pub mod lattice;
 pub mod legendre;
+pub mod level_solve;
 pub mod noether;
 pub mod potential;
 pub mod region;
@@ -67,7 +68,8 @@ pub mod trig;
 pub mod variational;
 
 pub use density::{
-    CellJet, CellLagrangian, Density, RectangleRule, TriangleRule, action, cell_gradient, cell_jet, delf_residual,
+    CellJet, CellLagrangian, CoreCell, Density, RectangleRule, TriangleRule, action, cell_gradient, cell_jet,
+    delf_residual,
 };
 pub use density_run::{DensityRun, DensityRunConfig, Generator, run_density};
 pub use energy::{CellEnergy, level_energy};
