@@ -384,6 +384,17 @@ fn marching_conserves_the_level_charge_and_solves_euler_lagrange() {
             assert!(el.amax() < 1e-12, "EL at level {level}, vertex {i}: {el}");
         }
     }
+    // The current of the phase symmetry through the frontier of a domain of
+    // solved levels vanishes (Thm 3.15 with EL = 0 inside).
+    let per_level = slab.torus().level_size() * 6;
+    let domain: Vec<bool> = (0..slab.cell_count())
+        .map(|c| (10..=200).contains(&(c / per_level)))
+        .collect();
+    let balance = noether_balance::<Euclidean<2>, _, _, 2>(&slab, &lag, &y, &domain, charge).expect("balance");
+    assert!(
+        balance.current.abs() < 1e-12 * balance.scale,
+        "current through the frontier: {balance:?}"
+    );
     // The unsolved Cauchy levels are not critical: the check can fail.
     let el0 = euler_lagrange::<Euclidean<2>, _, _, 2>(&slab, &lag, &y, slab.vertex_index(2, 0)).expect("EL");
     assert!(el0.amax() > 1e-6);
