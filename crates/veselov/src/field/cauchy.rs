@@ -46,6 +46,12 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     next_grads: Vec<SVector<f64, M>>,
     outcomes: Vec<VertexOutcome>,
     level: i64,
+    /// In-level index of v + e_{σ(0)} + … + e_{σ(l−1)}: `up[(i·n! + σ)·(n+1) + l]`.
+    up: Vec<u32>,
+    /// In-level index of v − e_{σ(0)} − … − e_{σ(l−1)}: `down[(i·n! + σ)·(n+1) + l]`.
+    down: Vec<u32>,
+    /// Canonical coordinates of each in-level vertex at level 0.
+    origins: Vec<[i64; MAX_LATTICE_DIMENSION]>,
 }
 
 impl<F, L, const M: usize> CauchyMarcher<F, L, M>
@@ -97,8 +103,31 @@ where
         }
         let cells = torus.simplices_per_vertex();
         let per_vertex = cells * (n + 1);
+        let perms: Vec<_> = (0..cells).map(|s| permutation(n, s)).collect();
+        if u32::try_from(size).is_err() {
+            return Err(Error::InvalidParameter {
+                name: "nodes".into(),
+                value: size.to_string(),
+                reason: "too many vertices per level".into(),
+            });
+        }
+        // Neighbour tables: no division in the vertex loops.
+        let mut up = Vec::with_capacity(size * per_vertex);
+        let mut down = Vec::with_capacity(size * per_vertex);
+        for i in 0..size {
+            for perm in &perms {
+                for l in 0..=n {
+                    up.push(torus.offset_index(i, perm, l, 1) as u32);
+                    down.push(torus.offset_index(i, perm, l, -1) as u32);
+                }
+            }
+        }
+        let origins = (0..size).map(|i| torus.vertex(0, i)).collect();
         let mut marcher = Self {
-            perms: (0..cells).map(|s| permutation(n, s)).collect(),
+            up,
+            down,
+            origins,
+            perms,
             values: vec![data[0][0]; (2 * n + 1) * size],
             grads: vec![SVector::zeros(); (n + 1) * size * per_vertex],
             next_values: vec![data[0][0]; size],
@@ -152,6 +181,28 @@ where
         Some(&self.values[slot * size..(slot + 1) * size])
     }
 
+    /// In-level index of vertex l of the simplex (v, σ), v = (·, i).
+    #[inline]
+    fn up(&self, i: usize, sigma: usize, l: usize) -> usize {
+        let n = self.torus.dimension();
+        self.up[(i * self.perms.len() + sigma) * (n + 1) + l] as usize
+    }
+
+    /// In-level index of the base of the simplex (u, σ) whose vertex l is v = (·, i).
+    #[inline]
+    fn down(&self, i: usize, sigma: usize, l: usize) -> usize {
+        let n = self.torus.dimension();
+        self.down[(i * self.perms.len() + sigma) * (n + 1) + l] as usize
+    }
+
+    /// Canonical coordinates of the vertex (w, i).
+    #[inline]
+    fn origin(&self, w: i64, i: usize) -> [i64; MAX_LATTICE_DIMENSION] {
+        let mut v = self.origins[i];
+        v[self.torus.dimension() - 1] += w;
+        v
+    }
+
     fn value_slot(&self, w: i64) -> usize {
         w.rem_euclid(2 * self.torus.dimension() as i64 + 1) as usize
     }
@@ -174,11 +225,14 @@ where
         top: Option<F::Point<f64>>,
     ) -> (TopCell, [F::Point<f64>; MAX_CELL_VERTICES]) {
         let n = self.torus.dimension();
-        let perm = &self.perms[sigma];
-        let base = self.value(w, i);
+        let size = self.torus.level_size();
+        let ring = 2 * n + 1;
+        let first = self.value_slot(w);
+        let base = self.values[first * size + i];
         let mut y = [base; MAX_CELL_VERTICES];
         for (l, slot) in y.iter_mut().enumerate().take(n + 1).skip(1) {
-            *slot = self.value(w + l as i64, self.torus.offset_index(i, perm, l, 1));
+            let level_slot = if first + l >= ring { first + l - ring } else { first + l };
+            *slot = self.values[level_slot * size + self.up(i, sigma, l)];
         }
         if let Some(z) = top {
             y[n] = z;
@@ -186,18 +240,21 @@ where
         let cell = TopCell {
             index: 0,
             shape: sigma,
-            origin: self.torus.vertex(w, i),
+            origin: self.origin(w, i),
         };
         (cell, y)
     }
 
-    /// All vertex gradients of the n! cells based at (w, i), into `out`
-    /// (cell σ, then position).
+    /// The vertex gradients of the n! cells based at (w, i) at positions
+    /// 1 … n, into `out` (cell σ, then position; position 0 is left zero: only
+    /// later vertices' momenta and the level momentum read the stored
+    /// gradients, always at positions ≥ 1).
     fn cell_gradients(&self, w: i64, i: usize, top: Option<F::Point<f64>>, out: &mut [SVector<f64, M>]) {
         let n = self.torus.dimension();
         for sigma in 0..self.perms.len() {
             let (cell, y) = self.cell_values(w, i, sigma, top);
-            for l in 0..=n {
+            out[sigma * (n + 1)] = SVector::zeros();
+            for l in 1..=n {
                 out[sigma * (n + 1) + l] = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], l).1;
             }
         }
@@ -213,8 +270,8 @@ where
         let mut scale = 0.0;
         for j in 1..=n {
             let slot = self.grad_slot(w - j as i64);
-            for (sigma, perm) in self.perms.iter().enumerate() {
-                let base = self.torus.offset_index(i, perm, j, -1);
+            for sigma in 0..self.perms.len() {
+                let base = self.down(i, sigma, j);
                 let g = &self.grads[(slot * size + base) * per_vertex + sigma * (n + 1) + j];
                 mu -= g;
                 scale += g.amax();
@@ -228,7 +285,7 @@ where
         let n = self.torus.dimension();
         let (mu, mu_scale) = self.momentum(w, i);
         let yv = self.value(w, i);
-        let back = self.torus.offset_index(i, &self.perms[0], n, -1);
+        let back = self.down(i, 0, n);
         let z = match F::log(&self.value(w - n as i64, back), &yv) {
             Ok(xi) => F::retract(&yv, &xi),
             Err(_) => yv,
@@ -271,6 +328,7 @@ where
                 .par_iter_mut()
                 .zip(next_grads.par_chunks_mut(per_vertex))
                 .zip(outcomes.par_iter_mut())
+                .with_min_len(32)
                 .enumerate()
                 .for_each(|(i, ((value, grads), outcome))| {
                     let (z, o) = this.solve_vertex(w, i);
@@ -305,9 +363,8 @@ where
         }
         // Level w + n: its in-level order is that of level w shifted by Δ.
         let top = self.value_slot(w + n as i64);
-        let shift = |i: usize| self.torus.offset_index(i, &self.perms[0], n, 1);
         for (i, z) in next_values.iter().enumerate() {
-            let target = shift(i);
+            let target = self.up(i, 0, n);
             self.values[top * size + target] = *z;
         }
         let gslot = self.grad_slot(w);
@@ -354,10 +411,10 @@ where
             let base_level = c - j as i64;
             let slot = self.grad_slot(base_level);
             for i in 0..size {
-                for (sigma, perm) in self.perms.iter().enumerate() {
+                for sigma in 0..self.perms.len() {
                     let g = &self.grads[(slot * size + i) * per_vertex + sigma * (n + 1)..][..n + 1];
                     for (l, gl) in g.iter().enumerate().skip(j) {
-                        let y = self.value(base_level + l as i64, self.torus.offset_index(i, perm, l, 1));
+                        let y = self.value(base_level + l as i64, self.up(i, sigma, l));
                         sum += gl.dot(&generator(&y));
                     }
                 }
