@@ -107,6 +107,10 @@ pub struct OutputSpec {
     /// `svg` (default) or `png`.
     #[serde(default = "default_plot_format")]
     pub plot_format: String,
+    /// Steps between checkpoints (default 0: a checkpoint only where the
+    /// run ends, interrupted or not; `--resume` continues from the last one).
+    #[serde(default)]
+    pub checkpoint_every: u64,
 }
 
 fn one() -> u64 {
@@ -130,6 +134,7 @@ impl Default for OutputSpec {
             formats: default_formats(),
             plots: true,
             plot_format: default_plot_format(),
+            checkpoint_every: 0,
         }
     }
 }
