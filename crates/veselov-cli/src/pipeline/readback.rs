@@ -9,7 +9,7 @@ use crate::error::CliError;
 use crate::output::Table;
 
 /// Rows kept for plotting.
-pub const MAX_PLOT_ROWS: u64 = 200_000;
+pub const MAX_PLOT_ROWS: u64 = 50_000;
 
 fn io(path: &Path, e: impl ToString) -> CliError {
     CliError::Io {
