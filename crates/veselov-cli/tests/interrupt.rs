@@ -31,7 +31,13 @@ fn npy_rows(path: &Path) -> (usize, usize) {
     let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
     let header = String::from_utf8_lossy(&bytes[10..10 + len]).to_string();
     let shape = header.split("'shape': (").nth(1).expect("shape");
-    let rows: usize = shape.split(',').next().expect("rows").trim().parse().expect("row count");
+    let rows: usize = shape
+        .split(',')
+        .next()
+        .expect("rows")
+        .trim()
+        .parse()
+        .expect("row count");
     (rows, bytes.len() - 10 - len)
 }
 
@@ -63,7 +69,10 @@ fn interrupt_and_resume(name: &str, text: &str) {
         && std::fs::metadata(part.join("trajectory.csv")).is_ok_and(|m| m.len() > 100_000))
     {
         assert!(start.elapsed() < Duration::from_secs(60), "no progress");
-        assert!(child.try_wait().expect("wait").is_none(), "finished before it could be interrupted");
+        assert!(
+            child.try_wait().expect("wait").is_none(),
+            "finished before it could be interrupted"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
     Command::new("kill")
