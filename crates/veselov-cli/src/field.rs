@@ -614,7 +614,7 @@ fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f6
         job,
         output_dir(&loaded.path, &output_spec(&loaded.scenario), job.out.as_deref()),
         &plan,
-        0,
+        None,
         "lattice-field",
     )
 }

@@ -45,7 +45,7 @@ pub fn open_table_session(
         job,
         output_dir(file, output, job.out.as_deref()),
         &plan,
-        output.checkpoint_every,
+        Some(output.checkpoint_every),
         kind,
     )?;
     let (positions, rest) = match &session.resumed {

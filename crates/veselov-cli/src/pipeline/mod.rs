@@ -133,8 +133,9 @@ pub struct Session {
     pub start: Instant,
     /// Set by SIGINT, SIGTERM or the time limit.
     pub interrupt: Arc<AtomicBool>,
-    /// Steps between checkpoints (0: only at the end).
-    pub checkpoint_every: u64,
+    /// Steps between checkpoints (`Some(0)`: only at the end; `None`: none,
+    /// for kinds that cannot be resumed).
+    pub checkpoint_every: Option<u64>,
     /// The checkpoint resumed from, if any.
     pub resumed: Option<Saved>,
     progress: Progress,
@@ -148,7 +149,7 @@ impl Session {
         job: &RunJob,
         dir: PathBuf,
         plan: &Plan,
-        checkpoint_every: u64,
+        checkpoint_every: Option<u64>,
         kind: &str,
     ) -> Result<Self, CliError> {
         plan.check(file, job.force_large)?;
@@ -231,8 +232,9 @@ impl Session {
                 Control::Continue
             };
             let mut chunk = stop.clone();
-            if let Some(k) = total.last_step.checked_div(self.checkpoint_every) {
-                let next = (k + 1).saturating_mul(self.checkpoint_every);
+            let every = self.checkpoint_every.unwrap_or(0);
+            if let Some(k) = total.last_step.checked_div(every) {
+                let next = (k + 1).saturating_mul(every);
                 chunk.steps = Some(chunk.steps.map_or(next, |n| n.min(next)));
             }
             let out = drive(
@@ -250,7 +252,7 @@ impl Session {
             let done = total.status != Status::Completed
                 || stop.steps.is_some_and(|n| total.last_step >= n)
                 || stop.t_end.is_some_and(|t| stepper.time(state) >= t);
-            if total.status != Status::Stopped && total.failure().is_none() {
+            if self.checkpoint_every.is_some() && total.status != Status::Stopped && total.failure().is_none() {
                 checkpoint::write(&self.dir, stepper, state, observer, &total, self.wall_seconds())?;
             }
             if done {
