@@ -42,7 +42,8 @@ use crate::pipeline::table::{Acc, TableObserver};
 use crate::pipeline::{restore, summary, words_error};
 use crate::run::RunJob;
 use crate::scenario::{
-    OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, output_dir, parse_toml, step_count,
+    OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, output_dir, parse_toml, planned_steps,
+    step_count,
 };
 use crate::verify::{Study, VerifyJob, whole_steps};
 
@@ -557,7 +558,7 @@ where
         &job,
         &loaded.path,
         (&s.time, &s.output),
-        steps as f64,
+        planned_steps(&s.time, s.method.dt),
         header.len(),
         "rigid-body",
     )?;

@@ -16,7 +16,7 @@ use crate::pipeline::finish::{empty_outcome, finish, open_table_session, t_of, t
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, TableObserver, Tracker};
 use crate::pipeline::{restore, summary, words_error};
-use crate::scenario::LoadedScenario;
+use crate::scenario::{LoadedScenario, planned_steps};
 use crate::systems::{Job, System};
 
 /// The scenario's method, with errors naming the key.
@@ -149,7 +149,7 @@ fn run_fixed<const N: usize>(
         job,
         &scenario.path,
         (&scenario.scenario.time, &scenario.scenario.output),
-        steps as f64,
+        planned_steps(&scenario.scenario.time, dt),
         header.len(),
         "mechanics",
     )?;

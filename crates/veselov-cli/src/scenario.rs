@@ -333,6 +333,23 @@ pub fn step_count(time: &TimeSpec, dt: f64) -> u64 {
     }
 }
 
+/// The step count of [`step_count`] as a float, not saturated: what the
+/// preflight reports and checks (`t_end = 2e18` is 2e21 steps of 1e-3, not `u64::MAX`).
+pub fn planned_steps(time: &TimeSpec, dt: f64) -> f64 {
+    match (time.steps, time.t_end) {
+        (Some(n), _) => n as f64,
+        (None, Some(t_end)) => {
+            let n = (t_end - time.t0) / dt;
+            if n < u64::MAX as f64 {
+                step_count(time, dt) as f64
+            } else {
+                n
+            }
+        }
+        (None, None) => 1.0,
+    }
+}
+
 /// The output directory: `--out`, else `output.dir`, else `out/<scenario stem>`.
 pub fn output_dir(file: &Path, output: &OutputSpec, cli_out: Option<&Path>) -> PathBuf {
     if let Some(o) = cli_out {
