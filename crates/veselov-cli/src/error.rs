@@ -47,6 +47,12 @@ pub enum CliError {
         /// Where the partial results are.
         dir: PathBuf,
     },
+    /// The run was interrupted (signal or time limit); outputs are valid up to their last row.
+    #[error("run interrupted; outputs valid up to the last row and a checkpoint written in {} (continue with --resume)", dir.display())]
+    Interrupted {
+        /// The output directory.
+        dir: PathBuf,
+    },
     /// A library error outside a run (setting up the system or method).
     #[error("{0}")]
     Setup(String),

@@ -23,21 +23,17 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use nalgebra::SVector;
 use serde::Deserialize;
-use serde_json::json;
 use veselov::field::{
-    BlockAccumulator, Boundary, CellEnergy, ComplexKleinGordon, ComplexPlaneWave, Density, DensityRunConfig,
-    FieldRunConfig, Generator, InitialData, Lattice, LevelInfo, Levels, Model, NonlinearWave, Phi4, RectangleRule,
-    Scheme, SineGordon, SolverOptions, TriangleRule, Wave, run_density, run_lattice,
+    Boundary, ComplexKleinGordon, ComplexPlaneWave, Density, FieldRunConfig, Generator, InitialData, Lattice, Model,
+    NonlinearWave, Phi4, RectangleRule, Scheme, SineGordon, SolverOptions, TriangleRule, Wave,
 };
 
 use crate::error::CliError;
-use crate::figures::{FieldView, draw_field};
-use crate::output::{Table, npy_header_shape, prepare_dir, write_json};
-use crate::progress::Progress;
+use crate::field_run::{march_fast, march_generic};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Session};
 use crate::run::RunJob;
 use crate::scenario::{finite_value, key_error, output_dir, parse_toml, positive_value};
 
@@ -197,8 +193,8 @@ impl Default for FieldOutputSpec {
 
 /// A parsed field scenario and its file.
 pub struct LoadedField {
-    path: PathBuf,
-    scenario: FieldScenario,
+    pub(crate) path: PathBuf,
+    pub(crate) scenario: FieldScenario,
 }
 
 impl LoadedField {
@@ -211,7 +207,7 @@ impl LoadedField {
         })
     }
 
-    fn key_error(&self, key: &str, message: impl Into<String>) -> CliError {
+    pub(crate) fn key_error(&self, key: &str, message: impl Into<String>) -> CliError {
         key_error(&self.path, key, message)
     }
 
@@ -435,152 +431,6 @@ enum FieldInitial {
     },
 }
 
-/// Write a float64 `.npy` array of the given shape from rows of values.
-fn write_npy(path: &Path, shape: &[usize], rows: &[Vec<f64>]) -> Result<(), CliError> {
-    let mut bytes = npy_header_shape(shape);
-    for row in rows {
-        for v in row {
-            bytes.extend_from_slice(&v.to_le_bytes());
-        }
-    }
-    std::fs::write(path, bytes).map_err(|e| CliError::Io {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })
-}
-
-/// What either marching path hands to the writers.
-struct Outcome {
-    /// `fast` (the scheme's own O(N) solver) or `generic` (Newton on the cell Lagrangian).
-    path: &'static str,
-    /// `(t, energy, charge)` rows, t the time of the first level of the pair.
-    energies: Vec<(f64, f64, Option<f64>)>,
-    /// Name of the charge column.
-    charge: Option<&'static str>,
-    /// Snapshot rows: nodes × components values, and their times.
-    snapshots: Vec<Vec<f64>>,
-    times: Vec<f64>,
-    components: usize,
-    levels: usize,
-    t_final: f64,
-    iterations: u64,
-    recentred_by: f64,
-    status: Result<(), veselov::Error>,
-}
-
-fn fast_outcome(loaded: &LoadedField, config: &FieldRunConfig, progress: &mut Progress) -> Result<Outcome, CliError> {
-    let lattice = config.lattice;
-    let (y0, _) = config
-        .initial
-        .levels(&lattice)
-        .map_err(|e| loaded.key_error("initial", e.to_string()))?;
-    let run = run_lattice(config, |info: &LevelInfo| {
-        progress.set(info.level as u64);
-        true
-    })
-    .map_err(|e| loaded.key_error("lattice", e.to_string()))?;
-    let dt = lattice.dt();
-    let charge = (config.model == Model::Wave).then_some("shift_charge");
-    // energies[m] is E_{m+1}, of the levels (m + 1, m + 2) (see FastMarcher::energy);
-    // charges[m] is that of the levels (m, m + 1).
-    let energies = run
-        .energies
-        .iter()
-        .enumerate()
-        .map(|(m, e)| {
-            let q = charge.and_then(|_| run.charges.get(m + 1).copied());
-            ((m + 1) as f64 * dt, *e, q)
-        })
-        .collect();
-    // Snapshots are written unwrapped (the run's 2π re-centring undone), so
-    // that all rows share the frame of level 0.
-    let mut snapshots = vec![y0];
-    let mut times = vec![0.0];
-    for snap in &run.snapshots {
-        snapshots.push(snap.values.iter().map(|v| v + snap.recentred_by).collect());
-        times.push(snap.time);
-    }
-    if times.last().copied() != Some(run.final_time) && !run.final_level.is_empty() {
-        snapshots.push(run.final_level.iter().map(|v| v + run.recentred_by).collect());
-        times.push(run.final_time);
-    }
-    Ok(Outcome {
-        path: "fast",
-        energies,
-        charge,
-        snapshots,
-        times,
-        components: 1,
-        levels: run.final_index,
-        t_final: run.final_time,
-        iterations: run.iterations,
-        recentred_by: run.recentred_by,
-        status: run.status,
-    })
-}
-
-/// The generic (density) path for the variational schemes.
-fn generic_outcome<L: CellEnergy<DIM>, const DIM: usize>(
-    loaded: &LoadedField,
-    lag: L,
-    lattice: Lattice,
-    (y0, y1): Levels<DIM>,
-    charge: Option<(&'static str, Generator<'_, DIM>)>,
-    progress: &mut Progress,
-) -> Result<Outcome, CliError> {
-    let s = &loaded.scenario;
-    let config = DensityRunConfig {
-        t_end: loaded.positive("time.t_end", s.time.t_end)?,
-        snapshot_every: s.output.snapshot_every,
-        rel_tol: s.method.tolerance.unwrap_or(1e-13),
-    };
-    let flat = |level: &[SVector<f64, DIM>]| -> Vec<f64> { level.iter().flat_map(|v| v.iter().copied()).collect() };
-    let first = flat(&y0);
-    let run = run_density(
-        lag,
-        lattice,
-        y0,
-        y1,
-        &config,
-        charge.map(|c| c.1),
-        |info: &LevelInfo| {
-            progress.set(info.level as u64);
-            true
-        },
-    )
-    .map_err(|e| loaded.key_error("lattice", e.to_string()))?;
-    let dt = lattice.dt();
-    let energies = run
-        .energies
-        .iter()
-        .enumerate()
-        .map(|(m, e)| (m as f64 * dt, *e, run.charges.get(m).copied()))
-        .collect();
-    let mut snapshots = vec![first];
-    let mut times = vec![0.0];
-    for (_, t, level) in &run.snapshots {
-        snapshots.push(flat(level));
-        times.push(*t);
-    }
-    if times.last().copied() != Some(run.final_time) {
-        snapshots.push(flat(&run.final_level));
-        times.push(run.final_time);
-    }
-    Ok(Outcome {
-        path: "generic",
-        energies,
-        charge: charge.map(|c| c.0),
-        snapshots,
-        times,
-        components: DIM,
-        levels: run.final_index,
-        t_final: run.final_time,
-        iterations: run.iterations,
-        recentred_by: 0.0,
-        status: run.status,
-    })
-}
-
 /// The cell rule of a variational scheme, or an error naming `method.scheme`.
 fn variational_rule<F: Density<DIM> + Copy, const DIM: usize, R>(
     loaded: &LoadedField,
@@ -617,7 +467,6 @@ enum Either<T, R> {
 
 /// Run a lattice-field scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
-    let start = Instant::now();
     let loaded = LoadedField::parse(path, text)?;
     let s = &loaded.scenario;
     let solver = loaded.solver()?;
@@ -626,14 +475,10 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     let mut lattice = loaded.lattice()?;
     let initial = loaded.initial(lattice.length())?;
     let t_end = loaded.positive("time.t_end", s.time.t_end)?;
-    let dir = prepare_dir(
-        &output_dir(&loaded.path, &output_spec(s), job.out.as_deref()),
-        job.force,
-    )?;
-    let total = (t_end / lattice.dt()).ceil() as u64;
-    let mut progress = Progress::new(total, job.quiet);
+    let mut session = open_session(&loaded, &job, &lattice, t_end)?;
+    let progress = &mut session;
     let initial_error = |e: veselov::Error| loaded.key_error("initial", e.to_string());
-    let outcome = match (model, initial) {
+    match (model, initial) {
         (FieldModel::Scalar(model), FieldInitial::Scalar(data)) => {
             if lattice.is_periodic() {
                 let config = FieldRunConfig {
@@ -648,7 +493,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
                     recentre_every: if model == Model::SineGordon { 1000 } else { 0 },
                     solver,
                 };
-                fast_outcome(&loaded, &config, &mut progress)?
+                march_fast(&loaded, progress, &config)?
             } else {
                 let (y0, y1) = data.levels(&lattice).map_err(initial_error)?;
                 if let Boundary::Dirichlet { .. } = lattice.boundary() {
@@ -677,25 +522,21 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
                         NonlinearWave(SineGordon),
                         &lattice,
                         |rule| match rule {
-                            Either::Triangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
-                            Either::Rectangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+                            Either::Triangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
+                            Either::Rectangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
                         },
                     )??,
                     Model::Wave => {
                         variational_rule(&loaded, scheme, NonlinearWave(Wave), &lattice, |rule| match rule {
-                            Either::Triangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
-                            Either::Rectangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+                            Either::Triangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
+                            Either::Rectangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
                         })??
                     }
                     Model::Phi4 { m2, lambda } => {
                         variational_rule(&loaded, scheme, NonlinearWave(Phi4 { m2, lambda }), &lattice, |rule| {
                             match rule {
-                                Either::Triangle(r) => {
-                                    generic_outcome(&loaded, r, lattice, levels, charge, &mut progress)
-                                }
-                                Either::Rectangle(r) => {
-                                    generic_outcome(&loaded, r, lattice, levels, charge, &mut progress)
-                                }
+                                Either::Triangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
+                                Either::Rectangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
                             }
                         })??
                     }
@@ -715,8 +556,8 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
             let fixed = matches!(lattice.boundary(), Boundary::Dirichlet { .. });
             let charge: Option<(&'static str, Generator<'_, 2>)> = (!fixed).then_some(("phase_charge", &rotation));
             variational_rule(&loaded, scheme, NonlinearWave(kg), &lattice, |rule| match rule {
-                Either::Triangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
-                Either::Rectangle(r) => generic_outcome(&loaded, r, lattice, levels, charge, &mut progress),
+                Either::Triangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
+                Either::Rectangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
             })??
         }
         (FieldModel::Complex(_), FieldInitial::Scalar(_)) => {
@@ -732,139 +573,50 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
             ));
         }
     };
-    progress.finish();
-    write_outcome(&loaded, &dir, lattice, &outcome, start, job.quiet)?;
-    match outcome.status {
-        Ok(()) => Ok(()),
-        Err(error) => Err(CliError::Run { error, dir }),
-    }
+    Ok(())
 }
 
-/// energy.csv, snapshots.npy, snapshot_times.csv, summary.json and the plots.
-fn write_outcome(
-    loaded: &LoadedField,
-    dir: &Path,
-    lattice: Lattice,
-    outcome: &Outcome,
-    start: Instant,
-    quiet: bool,
-) -> Result<(), CliError> {
-    let s = &loaded.scenario;
-    let mut energy = Table {
-        header: vec!["t".into(), "energy".into()],
-        rows: Vec::new(),
-    };
-    if let Some(name) = outcome.charge {
-        energy.header.push(name.into());
-    }
-    let count = outcome.energies.len();
-    for (m, (t, e, q)) in outcome.energies.iter().enumerate() {
-        if m % s.output.energy_every == 0 || m + 1 == count {
-            let mut row = vec![*t, *e];
-            if outcome.charge.is_some() {
-                row.push(q.unwrap_or(f64::NAN));
-            }
-            energy.rows.push(row);
-        }
-    }
-    energy.write_csv(&dir.join("energy.csv"))?;
-    if s.output.energy_block > 0 {
-        let e0 = outcome.energies.first().map_or(f64::NAN, |e| e.1);
-        let mut blocks = BlockAccumulator::new(s.output.energy_block);
-        for (m, e) in outcome.energies.iter().enumerate() {
-            blocks.push(m, e.1 - e0);
-        }
-        // `first_level` is the index into `outcome.energies`; report its time.
-        let rows = blocks
-            .finish()
-            .iter()
-            .map(|b| vec![outcome.energies[b.first_level].0, b.levels as f64, b.min, b.mean, b.max])
-            .collect();
-        Table {
-            header: ["t_start", "levels", "min", "mean", "max"].map(String::from).to_vec(),
-            rows,
-        }
-        .write_csv(&dir.join("energy_blocks.csv"))?;
-    }
-    let nodes = lattice.nodes();
-    let shape: Vec<usize> = if outcome.components == 1 {
-        vec![outcome.snapshots.len(), nodes]
+/// The session of a field run: levels and output size planned from the
+/// lattice, the horizon and the output keys.
+fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f64) -> Result<Session, CliError> {
+    let o = &loaded.scenario.output;
+    let levels = t_end / lattice.dt();
+    let components = if loaded.scenario.model.name == "klein-gordon-complex" {
+        2.0
     } else {
-        vec![outcome.snapshots.len(), nodes, outcome.components]
+        1.0
     };
-    write_npy(&dir.join("snapshots.npy"), &shape, &outcome.snapshots)?;
-    Table {
-        header: vec!["t".into()],
-        rows: outcome.times.iter().map(|t| vec![*t]).collect(),
-    }
-    .write_csv(&dir.join("snapshot_times.csv"))?;
-    let e0 = outcome.energies.first().map_or(f64::NAN, |e| e.1);
-    let energy_error_max = outcome.energies.iter().fold(0.0_f64, |m, e| m.max((e.1 - e0).abs()));
-    let charges_error_max = match (outcome.charge, outcome.energies.first().and_then(|e| e.2)) {
-        (Some(name), Some(q0)) => {
-            let err = outcome
-                .energies
-                .iter()
-                .filter_map(|e| e.2)
-                .fold(0.0_f64, |m, q| m.max((q - q0).abs()));
-            json!({ name: err })
-        }
-        _ => json!({}),
+    let snapshots = if o.snapshot_every == 0 {
+        2.0
+    } else {
+        levels / o.snapshot_every as f64 + 2.0
     };
-    let summary = json!({
-        "status": if outcome.status.is_ok() { "ok" } else { "error" },
-        "error": outcome.status.as_ref().err().map(|e| e.to_string()),
-        "scenario": loaded.path.display().to_string(),
-        "model": s.model.name,
-        "scheme": s.method.scheme,
-        "boundary": s.lattice.boundary,
-        "path": outcome.path,
-        "nodes": nodes,
-        "dx": lattice.dx(),
-        "dt": lattice.dt(),
-        "courant": lattice.dt() / lattice.dx(),
-        "levels": outcome.levels,
-        "t_final": outcome.t_final,
-        "energy_initial": e0,
-        "energy_error_max": energy_error_max,
-        "charges_error_max": charges_error_max,
-        "iterations_mean": outcome.iterations as f64 / outcome.levels.saturating_sub(1).max(1) as f64,
-        "recentred_by": outcome.recentred_by,
-        "wall_seconds": start.elapsed().as_secs_f64(),
-    });
-    write_json(&dir.join("summary.json"), &summary)?;
-    if s.output.plots {
-        let first_component: Vec<Vec<f64>> = outcome
-            .snapshots
-            .iter()
-            .map(|row| row.iter().step_by(outcome.components).copied().collect())
-            .collect();
-        draw_field(
-            dir,
-            &energy,
-            &first_component,
-            &outcome.times,
-            lattice,
-            match (s.model.name.as_str(), outcome.components) {
-                ("sine-gordon", _) => FieldView::Circle,
-                (_, 1) => FieldView::Real,
-                _ => FieldView::RealPart,
-            },
-            &s.output.plot_format,
-        )?;
+    let snapshot_bytes = snapshots * lattice.nodes() as f64 * components * 8.0;
+    let energy_bytes = (levels / o.energy_every as f64 + 2.0) * 3.0 * CSV_BYTES_PER_VALUE;
+    let plan = Plan {
+        steps: levels,
+        steps_key: "time.t_end",
+        bytes: snapshot_bytes + energy_bytes,
+        bytes_key: if snapshot_bytes > energy_bytes {
+            "output.snapshot_every"
+        } else {
+            "output.energy_every"
+        },
+    };
+    if job.resume.is_some() {
+        return Err(CliError::Setup(format!(
+            "{}: --resume: lattice-field runs cannot be resumed yet",
+            loaded.path.display()
+        )));
     }
-    if !quiet {
-        eprintln!(
-            "{} / {}: {} levels to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
-            s.model.name,
-            s.method.scheme,
-            outcome.levels,
-            outcome.t_final,
-            energy_error_max,
-            dir.display()
-        );
-    }
-    Ok(())
+    Session::open(
+        &loaded.path,
+        job,
+        output_dir(&loaded.path, &output_spec(&loaded.scenario), job.out.as_deref()),
+        &plan,
+        None,
+        "lattice-field",
+    )
 }
 
 /// The `[output]` keys `output_dir` understands.

@@ -33,6 +33,15 @@ enum Command {
         /// Overwrite a non-empty output directory.
         #[arg(long)]
         force: bool,
+        /// Run beyond the preflight limits (1e9 steps, 10 GiB of output).
+        #[arg(long)]
+        force_large: bool,
+        /// Continue the run in DIR from its checkpoint (the outputs are extended in place).
+        #[arg(long, value_name = "DIR")]
+        resume: Option<PathBuf>,
+        /// End the run as interrupted (with a checkpoint) after this many seconds of wall time.
+        #[arg(long, value_name = "SECONDS")]
+        time_limit: Option<f64>,
     },
     /// List the built-in models with their parameters and defaults.
     Models,
@@ -131,7 +140,20 @@ fn main() -> ExitCode {
             out,
             quiet,
             force,
-        } => run_scenario(&scenario, run::RunJob { out, quiet, force }),
+            force_large,
+            resume,
+            time_limit,
+        } => run_scenario(
+            &scenario,
+            run::RunJob {
+                out,
+                quiet,
+                force,
+                force_large,
+                resume,
+                time_limit,
+            },
+        ),
         Command::Models => {
             list_models();
             Ok(())

@@ -22,24 +22,28 @@
 //! ```
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use nalgebra::{Matrix3, Quaternion, SVector, Vector3};
 use serde::Deserialize;
 use serde_json::json;
 use veselov::lgvi::{
-    GroupState, GroupStepMap, SplitLieIntegrator, SplitReducedLagrangian, energy, integrate_group,
-    integrate_group_observed, rk4_group_reference, spatial_momentum,
+    GroupState, GroupStepMap, SplitLieIntegrator, SplitReducedLagrangian, energy, integrate_group, rk4_group_reference,
+    spatial_momentum,
 };
 use veselov::lie::{CayleyMap, ExpMap, GroupFamily, Retraction, RigidMotions, Rotations, SE3, SO3, so3};
 use veselov::models::{FreeRigidBody, FreeRigidBodySE3, HeavyTop};
+use veselov::run::{GroupStepper, Status, StopWhen, Words};
 
 use crate::error::CliError;
-use crate::output::{Table, prepare_dir, write_json};
-use crate::progress::Progress;
+use crate::output::prepare_dir;
+use crate::pipeline::finish::{empty_outcome, finish, open_table_session, t_of, totals};
+use crate::pipeline::stream::TableSink;
+use crate::pipeline::table::{Acc, TableObserver};
+use crate::pipeline::{restore, summary, words_error};
 use crate::run::RunJob;
 use crate::scenario::{
-    OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, output_dir, parse_toml, step_count,
+    OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, output_dir, parse_toml, planned_steps,
+    step_count,
 };
 use crate::verify::{Study, VerifyJob, whole_steps};
 
@@ -490,11 +494,7 @@ where
 }
 
 /// `t, R00..R22, [x0..x2], Pi0..Pi2, [P0..P2], energy, pi_x..pi_z (spatial), J_.., orthogonality_defect`.
-fn table_of<G, L, const N: usize>(l: &L, states: &[GroupState<G, N>], conserved: &[(&str, usize)]) -> Table
-where
-    G: GroupFamily<N>,
-    L: SplitReducedLagrangian<G, N>,
-{
+fn header_of<const N: usize>(conserved: &[(&str, usize)]) -> Vec<String> {
     let mut header = vec!["t".to_string()];
     header.extend((0..3).flat_map(|i| (0..3).map(move |j| format!("R{i}{j}"))));
     if N == 6 {
@@ -512,25 +512,28 @@ where
     }
     header.extend(conserved.iter().map(|(name, _)| name.to_string()));
     header.push("orthogonality_defect".into());
-    let rows = states
-        .iter()
-        .map(|x| {
-            let mut row = vec![x.t];
-            let r = G::rotation(&x.g);
-            row.extend((0..3).flat_map(|i| (0..3).map(move |j| r[(i, j)])));
-            if N == 6 {
-                row.extend(G::translation(&x.g).iter());
-            }
-            row.extend(x.mu.iter());
-            row.push(energy(l, x).unwrap_or(f64::NAN));
-            let spatial = spatial_momentum(x);
-            row.extend(spatial.iter());
-            row.extend(conserved.iter().map(|(_, k)| spatial[*k]));
-            row.push(G::orthogonality_defect(&x.g));
-            row
-        })
-        .collect();
-    Table { header, rows }
+    header
+}
+
+/// The row of `x` under [`header_of`].
+fn row_of<G, L, const N: usize>(l: &L, x: &GroupState<G, N>, conserved: &[(&str, usize)]) -> Vec<f64>
+where
+    G: GroupFamily<N>,
+    L: SplitReducedLagrangian<G, N>,
+{
+    let mut row = vec![x.t];
+    let r = G::rotation(&x.g);
+    row.extend((0..3).flat_map(|i| (0..3).map(move |j| r[(i, j)])));
+    if N == 6 {
+        row.extend(G::translation(&x.g).iter());
+    }
+    row.extend(x.mu.iter());
+    row.push(energy(l, x).unwrap_or(f64::NAN));
+    let spatial = spatial_momentum(x);
+    row.extend(spatial.iter());
+    row.extend(conserved.iter().map(|(_, k)| spatial[*k]));
+    row.push(G::orthogonality_defect(&x.g));
+    row
 }
 
 fn run_map<G, L, M, const N: usize>(
@@ -547,65 +550,94 @@ where
     L: SplitReducedLagrangian<G, N>,
     M: GroupStepMap<G, N>,
 {
-    let start = Instant::now();
     x0.check().map_err(|e| loaded.key_error("initial", e.to_string()))?;
     let s = &loaded.scenario;
-    let dir = prepare_dir(&output_dir(&loaded.path, &s.output, job.out.as_deref()), job.force)?;
-    let steps = step_count(&s.time, s.method.dt) as usize;
-    let every = s.output.every as usize;
-    let mut progress = Progress::new(steps as u64, job.quiet);
-    let traj = integrate_group_observed(&mut map, x0, steps, every, |k, _| progress.set(k as u64));
-    progress.finish();
-    let table = table_of(l, &traj.states, conserved);
-    let column = |name: &str| table.column(name).unwrap_or_default();
-    let energies = column("energy");
-    let max_dev = veselov::diagnostics::max_abs_deviation;
-    let momentum_errors: serde_json::Map<String, serde_json::Value> = conserved
-        .iter()
-        .map(|(name, _)| (name.to_string(), json!(max_dev(&column(name)))))
-        .collect();
-    let orthogonality = column("orthogonality_defect").into_iter().fold(0.0_f64, f64::max);
-    let summary = json!({
-        "status": if traj.failure.is_none() { "ok" } else { "error" },
-        "error": traj.failure.as_ref().map(|e| e.to_string()),
-        "scenario": loaded.path.display().to_string(),
-        "model": s.model.name,
-        "method": method,
-        "retraction": s.method.retraction,
-        "order": 2,
-        "dt": s.method.dt,
-        "steps": traj.steps,
-        "steps_requested": steps,
-        "t_final": traj.last().t,
-        "energy_initial": energies.first(),
-        "energy_error_max": max_dev(&energies),
-        "momentum_error_max": momentum_errors,
-        "orthogonality_defect_max": orthogonality,
-        "iterations_mean": traj.total_iterations as f64 / traj.steps.max(1) as f64,
-        "wall_seconds": start.elapsed().as_secs_f64(),
-    });
-    for f in &s.output.formats {
-        match f.as_str() {
-            "csv" => table.write_csv(&dir.join("trajectory.csv"))?,
-            "npy" => table.write_npy(&dir.join("trajectory.npy"))?,
-            _ => {}
+    let steps = step_count(&s.time, s.method.dt);
+    let header = header_of::<N>(conserved);
+    let (mut session, positions, words) = open_table_session(
+        &job,
+        &loaded.path,
+        (&s.time, &s.output),
+        planned_steps(&s.time, s.method.dt),
+        header.len(),
+        "rigid-body",
+    )?;
+    let sink = TableSink::create(
+        &session.dir,
+        "trajectory",
+        &header,
+        &s.output.formats,
+        steps / s.output.every + 2,
+        positions,
+    )?;
+    let mut table = TableObserver::new(
+        header,
+        Box::new(move |x: &GroupState<G, N>, _| row_of(l, x, conserved)),
+        sink,
+        s.output.every,
+    );
+    table.track("energy", Acc::Dev);
+    for (name, _) in conserved {
+        table.track(name, Acc::Dev);
+    }
+    table.track("orthogonality_defect", Acc::Max);
+    let mut stepper = GroupStepper::new(&mut map, x0.t);
+    let mut x = x0;
+    let mut first = 0;
+    let mut start_failure = None;
+    match session.resumed.clone() {
+        Some(saved) => {
+            restore(&session.dir, &mut x, &mut Words::new(&saved.state))?;
+            restore(&session.dir, &mut stepper, &mut Words::new(&saved.stepper))?;
+            table
+                .resume(saved.step, &x, &mut Words::new(&words))
+                .map_err(|e| words_error(&session.dir, e))?;
+            first = saved.step;
         }
+        None => start_failure = table.start(0, &x0).err(),
     }
-    write_json(&dir.join("summary.json"), &summary)?;
-    if s.output.plots {
-        crate::figures::draw_all(&dir, &table, 0, &s.output.plot_format)?;
-    }
-    if !job.quiet {
-        eprintln!(
-            "{method}: {} steps to t = {}, max |E − E₀| = {:.3e}, max |RᵀR − I| = {orthogonality:.1e}; outputs in {}",
-            traj.steps,
-            traj.last().t,
-            max_dev(&energies),
-            dir.display()
-        );
-    }
-    match traj.failure {
-        Some(error) => Err(CliError::Run { error, dir }),
-        None => Ok(()),
-    }
+    let outcome = match start_failure {
+        Some(e) => empty_outcome(Status::Failed(e)),
+        None => session.execute(&mut stepper, &mut x, first, StopWhen::steps(steps), &mut table)?,
+    };
+    let (iterations, _) = totals(&session, &outcome);
+    let wall = session.wall_seconds();
+    let t_final = t_of(outcome.last_step, x0.t, s.method.dt);
+    let orthogonality =
+        |t: &TableObserver<'_, GroupState<G, N>>| t.column("orthogonality_defect").map_or(0.0, |c| c.value.max(0.0));
+    finish(
+        &s.output,
+        &session,
+        table,
+        outcome.status.clone(),
+        |t, status| {
+            let momentum_errors: serde_json::Map<String, serde_json::Value> = conserved
+                .iter()
+                .map(|(name, _)| (name.to_string(), json!(t.column(name).map_or(0.0, |c| c.value))))
+                .collect();
+            let energy = t.column("energy");
+            let own = json!({
+                "scenario": loaded.path.display().to_string(),
+                "model": s.model.name,
+                "method": method,
+                "retraction": s.method.retraction,
+                "order": 2,
+                "dt": s.method.dt,
+                "steps_requested": steps,
+                "energy_initial": energy.map(|c| c.first),
+                "energy_error_max": energy.map_or(0.0, |c| c.value),
+                "momentum_error_max": momentum_errors,
+                "orthogonality_defect_max": orthogonality(t),
+            });
+            summary::common(status, outcome.last_step, t_final, wall, iterations, own)
+        },
+        |t| {
+            format!(
+                "{method}: {} steps to t = {t_final}, max |E − E₀| = {:.3e}, max |RᵀR − I| = {:.1e}",
+                outcome.last_step,
+                t.column("energy").map_or(0.0, |c| c.value),
+                orthogonality(t)
+            )
+        },
+    )
 }

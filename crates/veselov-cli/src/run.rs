@@ -1,30 +1,23 @@
-//! `veselov run`: integrate a scenario and write trajectory, summary and plots.
-
-use std::path::{Path, PathBuf};
-use std::time::Instant;
+//! `veselov run` for mechanics scenarios: the fixed-step and variable-step
+//! (SEM) jobs on the run pipeline ([`crate::pipeline`]), streaming
+//! `trajectory.csv`/`.npy` and writing `summary.json` and the plots.
 
 use nalgebra::SVector;
 use serde_json::json;
-use veselov::mechanics::{GalerkinScheme, Method, PhaseState, integrate_observed};
-use veselov::sem::{SemRule, SemState, run_sem};
+use veselov::mechanics::{GalerkinScheme, Method, PhaseState};
+use veselov::run::{PhaseStepper, SemStepper, Status, StopWhen, Words};
+use veselov::sem::{SemRule, SemState};
 
 use crate::catalog::{self, Choice};
 use crate::error::CliError;
-use crate::figures;
-use crate::output::{Table, prepare_dir, write_json};
-use crate::progress::Progress;
-use crate::scenario::LoadedScenario;
+use crate::output::Table;
+pub use crate::pipeline::RunJob;
+use crate::pipeline::finish::{empty_outcome, finish, open_table_session, t_of, totals};
+use crate::pipeline::stream::TableSink;
+use crate::pipeline::table::{Acc, TableObserver, Tracker};
+use crate::pipeline::{restore, summary, words_error};
+use crate::scenario::{LoadedScenario, planned_steps};
 use crate::systems::{Job, System};
-
-/// Options of `veselov run`.
-pub struct RunJob {
-    /// `--out`.
-    pub out: Option<PathBuf>,
-    /// `--quiet`.
-    pub quiet: bool,
-    /// `--force`.
-    pub force: bool,
-}
 
 /// The scenario's method, with errors naming the key.
 pub fn resolve_choice(scenario: &LoadedScenario) -> Result<Choice, CliError> {
@@ -81,9 +74,8 @@ pub fn resolve_initial<const N: usize>(
     }
 }
 
-/// Columns `t, q0.., p0.., energy, J_<name>..` for `states`, and `work`
-/// (cumulative discrete work of the forces) for forced systems.
-pub fn trajectory_table<const N: usize>(system: &System<N>, states: &[PhaseState<N>], work: &[f64]) -> Table {
+/// Columns `t, q0.., p0.., energy, J_<name>..`, and `work` for forced systems.
+pub fn trajectory_header<const N: usize>(system: &System<N>) -> Vec<String> {
     let mut header = vec!["t".to_string()];
     header.extend((0..N).map(|i| format!("q{i}")));
     header.extend((0..N).map(|i| format!("p{i}")));
@@ -92,243 +84,311 @@ pub fn trajectory_table<const N: usize>(system: &System<N>, states: &[PhaseState
     if system.forced {
         header.push("work".into());
     }
-    let rows = states
-        .iter()
-        .zip(work)
-        .map(|(x, w)| {
-            let mut r = Vec::with_capacity(header.len());
-            r.push(x.t);
-            r.extend(x.q.iter());
-            r.extend(x.p.iter());
-            r.push((system.energy)(x));
-            r.extend(system.momenta.iter().map(|(_, j)| j(x)));
-            if system.forced {
-                r.push(*w);
-            }
-            r
-        })
-        .collect();
-    Table { header, rows }
+    header
 }
 
-fn max_dev(values: &[f64]) -> f64 {
-    veselov::diagnostics::max_abs_deviation(values)
+/// The row of `x` under [`trajectory_header`]; `work` is the cumulative work of the forces.
+pub fn trajectory_row<const N: usize>(system: &System<N>, x: &PhaseState<N>, work: f64) -> Vec<f64> {
+    let mut r = Vec::with_capacity(2 + 2 * N + system.momenta.len() + 1);
+    r.push(x.t);
+    r.extend(x.q.iter());
+    r.extend(x.p.iter());
+    r.push((system.energy)(x));
+    r.extend(system.momenta.iter().map(|(_, j)| j(x)));
+    if system.forced {
+        r.push(work);
+    }
+    r
+}
+
+/// The table of `states` (with the cumulative `work` at each), for studies that keep it in memory.
+pub fn trajectory_table<const N: usize>(system: &System<N>, states: &[PhaseState<N>], work: &[f64]) -> Table {
+    Table {
+        header: trajectory_header(system),
+        rows: states
+            .iter()
+            .zip(work)
+            .map(|(x, w)| trajectory_row(system, x, *w))
+            .collect(),
+    }
 }
 
 impl Job for RunJob {
     fn run<const N: usize>(self, scenario: &LoadedScenario, system: System<N>) -> Result<(), CliError> {
         match resolve_choice(scenario)? {
-            Choice::Fixed(method) => self.run_fixed(scenario, system, method),
-            Choice::Variable(rule) => self.run_variable(scenario, system, rule),
+            Choice::Fixed(method) => run_fixed(&self, scenario, system, method),
+            Choice::Variable(rule) => run_variable(&self, scenario, system, rule),
         }
     }
 }
 
-impl RunJob {
-    fn run_fixed<const N: usize>(
-        self,
-        scenario: &LoadedScenario,
-        system: System<N>,
-        method: Method,
-    ) -> Result<(), CliError> {
-        let start = Instant::now();
-        let x0 = resolve_initial(scenario, &system)?;
-        let e0 = (system.energy)(&x0);
-        if !e0.is_finite() {
-            return Err(scenario.key_error(
-                if system.model == "custom" {
-                    "model.lagrangian"
-                } else {
-                    "initial"
-                },
-                "the energy is not finite at the initial state (is the Lagrangian defined and regular there?)",
-            ));
+fn run_fixed<const N: usize>(
+    job: &RunJob,
+    scenario: &LoadedScenario,
+    system: System<N>,
+    method: Method,
+) -> Result<(), CliError> {
+    let x0 = resolve_initial(scenario, &system)?;
+    let e0 = (system.energy)(&x0);
+    if !e0.is_finite() {
+        return Err(scenario.key_error(
+            if system.model == "custom" {
+                "model.lagrangian"
+            } else {
+                "initial"
+            },
+            "the energy is not finite at the initial state (is the Lagrangian defined and regular there?)",
+        ));
+    }
+    let dt = scenario.scenario.method.dt;
+    let mut map = (system.make_map)(method, dt).map_err(|e| CliError::Setup(e.to_string()))?;
+    let scheme = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?;
+    let steps = scenario.steps();
+    let header = trajectory_header(&system);
+    let (mut session, positions, words) = open_table_session(
+        job,
+        &scenario.path,
+        (&scenario.scenario.time, &scenario.scenario.output),
+        planned_steps(&scenario.scenario.time, dt),
+        header.len(),
+        "mechanics",
+    )?;
+    let out = &scenario.scenario.output;
+    let sink = TableSink::create(
+        &session.dir,
+        "trajectory",
+        &header,
+        &out.formats,
+        steps / out.every + 2,
+        positions,
+    )?;
+    let system = &system;
+    let mut table = TableObserver::new(
+        header,
+        Box::new(move |x: &PhaseState<N>, w| trajectory_row(system, x, w)),
+        sink,
+        out.every,
+    );
+    table.track("energy", Acc::Dev);
+    for (name, _) in &system.momenta {
+        table.track(&format!("J_{name}"), Acc::Dev);
+    }
+    if system.forced {
+        table.balance = Some((1 + 2 * N, table.header.len() - 1, 0.0));
+    }
+    let mut stepper = PhaseStepper::new(map.as_mut(), x0.t);
+    let mut x = x0;
+    let mut first = 0;
+    let mut start_failure = None;
+    match session.resumed.clone() {
+        Some(saved) => {
+            restore(&session.dir, &mut x, &mut Words::new(&saved.state))?;
+            restore(&session.dir, &mut stepper, &mut Words::new(&saved.stepper))?;
+            table
+                .resume(saved.step, &x, &mut Words::new(&words))
+                .map_err(|e| words_error(&session.dir, e))?;
+            first = saved.step;
         }
-        let dt = scenario.scenario.method.dt;
-        let mut map = (system.make_map)(method, dt).map_err(|e| CliError::Setup(e.to_string()))?;
-        let dir = prepare_dir(&scenario.output_dir(self.out.as_deref()), self.force)?;
-        let steps = scenario.steps() as usize;
-        let every = scenario.scenario.output.every as usize;
-        let mut progress = Progress::new(steps as u64, self.quiet);
-        let traj = integrate_observed(map.as_mut(), x0, steps, every, |k, _| progress.set(k as u64));
-        progress.finish();
-        let mut failure = traj.failure.clone();
-        let mut table = trajectory_table(&system, &traj.states, &traj.work);
-        let energy_col = 1 + 2 * N;
-        if failure.is_none()
-            && let Some(k) = table.rows.iter().position(|r| !r[energy_col].is_finite())
-        {
-            failure = Some(veselov::Error::NonFiniteState {
-                step: k * every,
-                t: table.rows[k][0],
-                what: "energy".into(),
+        None => start_failure = table.start(0, &x0).err(),
+    }
+    let outcome = match start_failure {
+        Some(e) => empty_outcome(Status::Failed(e)),
+        None => session.execute(&mut stepper, &mut x, first, StopWhen::steps(steps), &mut table)?,
+    };
+    let (iterations, fallback) = totals(&session, &outcome);
+    let wall = session.wall_seconds();
+    let t_final = t_of(outcome.last_step, x0.t, dt);
+    finish(
+        &scenario.scenario.output,
+        &session,
+        table,
+        outcome.status.clone(),
+        |t, status| {
+            let energy = t.column("energy").map_or(0.0, |c| c.value);
+            let names: Vec<String> = system.momenta.iter().map(|(n, _)| n.clone()).collect();
+            let mut own = json!({
+                "scenario": scenario.path.display().to_string(),
+                "model": system.model,
+                "method": method.name(),
+                "method_description": scheme.describe(),
+                "stages": match method { Method::GalerkinLobatto(s) | Method::GalerkinGauss(s) => Some(s), _ => None },
+                "alpha": match method { Method::Alpha(a) => Some(a), _ => None },
+                "order": scheme.order(),
+                "dt": dt,
+                "steps_requested": steps,
+                "energy_initial": e0,
+                "energy_error_max": energy,
+                "momentum_error_max": t.deviations(&names),
+                "newton_iterations_mean": iterations as f64 / outcome.last_step.max(1) as f64,
+                "fallback_steps": fallback,
             });
-            table.rows.truncate(k + 1);
-        }
-        let energies: Vec<f64> = table.rows.iter().map(|r| r[energy_col]).collect();
-        let scheme = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?;
-        let work: Vec<f64> = traj.work[..table.rows.len()].to_vec();
-        let balance = energies
-            .iter()
-            .zip(&work)
-            .fold(0.0_f64, |m, (e, w)| m.max((e - e0 - w).abs()));
-        let mut summary = json!({
-            "status": if failure.is_none() { "ok" } else { "error" },
-            "error": failure.as_ref().map(|e| e.to_string()),
-            "scenario": scenario.path.display().to_string(),
-            "model": system.model,
-            "method": method.name(),
-            "method_description": scheme.describe(),
-            "stages": match method { Method::GalerkinLobatto(s) | Method::GalerkinGauss(s) => Some(s), _ => None },
-            "alpha": match method { Method::Alpha(a) => Some(a), _ => None },
-            "order": scheme.order(),
-            "dt": dt,
-            "steps": traj.steps,
-            "steps_requested": steps,
-            "t_final": traj.last().t,
-            "energy_initial": e0,
-            "energy_error_max": max_dev(&energies),
-            "momentum_error_max": momentum_errors(&system, &table),
-            "newton_iterations_mean": traj.mean_iterations(),
-            "fallback_steps": traj.fallback_steps,
-            "wall_seconds": start.elapsed().as_secs_f64(),
-        });
-        if system.forced {
-            summary["work_of_forces"] = json!(work.last().copied().unwrap_or(0.0));
-            summary["energy_balance_error_max"] = json!(balance);
-        }
-        let report = format!(
-            "{}: {} steps to t = {}, max |E − E₀| = {:.3e}",
-            scheme.describe(),
-            traj.steps,
-            traj.last().t,
-            max_dev(&energies)
-        );
-        self.finish::<N>(scenario, dir, &table, &summary, &report, failure)
-    }
-
-    /// Write the trajectory, the summary and the plots, report, and turn a
-    /// failure into the run error (the partial outputs are already written).
-    fn finish<const N: usize>(
-        &self,
-        scenario: &LoadedScenario,
-        dir: PathBuf,
-        table: &Table,
-        summary: &serde_json::Value,
-        report: &str,
-        failure: Option<veselov::Error>,
-    ) -> Result<(), CliError> {
-        write_outputs(scenario, &dir, table)?;
-        write_json(&dir.join("summary.json"), summary)?;
-        if scenario.scenario.output.plots {
-            figures::draw_all(&dir, table, N, &scenario.scenario.output.plot_format)?;
-        }
-        if !self.quiet {
-            eprintln!("{report}; outputs in {}", dir.display());
-        }
-        match failure {
-            Some(error) => Err(CliError::Run { error, dir }),
-            None => Ok(()),
-        }
-    }
+            if system.forced {
+                own["work_of_forces"] = json!(t.work());
+                own["energy_balance_error_max"] = json!(t.balance.map_or(0.0, |b| b.2));
+            }
+            summary::common(status, outcome.last_step, t_final, wall, iterations, own)
+        },
+        |t| {
+            format!(
+                "{}: {} steps to t = {t_final}, max |E − E₀| = {:.3e}",
+                scheme.describe(),
+                outcome.last_step,
+                t.column("energy").map_or(0.0, |c| c.value)
+            )
+        },
+    )
 }
 
-/// `max |J_k − J_0|` over the stored rows, for every momentum-map column.
-fn momentum_errors<const N: usize>(system: &System<N>, table: &Table) -> serde_json::Map<String, serde_json::Value> {
-    system
-        .momenta
-        .iter()
-        .map(|(name, _)| {
-            let col = table.column(&format!("J_{name}")).unwrap_or_default();
-            (name.clone(), json!(max_dev(&col)))
-        })
-        .collect()
-}
-
-impl RunJob {
-    /// A variable-step SEM run: `dt` is the first step, the run stops at the first `t_k ≥ t_end`
-    /// (or after `steps` steps).
-    fn run_variable<const N: usize>(
-        self,
-        scenario: &LoadedScenario,
-        system: System<N>,
-        rule: SemRule,
-    ) -> Result<(), CliError> {
-        let start = Instant::now();
-        let Some(make) = &system.make_sem else {
-            return Err(scenario.key_error(
-                "method.name",
-                format!(
-                    "`{}` conserves energy and cannot integrate the forced model `{}`",
-                    rule.name(),
-                    system.model
-                ),
-            ));
-        };
-        let x0 = resolve_initial(scenario, &system)?;
-        let mut map = make(rule).map_err(|e| CliError::Setup(e.to_string()))?;
-        let dir = prepare_dir(&scenario.output_dir(self.out.as_deref()), self.force)?;
-        let (t_end, max_steps) = match (scenario.scenario.time.t_end, scenario.scenario.time.steps) {
-            (Some(t), _) => (t, usize::MAX),
-            (None, Some(n)) => (f64::INFINITY, n as usize),
-            (None, None) => (x0.t, 0),
-        };
-        let dt = scenario.scenario.method.dt;
-        let run = run_sem(map.as_mut(), x0.t, x0.q, x0.p, dt, t_end, max_steps, false);
-        let every = scenario.scenario.output.every as usize;
-        let kept: Vec<&SemState<N>> = run
-            .states
-            .iter()
-            .enumerate()
-            .filter(|(k, _)| k % every == 0 || *k + 1 == run.states.len())
-            .map(|(_, s)| s)
-            .collect();
-        let phase: Vec<PhaseState<N>> = kept.iter().map(|s| PhaseState::new(s.t, s.q, s.p)).collect();
-        let mut table = trajectory_table(&system, &phase, &vec![0.0; phase.len()]);
-        table.header.push("h".into());
-        table.header.push("discrete_energy".into());
-        for (row, s) in table.rows.iter_mut().zip(&kept) {
-            row.push(s.h);
-            row.push(s.energy);
-        }
-        let energies: Vec<f64> = table.rows.iter().map(|r| r[1 + 2 * N]).collect();
-        let e0 = energies.first().copied().unwrap_or(f64::NAN);
-        let discrete: Vec<f64> = run.states.iter().skip(1).map(|s| s.energy).collect();
-        let steps: Vec<f64> = run.states.iter().skip(1).map(|s| s.h).collect();
-        let last = run.states.last().map(|s| s.t).unwrap_or(x0.t);
-        let summary = json!({
-            "status": if run.failure.is_none() { "ok" } else { "error" },
-            "error": run.failure.as_ref().map(|e| e.to_string()),
-            "scenario": scenario.path.display().to_string(),
-            "model": system.model,
-            "method": rule.name(),
-            "order": if rule == SemRule::LeftPoint { 1 } else { 2 },
-            "dt": dt,
-            "steps": run.states.len().saturating_sub(1),
-            "t_final": last,
-            "energy_initial": e0,
-            "energy_error_max": max_dev(&energies),
-            "discrete_energy": discrete.first(),
-            "discrete_energy_error_max": max_dev(&discrete),
-            "h_min": steps.iter().copied().fold(f64::INFINITY, f64::min),
-            "h_max": steps.iter().copied().fold(0.0, f64::max),
-            "fallback_steps": run.flagged_steps.len(),
-            "momentum_error_max": momentum_errors(&system, &table),
-            "newton_iterations_mean": run.iterations as f64 / steps.len().max(1) as f64,
-            "wall_seconds": start.elapsed().as_secs_f64(),
-        });
-        let report = format!("{}: {} steps to t = {last}", rule.name(), steps.len());
-        self.finish::<N>(scenario, dir, &table, &summary, &report, run.failure)
+/// A variable-step SEM run: `dt` is the first step, the run stops at the first `t_k ≥ t_end`
+/// (or after `steps` steps).
+fn run_variable<const N: usize>(
+    job: &RunJob,
+    scenario: &LoadedScenario,
+    system: System<N>,
+    rule: SemRule,
+) -> Result<(), CliError> {
+    let Some(make) = &system.make_sem else {
+        return Err(scenario.key_error(
+            "method.name",
+            format!(
+                "`{}` conserves energy and cannot integrate the forced model `{}`",
+                rule.name(),
+                system.model
+            ),
+        ));
+    };
+    let x0 = resolve_initial(scenario, &system)?;
+    let mut map = make(rule).map_err(|e| CliError::Setup(e.to_string()))?;
+    let s = &scenario.scenario;
+    let dt = s.method.dt;
+    let (t_end, max_steps) = match (s.time.t_end, s.time.steps) {
+        (Some(t), _) => (t, u64::MAX),
+        (None, Some(n)) => (f64::INFINITY, n),
+        (None, None) => (x0.t, 0),
+    };
+    // The step count of a variable-step run is estimated from the first step.
+    let planned = if max_steps == u64::MAX {
+        (t_end - x0.t) / dt
+    } else {
+        max_steps as f64
+    };
+    let mut header = trajectory_header(&system);
+    header.push("h".into());
+    header.push("discrete_energy".into());
+    let (mut session, positions, words) = open_table_session(
+        job,
+        &scenario.path,
+        (&s.time, &s.output),
+        planned,
+        header.len(),
+        "mechanics",
+    )?;
+    let out = &s.output;
+    let rows = (planned / out.every as f64 + 2.0).min(u64::MAX as f64) as u64;
+    let sink = TableSink::create(&session.dir, "trajectory", &header, &out.formats, rows, positions)?;
+    let system = &system;
+    let mut table = TableObserver::new(
+        header,
+        Box::new(move |x: &SemState<N>, _| {
+            let mut row = trajectory_row(system, &PhaseState::new(x.t, x.q, x.p), 0.0);
+            row.extend([x.h, x.energy]);
+            row
+        }),
+        sink,
+        out.every,
+    );
+    table.track("energy", Acc::Dev);
+    for (name, _) in &system.momenta {
+        table.track(&format!("J_{name}"), Acc::Dev);
     }
-}
-
-fn write_outputs(scenario: &LoadedScenario, dir: &Path, table: &Table) -> Result<(), CliError> {
-    for f in &scenario.scenario.output.formats {
-        match f.as_str() {
-            "csv" => table.write_csv(&dir.join("trajectory.csv"))?,
-            "npy" => table.write_npy(&dir.join("trajectory.npy"))?,
-            _ => {}
+    table.states = vec![
+        (|x: &SemState<N>| x.energy, Tracker::new(Acc::Dev)),
+        (|x: &SemState<N>| x.h, Tracker::new(Acc::Min)),
+        (|x: &SemState<N>| x.h, Tracker::new(Acc::Max)),
+    ];
+    let started = session.resumed.is_none().then(|| map.start(x0.t, x0.q, x0.p, dt));
+    let mut stepper = SemStepper::new(map.as_mut(), None);
+    let (mut x, first, failure) = match (session.resumed.clone(), started) {
+        (Some(saved), _) => {
+            let mut x = SemState {
+                t: x0.t,
+                q: x0.q,
+                p: x0.p,
+                energy: 0.0,
+                h: dt,
+            };
+            restore(&session.dir, &mut x, &mut Words::new(&saved.state))?;
+            restore(&session.dir, &mut stepper, &mut Words::new(&saved.stepper))?;
+            table
+                .resume(saved.step, &x, &mut Words::new(&words))
+                .map_err(|e| words_error(&session.dir, e))?;
+            (x, saved.step, None)
         }
-    }
-    Ok(())
+        (None, started) => match started.unwrap_or(Err(veselov::Error::InvalidStep { h: dt })) {
+            Ok((s0, s1)) => {
+                let mut failure = table.start(0, &s0).err();
+                if max_steps > 0 && failure.is_none() {
+                    for (f, t) in &mut table.states {
+                        t.push(f(&s1));
+                    }
+                    if out.every == 1 {
+                        failure = table.write(1, &s1).err();
+                    }
+                    table.start_at(1, &s1);
+                }
+                let first = u64::from(max_steps > 0);
+                (if first == 1 { s1 } else { s0 }, first, failure)
+            }
+            Err(e) => {
+                let s0 = SemState {
+                    t: x0.t,
+                    q: x0.q,
+                    p: x0.p,
+                    energy: f64::NAN,
+                    h: dt,
+                };
+                (s0, 0, Some(e))
+            }
+        },
+    };
+    let stop = StopWhen {
+        steps: Some(max_steps),
+        t_end: Some(t_end),
+        interrupt: None,
+    };
+    let outcome = match failure {
+        Some(e) => empty_outcome(Status::Failed(e)),
+        None => session.execute(&mut stepper, &mut x, first, stop, &mut table)?,
+    };
+    let (iterations, fallback) = totals(&session, &outcome);
+    let wall = session.wall_seconds();
+    let t_final = x.t;
+    finish(
+        &scenario.scenario.output,
+        &session,
+        table,
+        outcome.status.clone(),
+        |t, status| {
+            let names: Vec<String> = system.momenta.iter().map(|(n, _)| n.clone()).collect();
+            let tracked = |i: usize| t.states.get(i).map(|s| s.1);
+            let own = json!({
+                "scenario": scenario.path.display().to_string(),
+                "model": system.model,
+                "method": rule.name(),
+                "order": if rule == SemRule::LeftPoint { 1 } else { 2 },
+                "dt": dt,
+                "energy_initial": t.column("energy").map_or(f64::NAN, |c| c.first),
+                "energy_error_max": t.column("energy").map_or(0.0, |c| c.value),
+                "discrete_energy": tracked(0).map(|c| c.first).filter(|e| !e.is_nan()),
+                "discrete_energy_error_max": tracked(0).map_or(0.0, |c| c.value),
+                "h_min": tracked(1).map_or(f64::INFINITY, |c| c.value),
+                "h_max": tracked(2).map_or(0.0, |c| c.value.max(0.0)),
+                "fallback_steps": fallback,
+                "momentum_error_max": t.deviations(&names),
+                "newton_iterations_mean": iterations as f64 / outcome.last_step.max(1) as f64,
+            });
+            summary::common(status, outcome.last_step, t_final, wall, iterations, own)
+        },
+        |_| format!("{}: {} steps to t = {t_final}", rule.name(), outcome.last_step),
+    )
 }

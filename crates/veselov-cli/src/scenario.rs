@@ -107,6 +107,10 @@ pub struct OutputSpec {
     /// `svg` (default) or `png`.
     #[serde(default = "default_plot_format")]
     pub plot_format: String,
+    /// Steps between checkpoints (default 0: a checkpoint only where the
+    /// run ends, interrupted or not; `--resume` continues from the last one).
+    #[serde(default)]
+    pub checkpoint_every: u64,
 }
 
 fn one() -> u64 {
@@ -130,6 +134,7 @@ impl Default for OutputSpec {
             formats: default_formats(),
             plots: true,
             plot_format: default_plot_format(),
+            checkpoint_every: 0,
         }
     }
 }
@@ -325,6 +330,23 @@ pub fn step_count(time: &TimeSpec, dt: f64) -> u64 {
             n.max(1.0) as u64
         }
         (None, None) => 1,
+    }
+}
+
+/// The step count of [`step_count`] as a float, not saturated: what the
+/// preflight reports and checks (`t_end = 2e18` is 2e21 steps of 1e-3, not `u64::MAX`).
+pub fn planned_steps(time: &TimeSpec, dt: f64) -> f64 {
+    match (time.steps, time.t_end) {
+        (Some(n), _) => n as f64,
+        (None, Some(t_end)) => {
+            let n = (t_end - time.t0) / dt;
+            if n < u64::MAX as f64 {
+                step_count(time, dt) as f64
+            } else {
+                n
+            }
+        }
+        (None, None) => 1.0,
     }
 }
 

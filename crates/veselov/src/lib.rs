@@ -41,6 +41,7 @@ pub mod lgvi;
 pub mod lie;
 pub mod mechanics;
 pub mod models;
+pub mod run;
 pub mod sem;
 pub mod solve;
 pub mod special;

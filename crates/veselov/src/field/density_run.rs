@@ -9,8 +9,10 @@ use super::energy::{CellEnergy, level_energy};
 use super::generic::GenericMarcher;
 use super::lattice::{Lattice, invalid};
 use super::noether::split_charge;
-use super::run::LevelInfo;
+use super::run::{LevelInfo, planned_levels};
+use super::stepping::DensityStepper;
 use crate::error::{Error, Result};
+use crate::run::{Control, StepStats, StopWhen, drive};
 
 /// The generator ξ(y) of a vertical symmetry of the field values.
 pub type Generator<'a, const DIM: usize> = &'a dyn Fn(&SVector<f64, DIM>) -> SVector<f64, DIM>;
@@ -51,7 +53,8 @@ pub struct DensityRun<const DIM: usize> {
 
 /// March `lag` from levels `y0`, `y1` to `config.t_end`; `charge` is the
 /// generator ξ(y) of a vertical symmetry whose split charge is recorded.
-/// `observer` sees every level; returning `false` stops the run.
+/// `observer` sees every level; returning `false` stops the run. Runs on
+/// [`crate::run::drive`] with a [`DensityStepper`].
 ///
 /// # Errors
 /// Invalid configuration or initial data (typed, naming the parameter).
@@ -73,7 +76,7 @@ pub fn run_density<L: CellEnergy<DIM>, const DIM: usize>(
     }
     let mut m = GenericMarcher::new(lag, lattice, y0, y1)?;
     m.rel_tol = config.rel_tol;
-    let total_levels = (config.t_end / lattice.dt()).ceil() as usize;
+    let total_levels = planned_levels(config.t_end, lattice.dt());
     let measure = |m: &GenericMarcher<L, DIM>, run: &mut DensityRun<DIM>| {
         run.energies
             .push(level_energy(m.lagrangian(), &lattice, m.previous(), m.current()));
@@ -93,13 +96,8 @@ pub fn run_density<L: CellEnergy<DIM>, const DIM: usize>(
         status: Ok(()),
     };
     measure(&m, &mut run);
-    while m.level() < total_levels {
-        if let Err(e) = m.step() {
-            run.status = Err(e);
-            break;
-        }
-        run.iterations += m.last_iterations() as u64;
-        measure(&m, &mut run);
+    let mut record = |_: u64, m: &GenericMarcher<L, DIM>, _: &StepStats| {
+        measure(m, &mut run);
         let level = m.level();
         if config.snapshot_every > 0 && level.is_multiple_of(config.snapshot_every) {
             run.snapshots.push((level, lattice.t(level), m.current().to_vec()));
@@ -111,9 +109,23 @@ pub fn run_density<L: CellEnergy<DIM>, const DIM: usize>(
             iterations: m.last_iterations(),
             total_levels,
         };
-        if !observer(&info) {
-            break;
+        if observer(&info) {
+            Control::Continue
+        } else {
+            Control::Stop
         }
+    };
+    let first = m.level() as u64;
+    let outcome = drive(
+        &mut DensityStepper::new(),
+        &mut m,
+        first,
+        &StopWhen::steps(total_levels as u64),
+        &mut [&mut record],
+    );
+    run.iterations = outcome.iterations;
+    if let Some(e) = outcome.failure() {
+        run.status = Err(e.clone());
     }
     run.final_level = m.current().to_vec();
     run.final_index = m.level();

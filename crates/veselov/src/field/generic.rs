@@ -85,6 +85,10 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
     pub fn lagrangian(&self) -> &L {
         &self.lag
     }
+    /// The lattice.
+    pub fn lattice(&self) -> &Lattice {
+        &self.lattice
+    }
     /// Index of the newest level.
     pub fn level(&self) -> usize {
         self.level

@@ -64,6 +64,7 @@ pub mod potential;
 pub mod region;
 pub mod run;
 pub mod scheme;
+pub mod stepping;
 pub mod trig;
 pub mod variational;
 
@@ -82,3 +83,4 @@ pub use potential::{ComplexKleinGordon, NonlinearWave, Phi4, Potential, ScalarPo
 pub use region::{Node, Region, window};
 pub use run::{BlockAccumulator, BlockStats, FieldRun, FieldRunConfig, LevelInfo, Model, Snapshot, run_lattice};
 pub use scheme::Scheme;
+pub use stepping::{DensityStepper, FastLevels, FastStepper};

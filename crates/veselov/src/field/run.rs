@@ -10,7 +10,9 @@ use super::lattice::{Lattice, invalid};
 use super::noether::shift_charge;
 use super::potential::{Phi4, ScalarPotential, SineGordon, Wave};
 use super::scheme::Scheme;
+use super::stepping::{FastLevels, FastStepper};
 use crate::error::{Error, Result};
+use crate::run::{Control, Status, StepStats, StopWhen, drive};
 
 /// The scalar models of the fast paths.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -222,7 +224,8 @@ pub struct FieldRun {
     pub stopped: bool,
 }
 
-/// Run a scalar lattice simulation. `observer` is called after every level;
+/// Run a scalar lattice simulation on [`crate::run::drive`] with a
+/// [`FastStepper`]. `observer` is called after every level;
 /// returning `false` stops the run (status stays `Ok`).
 ///
 /// # Errors
@@ -255,8 +258,9 @@ fn run_with<P: ScalarPotential>(
 ) -> Result<FieldRun> {
     let lat = config.lattice;
     let (y0, y1) = config.initial.levels(&lat)?;
-    let mut m = FastMarcher::new(potential, config.scheme, lat, &y0, &y1, config.solver)?;
-    let total_levels = (config.t_end / lat.dt()).ceil() as usize;
+    let m = FastMarcher::new(potential, config.scheme, lat, &y0, &y1, config.solver)?;
+    let first = m.level() as u64;
+    let total_levels = planned_levels(config.t_end, lat.dt());
     let recentre = config.recentre_every > 0 && config.model == Model::SineGordon;
     let mut run = FieldRun {
         initial_energy: f64::NAN,
@@ -277,11 +281,8 @@ fn run_with<P: ScalarPotential>(
         run.charges.push(shift_charge(&y0, &y1));
     }
     let mut blocks = BlockAccumulator::new(config.energy_block);
-    while m.level() < total_levels {
-        if let Err(e) = m.step() {
-            run.status = Err(e);
-            break;
-        }
+    let mut record = |_: u64, s: &FastLevels<P>, _: &StepStats| {
+        let m = &s.marcher;
         let e = m.energy();
         if run.initial_energy.is_nan() {
             run.initial_energy = e;
@@ -298,12 +299,9 @@ fn run_with<P: ScalarPotential>(
             run.snapshots.push(Snapshot {
                 level: m.level(),
                 time: m.time(),
-                recentred_by: run.recentred_by,
+                recentred_by: s.recentred_by,
                 values: m.current().to_vec(),
             });
-        }
-        if recentre && m.level().is_multiple_of(config.recentre_every) {
-            run.recentred_by += m.recentre_mod_2pi();
         }
         let info = LevelInfo {
             level: m.level(),
@@ -312,17 +310,45 @@ fn run_with<P: ScalarPotential>(
             iterations: m.last_iterations(),
             total_levels,
         };
-        if !observer(&info) {
-            run.stopped = true;
-            break;
+        if observer(&info) {
+            Control::Continue
+        } else {
+            Control::Stop
         }
+    };
+    let mut levels = FastLevels::new(m);
+    let mut stepper = FastStepper::new(if recentre { config.recentre_every } else { 0 });
+    let outcome = drive(
+        &mut stepper,
+        &mut levels,
+        first,
+        &StopWhen::steps(total_levels as u64),
+        &mut [&mut record],
+    );
+    match outcome.status {
+        Status::Failed(e) => run.status = Err(e),
+        Status::Stopped => run.stopped = true,
+        Status::Completed | Status::Interrupted => {}
     }
+    let m = &levels.marcher;
+    run.recentred_by = levels.recentred_by;
     run.energy_blocks = blocks.finish();
     run.final_level = m.current().to_vec();
     run.final_index = m.level();
     run.final_time = m.time();
     run.iterations = m.total_iterations();
     Ok(run)
+}
+
+/// Levels of a run to `t_end` in steps of `dt`: `⌈t_end/dt⌉`, saturating
+/// (a run that long is stopped by other means long before).
+pub fn planned_levels(t_end: f64, dt: f64) -> usize {
+    let n = (t_end / dt).ceil();
+    if n >= usize::MAX as f64 {
+        usize::MAX
+    } else {
+        n.max(0.0) as usize
+    }
 }
 
 #[cfg(test)]

@@ -43,6 +43,49 @@ impl<G: GroupFamily<N>, const N: usize> Carry<G, N> {
     }
 }
 
+impl<G: GroupFamily<N>, const N: usize> Carry<G, N> {
+    /// Checkpoint words: a flag, then the state it was made for (rotation,
+    /// translation, μ), π and ∇V.
+    pub(crate) fn save(carry: &Option<Self>, out: &mut Vec<f64>) {
+        let record = carry.as_ref().map(|c| {
+            let mut r: Vec<f64> = G::rotation(&c.g).iter().copied().collect();
+            r.extend(G::translation(&c.g).iter());
+            r.extend(c.mu.iter().chain(c.spatial.iter()).chain(c.gradient.iter()));
+            r
+        });
+        crate::run::save_option(out, record.as_deref(), 12 + 3 * N);
+    }
+
+    /// Read what [`Carry::save`] wrote.
+    pub(crate) fn restore(words: &mut crate::run::Words<'_>) -> crate::Result<Option<Self>> {
+        Ok(crate::run::restore_option(words, 12 + 3 * N)?.map(|r| {
+            let g = G::from_parts(
+                nalgebra::Matrix3::from_column_slice(&r[..9]),
+                SVector::from_column_slice(&r[9..12]),
+            );
+            let part = |k: usize| SVector::from_column_slice(&r[12 + k * N..12 + (k + 1) * N]);
+            Self {
+                g,
+                mu: part(0),
+                spatial: part(1),
+                gradient: part(2),
+            }
+        }))
+    }
+}
+
+/// Save an optional vector as checkpoint words.
+pub(crate) fn save_vector<const N: usize>(v: &Option<SVector<f64, N>>, out: &mut Vec<f64>) {
+    crate::run::save_option(out, v.as_ref().map(|v| v.as_slice()), N);
+}
+
+/// Read what [`save_vector`] wrote.
+pub(crate) fn restore_vector<const N: usize>(
+    words: &mut crate::run::Words<'_>,
+) -> crate::Result<Option<SVector<f64, N>>> {
+    Ok(crate::run::restore_option(words, N)?.map(SVector::from_column_slice))
+}
+
 /// π = Ad*_{g⁻¹}μ.
 pub(crate) fn spatial_of<G: GroupFamily<N>, const N: usize>(state: &GroupState<G, N>) -> SVector<f64, N> {
     state.g.coadjoint() * state.mu

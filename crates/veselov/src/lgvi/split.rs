@@ -8,7 +8,7 @@ use std::marker::PhantomData;
 use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::DualSVec64;
 
-use super::carry::{Carry, spatial_of};
+use super::carry::{Carry, restore_vector, save_vector, spatial_of};
 use super::discrete::left_gradient;
 use super::integrator::newton_on_algebra;
 use super::{GroupState, GroupStepMap, SplitReducedLagrangian};
@@ -151,6 +151,18 @@ where
     R: Retraction<N, Family = G>,
     L: SplitReducedLagrangian<G, N>,
 {
+    /// The last two Newton solutions (the predictor) and the carried π, ∇V.
+    fn save_carry(&self, out: &mut Vec<f64>) {
+        save_vector(&self.guess, out);
+        save_vector(&self.previous_guess, out);
+        Carry::save(&self.carry, out);
+    }
+    fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
+        self.guess = restore_vector(words)?;
+        self.previous_guess = restore_vector(words)?;
+        self.carry = Carry::restore(words)?;
+        Ok(())
+    }
     fn step_size(&self) -> f64 {
         self.h
     }

@@ -66,6 +66,16 @@ pub trait GroupStepMap<G: GroupFamily<N>, const N: usize> {
     fn step_size(&self) -> f64;
     /// Advance one step; `index` (0-based) is used in error reports.
     fn step(&mut self, index: usize, state: &GroupState<G, N>) -> Result<(GroupState<G, N>, StepStats)>;
+    /// Append what the next step depends on besides the state as checkpoint
+    /// words; nothing by default.
+    fn save_carry(&self, _out: &mut Vec<f64>) {}
+    /// Restore what [`GroupStepMap::save_carry`] wrote.
+    ///
+    /// # Errors
+    /// If the words do not fit this map.
+    fn restore_carry(&mut self, _words: &mut crate::run::Words<'_>) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// A computed trajectory on a group; a failure keeps what was computed.
@@ -98,7 +108,8 @@ pub fn integrate_group<G: GroupFamily<N>, const N: usize, M: GroupStepMap<G, N> 
 }
 
 /// As [`integrate_group`], calling `observer(k, state)` after every step k
-/// (1-based). Time is set to t₀ + k h (no accumulated rounding).
+/// (1-based). Time is set to t₀ + k h (no accumulated rounding). A thin
+/// wrapper over [`crate::run::drive`].
 pub fn integrate_group_observed<G: GroupFamily<N>, const N: usize, M: GroupStepMap<G, N> + ?Sized>(
     map: &mut M,
     initial: GroupState<G, N>,
@@ -106,9 +117,10 @@ pub fn integrate_group_observed<G: GroupFamily<N>, const N: usize, M: GroupStepM
     every: usize,
     mut observer: impl FnMut(usize, &GroupState<G, N>),
 ) -> GroupTrajectory<G, N> {
+    use crate::run::{Control, GroupStepper, StopWhen, drive};
     let every = every.max(1);
     let mut traj = GroupTrajectory {
-        states: Vec::with_capacity(steps / every + 2),
+        states: Vec::with_capacity((steps / every).saturating_add(2).min(1 << 20)),
         steps: 0,
         total_iterations: 0,
         failure: None,
@@ -118,28 +130,28 @@ pub fn integrate_group_observed<G: GroupFamily<N>, const N: usize, M: GroupStepM
         traj.failure = Some(e);
         return traj;
     }
-    let h = map.step_size();
-    let mut x = initial;
-    for k in 0..steps {
-        match map.step(k, &x) {
-            Ok((mut next, stats)) => {
-                next.t = initial.t + (k + 1) as f64 * h;
-                x = next;
-                traj.steps += 1;
-                traj.total_iterations += stats.iterations;
-                observer(k + 1, &x);
-                if (k + 1) % every == 0 {
-                    traj.states.push(x);
-                }
-            }
-            Err(e) => {
-                traj.failure = Some(e);
-                break;
-            }
+    let mut last = initial;
+    let mut store = |k: u64, x: &GroupState<G, N>, _: &StepStats| {
+        last = *x;
+        observer(k as usize, x);
+        if (k as usize).is_multiple_of(every) {
+            traj.states.push(*x);
         }
-    }
+        Control::Continue
+    };
+    let mut x = initial;
+    let outcome = drive(
+        &mut GroupStepper::new(map, initial.t),
+        &mut x,
+        0,
+        &StopWhen::steps(steps as u64),
+        &mut [&mut store],
+    );
+    traj.steps = outcome.steps as usize;
+    traj.total_iterations = outcome.iterations as usize;
+    traj.failure = outcome.failure().cloned();
     if traj.steps % every != 0 {
-        traj.states.push(x);
+        traj.states.push(last);
     }
     traj
 }

@@ -561,6 +561,29 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
     fn step_size(&self) -> f64 {
         self.h
     }
+    /// The end `(t, q)` of the last step and its control points (the
+    /// predictor of the next step), and the Kahan compensation terms.
+    fn save_carry(&self, out: &mut Vec<f64>) {
+        let end = self.previous.map(|(t, q)| {
+            let mut r = vec![t];
+            r.extend(q.iter());
+            r
+        });
+        crate::run::save_option(out, end.as_deref(), 1 + N);
+        out.extend(self.previous_controls.iter().flat_map(|z| z.iter()));
+        out.extend(self.compensation.0.iter().chain(self.compensation.1.iter()));
+    }
+    fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
+        self.previous = crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..])));
+        for z in self.previous_controls.iter_mut() {
+            *z = SVector::from_column_slice(words.take(N)?);
+        }
+        self.compensation = (
+            SVector::from_column_slice(words.take(N)?),
+            SVector::from_column_slice(words.take(N)?),
+        );
+        Ok(())
+    }
     fn step(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, StepStats)> {
         let (next, report) = self.step_report(index, state)?;
         Ok((

@@ -317,6 +317,32 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
     fn step_size(&self) -> f64 {
         self.h
     }
+    /// The end `(t, q)` of the last step, its stage forces (the predictor),
+    /// the Kahan compensation terms, then the Newton fallback's own carry.
+    fn save_carry(&self, out: &mut Vec<f64>) {
+        let end = self.previous.map(|(t, q)| {
+            let mut r = vec![t];
+            r.extend(q.iter());
+            r
+        });
+        crate::run::save_option(out, end.as_deref(), 1 + N);
+        out.extend(self.forces[..self.s].iter().flat_map(|g| g.iter()));
+        out.extend(self.compensation.0.iter().chain(self.compensation.1.iter()));
+        out.push(self.last_work);
+        self.general.save_carry(out);
+    }
+    fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
+        self.previous = crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..])));
+        for g in self.forces[..self.s].iter_mut() {
+            *g = SVector::from_column_slice(words.take(N)?);
+        }
+        self.compensation = (
+            SVector::from_column_slice(words.take(N)?),
+            SVector::from_column_slice(words.take(N)?),
+        );
+        self.last_work = words.one()?;
+        self.general.restore_carry(words)
+    }
     fn step(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, StepStats)> {
         state.check()?;
         let forced = !self.general.force().is_zero();

@@ -64,17 +64,7 @@ pub(crate) fn continues<const N: usize>(t_end: f64, q_end: &SVector<f64, N>, t: 
     q_end == q && (t_end - t).abs() <= 8.0 * f64::EPSILON * t.abs().max(1.0)
 }
 
-/// What one step reports besides the new state.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct StepStats {
-    /// Nonlinear iterations (Newton or fixed-point) spent on the step.
-    pub iterations: usize,
-    /// Whether a fast path had to fall back to the general Newton solver.
-    pub fallback: bool,
-    /// Discrete work of the generalised forces over the step,
-    /// `h Σᵢ bᵢ F(i)·Yᵢ` (zero for unforced systems).
-    pub work: f64,
-}
+pub use crate::run::StepStats;
 
 /// The Jacobian of a one-step map `(q, p) ↦ (q', p')` in `N × N` blocks.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,6 +85,16 @@ pub trait OneStepMap<const N: usize> {
     fn step_size(&self) -> f64;
     /// Advance `state` by one step; `index` (0-based) is used in error reports.
     fn step(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, StepStats)>;
+    /// Append what the next step depends on besides the state (predictor
+    /// history, compensation terms) as checkpoint words; nothing by default.
+    fn save_carry(&self, _out: &mut Vec<f64>) {}
+    /// Restore what [`OneStepMap::save_carry`] wrote.
+    ///
+    /// # Errors
+    /// If the words do not fit this map.
+    fn restore_carry(&mut self, _words: &mut crate::run::Words<'_>) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// A computed trajectory; a failure mid-way keeps everything computed before it.
@@ -149,6 +149,10 @@ pub fn integrate<const N: usize, M: OneStepMap<N> + ?Sized>(
 }
 
 /// As [`integrate`], calling `observer(k, state)` after every step `k` (1-based count of steps done).
+///
+/// A thin wrapper over [`crate::run::drive`] with an observer that stores the
+/// states; a state that stops being finite ends the run with
+/// [`Error::NonFiniteState`] and is not stored.
 pub fn integrate_observed<const N: usize, M: OneStepMap<N> + ?Sized>(
     map: &mut M,
     initial: PhaseState<N>,
@@ -156,50 +160,51 @@ pub fn integrate_observed<const N: usize, M: OneStepMap<N> + ?Sized>(
     every: usize,
     mut observer: impl FnMut(usize, &PhaseState<N>),
 ) -> Trajectory<N> {
+    use crate::run::{Control, PhaseStepper, StopWhen, drive};
     let every = every.max(1);
     let mut traj = Trajectory {
-        states: Vec::with_capacity(steps / every + 2),
-        work: Vec::with_capacity(steps / every + 2),
+        states: Vec::with_capacity((steps / every).saturating_add(2).min(1 << 20)),
+        work: Vec::with_capacity((steps / every).saturating_add(2).min(1 << 20)),
         total_iterations: 0,
         steps: 0,
         fallback_steps: 0,
         failure: None,
     };
+    traj.states.push(initial);
+    traj.work.push(0.0);
     if let Err(e) = initial.check() {
-        traj.states.push(initial);
-        traj.work.push(0.0);
         traj.failure = Some(e);
         return traj;
     }
-    traj.states.push(initial);
-    traj.work.push(0.0);
-    let mut x = initial;
-    let mut work = 0.0;
-    for k in 0..steps {
-        match map.step(k, &x) {
-            Ok((mut next, stats)) => {
-                // t_k = t₀ + k·h, free of the round-off of repeated addition.
-                next.t = initial.t + (k + 1) as f64 * map.step_size();
-                x = next;
-                traj.steps += 1;
-                traj.total_iterations += stats.iterations;
-                traj.fallback_steps += usize::from(stats.fallback);
-                work += stats.work;
-                if (k + 1) % every == 0 || k + 1 == steps {
-                    traj.states.push(x);
-                    traj.work.push(work);
-                }
-                observer(k + 1, &x);
-            }
-            Err(e) => {
-                if traj.states.last() != Some(&x) {
-                    traj.states.push(x);
-                    traj.work.push(work);
-                }
-                traj.failure = Some(e);
-                break;
-            }
+    let (mut last, mut work) = (initial, 0.0);
+    let mut store = |k: u64, x: &PhaseState<N>, stats: &StepStats| {
+        let k = k as usize;
+        work += stats.work;
+        last = *x;
+        if k.is_multiple_of(every) || k == steps {
+            traj.states.push(*x);
+            traj.work.push(work);
         }
+        observer(k, x);
+        Control::Continue
+    };
+    let mut x = initial;
+    let outcome = drive(
+        &mut PhaseStepper::new(map, initial.t),
+        &mut x,
+        0,
+        &StopWhen::steps(steps as u64),
+        &mut [&mut store],
+    );
+    traj.steps = outcome.steps as usize;
+    traj.total_iterations = outcome.iterations as usize;
+    traj.fallback_steps = outcome.fallback_steps as usize;
+    if let Some(e) = outcome.failure() {
+        if traj.states.last() != Some(&last) {
+            traj.states.push(last);
+            traj.work.push(work);
+        }
+        traj.failure = Some(e.clone());
     }
     traj
 }

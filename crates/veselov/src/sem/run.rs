@@ -4,6 +4,7 @@ use nalgebra::SVector;
 
 use super::stepper::{SemState, VariableStepMap};
 use crate::error::Error;
+use crate::run::{Control, SemStepper, StepStats, StopWhen, drive};
 
 /// A variable-step trajectory; a failure keeps what was computed.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,7 +20,7 @@ pub struct SemRun<const N: usize> {
 }
 
 /// Run from `(t₀, q₀, p₀)` with first step `h₀` until the first `t_k ≥ t_end`
-/// (or `max_steps`). With `land_on_end`, the last step is instead a fixed-step
+/// (or `max_steps`), on [`crate::run::drive`]. With `land_on_end`, the last step is instead a fixed-step
 /// variational step ending exactly at `t_end`, flagged as not energy-exact.
 #[allow(clippy::too_many_arguments)]
 pub fn run_sem<const N: usize, M: VariableStepMap<N> + ?Sized>(
@@ -54,35 +55,27 @@ pub fn run_sem<const N: usize, M: VariableStepMap<N> + ?Sized>(
     };
     run.states.push(s0);
     run.states.push(s1);
+    let mut store = |k: u64, x: &SemState<N>, stats: &StepStats| {
+        if stats.fallback {
+            run.flagged_steps.push(k as usize - 1);
+        }
+        run.states.push(*x);
+        Control::Continue
+    };
+    let stop = StopWhen {
+        steps: Some(max_steps as u64),
+        t_end: Some(t_end),
+        interrupt: None,
+    };
     let mut s = s1;
-    for k in 1..max_steps {
-        if s.t >= t_end {
-            break;
-        }
-        match integrator.step(k, &s) {
-            Ok((next, info)) => {
-                run.iterations += info.iterations;
-                if land_on_end && next.t > t_end {
-                    match integrator.fixed_step(&s, t_end - s.t) {
-                        Ok((last, _)) => {
-                            run.flagged_steps.push(k);
-                            run.states.push(last);
-                        }
-                        Err(e) => run.failure = Some(e),
-                    }
-                    break;
-                }
-                if info.fallback {
-                    run.flagged_steps.push(k);
-                }
-                run.states.push(next);
-                s = next;
-            }
-            Err(e) => {
-                run.failure = Some(e);
-                break;
-            }
-        }
-    }
+    let outcome = drive(
+        &mut SemStepper::new(integrator, land_on_end.then_some(t_end)),
+        &mut s,
+        1,
+        &stop,
+        &mut [&mut store],
+    );
+    run.iterations = outcome.iterations as usize;
+    run.failure = outcome.failure().cloned();
     run
 }

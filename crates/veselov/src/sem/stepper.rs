@@ -103,6 +103,16 @@ pub trait VariableStepMap<const N: usize> {
     fn step(&mut self, index: usize, s: &SemState<N>) -> Result<(SemState<N>, SemStepInfo)>;
     /// See [`SemIntegrator::fixed_step`].
     fn fixed_step(&mut self, s: &SemState<N>, h: f64) -> Result<(SemState<N>, usize)>;
+    /// Append what the next step depends on besides the state as checkpoint
+    /// words; nothing by default.
+    fn save_carry(&self, _out: &mut Vec<f64>) {}
+    /// Restore what [`VariableStepMap::save_carry`] wrote.
+    ///
+    /// # Errors
+    /// If the words do not fit this map.
+    fn restore_carry(&mut self, _words: &mut crate::run::Words<'_>) -> Result<()> {
+        Ok(())
+    }
 }
 
 impl<L: Lagrangian<N>, const N: usize> VariableStepMap<N> for SemIntegrator<L, N> {

@@ -1,0 +1,527 @@
+//! Marching a lattice-field scenario on the run pipeline: the observer that
+//! streams `energy.csv`, `snapshots.npy` and `snapshot_times.csv` as levels
+//! are computed, accumulates the energy and charge errors and the energy
+//! blocks, and writes `summary.json` and the plots at the end. (Parsing and
+//! validation live in [`crate::field`].)
+
+use nalgebra::SVector;
+use serde_json::json;
+use veselov::field::{
+    BlockAccumulator, CellEnergy, DensityStepper, FastLevels, FastMarcher, FastStepper, FieldRunConfig, Generator,
+    GenericMarcher, Lattice, Levels, Model, Phi4, ScalarPotential, SineGordon, Wave, level_energy, shift_charge,
+    split_charge,
+};
+use veselov::run::{Checkpoint, Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, Words};
+
+use crate::error::CliError;
+use crate::field::LoadedField;
+use crate::figures::{FieldView, draw_field};
+use crate::output::{Table, write_json};
+use crate::pipeline::readback::{MAX_PLOT_SNAPSHOTS, rows_for_plots, table_for_plots};
+use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::table::{Acc, Tracker};
+use crate::pipeline::{Resumable, Session, summary};
+
+/// Measures the newest level pair of a state: (energy, charge).
+type Measure<'a, S> = Box<dyn Fn(&S) -> (f64, Option<f64>) + 'a>;
+/// The physical values of the newest level, flattened node by node.
+type Values<'a, S> = Box<dyn Fn(&S) -> Vec<f64> + 'a>;
+
+/// The field observer (see the module documentation).
+pub struct FieldObserver<'a, S> {
+    measure: Measure<'a, S>,
+    values: Values<'a, S>,
+    level_of: fn(&S) -> usize,
+    dt: f64,
+    /// Level of energy row 0 (`m = level − offset`): 2 on the fast path, 1 on the generic one.
+    offset: usize,
+    energy_every: usize,
+    snapshot_every: usize,
+    energy: CsvStream,
+    energy_rows: u64,
+    snapshots: NpyStream,
+    times: CsvStream,
+    last_snapshot_time: f64,
+    /// The last energy row seen: (m, row), and whether it was written.
+    last_row: Option<(usize, Vec<f64>, bool)>,
+    e: Tracker,
+    q: Tracker,
+    blocks: BlockAccumulator,
+    error: Option<CliError>,
+}
+
+impl<'a, S> FieldObserver<'a, S> {
+    fn io(&mut self, r: Result<(), CliError>) {
+        if let Err(e) = r
+            && self.error.is_none()
+        {
+            self.error = Some(e);
+        }
+    }
+
+    /// Record the energy row of `state`; fail on a non-finite energy.
+    fn row(&mut self, state: &S) -> Result<(), veselov::Error> {
+        let level = (self.level_of)(state);
+        let m = level - self.offset;
+        let t = (level - 1) as f64 * self.dt;
+        let (e, q) = (self.measure)(state);
+        if !e.is_finite() {
+            return Err(veselov::Error::NonFiniteState {
+                step: level,
+                t: level as f64 * self.dt,
+                what: "energy".into(),
+            });
+        }
+        self.e.push(e);
+        if let Some(q) = q {
+            self.q.push(q);
+        }
+        self.blocks.push(m, e - self.e.first);
+        let mut row = vec![t, e];
+        row.extend(q);
+        let write = m.is_multiple_of(self.energy_every);
+        if write {
+            let r = self.energy.row(&row);
+            self.energy_rows += 1;
+            self.io(r);
+        }
+        self.last_row = Some((m, row, write));
+        Ok(())
+    }
+
+    fn snapshot(&mut self, state: &S, t: f64) {
+        let values = (self.values)(state);
+        let r = self.snapshots.row(&values).and_then(|()| self.times.row(&[t]));
+        self.io(r);
+        self.last_snapshot_time = t;
+    }
+}
+
+impl<S> Observer<Unsaved<S>> for FieldObserver<'_, S> {
+    fn observe(&mut self, _: u64, state: &Unsaved<S>, _: &StepStats) -> Control {
+        let state = &state.0;
+        if let Err(e) = self.row(state) {
+            return Control::Fail(e);
+        }
+        let level = (self.level_of)(state);
+        if self.snapshot_every > 0 && level.is_multiple_of(self.snapshot_every) {
+            self.snapshot(state, level as f64 * self.dt);
+        }
+        if self.error.is_some() {
+            Control::Stop
+        } else {
+            Control::Continue
+        }
+    }
+}
+
+impl<S> Resumable for FieldObserver<'_, S> {
+    fn save(&mut self, _out: &mut Vec<f64>) -> Result<(), CliError> {
+        self.energy.position()?;
+        self.snapshots.position()?;
+        self.times.position()?;
+        Ok(())
+    }
+    fn take_error(&mut self) -> Option<CliError> {
+        self.error.take()
+    }
+}
+
+/// Lattice states are not restored from checkpoints yet: `--resume` refuses them.
+struct NoResume<T>(T);
+
+impl<T: Stepper> Stepper for NoResume<T> {
+    type State = T::State;
+    fn step(&mut self, index: u64, state: &mut T::State) -> veselov::Result<StepStats> {
+        self.0.step(index, state)
+    }
+    fn time(&self, state: &T::State) -> f64 {
+        self.0.time(state)
+    }
+    fn non_finite(&self, state: &T::State) -> Option<String> {
+        self.0.non_finite(state)
+    }
+    fn finish(&mut self, state: &mut T::State) {
+        self.0.finish(state);
+    }
+}
+
+impl<T> Checkpoint for NoResume<T> {
+    fn save(&self, _: &mut Vec<f64>) {}
+    fn restore(&mut self, _: &mut Words<'_>) -> veselov::Result<()> {
+        Err(veselov::Error::InvalidParameter {
+            name: "--resume".into(),
+            value: "a lattice-field run".into(),
+            reason: "lattice runs cannot be resumed yet".into(),
+        })
+    }
+}
+
+/// A lattice state for the pipeline, whose levels are not saved in checkpoints yet.
+struct Unsaved<S>(S);
+
+impl<S> Checkpoint for Unsaved<S> {
+    fn save(&self, _: &mut Vec<f64>) {}
+    fn restore(&mut self, _: &mut Words<'_>) -> veselov::Result<()> {
+        Ok(())
+    }
+}
+
+/// Adapts a stepper of `S` to states wrapped in [`Unsaved`].
+struct Wrapped<T>(NoResume<T>);
+
+impl<T: Stepper> Stepper for Wrapped<T> {
+    type State = Unsaved<T::State>;
+    fn step(&mut self, index: u64, state: &mut Self::State) -> veselov::Result<StepStats> {
+        self.0.step(index, &mut state.0)
+    }
+    fn time(&self, state: &Self::State) -> f64 {
+        self.0.time(&state.0)
+    }
+    fn non_finite(&self, state: &Self::State) -> Option<String> {
+        self.0.non_finite(&state.0)
+    }
+    fn finish(&mut self, state: &mut Self::State) {
+        self.0.finish(&mut state.0);
+    }
+}
+
+impl<T> Checkpoint for Wrapped<T> {
+    fn save(&self, out: &mut Vec<f64>) {
+        self.0.save(out);
+    }
+    fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
+        self.0.restore(w)
+    }
+}
+
+/// The parts of a field run the writers need.
+pub struct Frame<'a, S> {
+    /// Energy and charge of the newest level pair.
+    pub measure: Measure<'a, S>,
+    /// Physical values of the newest level.
+    pub values: Values<'a, S>,
+    /// Index of the newest level.
+    pub level_of: fn(&S) -> usize,
+    /// Name of the charge column, if any.
+    pub charge: Option<&'static str>,
+    /// Level of energy row 0.
+    pub offset: usize,
+    /// `fast` or `generic`.
+    pub path: &'static str,
+    /// Values per node.
+    pub components: usize,
+    /// The 2π re-centring applied so far (sine-Gordon, fast path).
+    pub recentred_by: fn(&S) -> f64,
+}
+
+/// March `state` with `stepper` to `t_end` and write everything.
+pub fn march<T: Stepper>(
+    loaded: &LoadedField,
+    session: &mut Session,
+    lattice: Lattice,
+    stepper: T,
+    state: T::State,
+    frame: Frame<'_, T::State>,
+    y0: Vec<f64>,
+) -> Result<(), CliError> {
+    let s = &loaded.scenario;
+    let dir = session.dir.clone();
+    let dt = lattice.dt();
+    let total = veselov::field::run::planned_levels(s.time.t_end, dt);
+    let nodes = lattice.nodes();
+    let tail: Vec<usize> = if frame.components == 1 {
+        vec![nodes]
+    } else {
+        vec![nodes, frame.components]
+    };
+    let mut header = vec!["t".to_string(), "energy".to_string()];
+    header.extend(frame.charge.map(String::from));
+    let snapshots_planned = match s.output.snapshot_every {
+        0 => 2,
+        k => (total / k).saturating_add(2),
+    };
+    let mut obs = FieldObserver {
+        measure: frame.measure,
+        values: frame.values,
+        level_of: frame.level_of,
+        dt,
+        offset: frame.offset,
+        energy_every: s.output.energy_every,
+        snapshot_every: s.output.snapshot_every,
+        energy: CsvStream::create(&dir.join("energy.csv"), &header, None)?,
+        energy_rows: 0,
+        snapshots: NpyStream::create(&dir.join("snapshots.npy"), &tail, snapshots_planned as u64, None)?,
+        times: CsvStream::create(&dir.join("snapshot_times.csv"), &["t".to_string()], None)?,
+        last_snapshot_time: f64::NAN,
+        last_row: None,
+        e: Tracker::new(Acc::Dev),
+        q: Tracker::new(Acc::Dev),
+        blocks: BlockAccumulator::new(s.output.energy_block),
+        error: None,
+    };
+    let r = obs.snapshots.row(&y0).and_then(|()| obs.times.row(&[0.0]));
+    obs.io(r);
+    obs.last_snapshot_time = 0.0;
+    let mut state = Unsaved(state);
+    let first = (obs.level_of)(&state.0);
+    let mut start_failure = None;
+    if frame.offset == first {
+        // The generic path measures its initial level pair.
+        start_failure = obs.row(&state.0).err();
+    }
+    let outcome = match start_failure {
+        Some(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
+        None => session.execute(
+            &mut Wrapped(NoResume(stepper)),
+            &mut state,
+            first as u64,
+            StopWhen::steps(total as u64),
+            &mut obs,
+        )?,
+    };
+    let recentred_by = (frame.recentred_by)(&state.0);
+    let info = Closing {
+        path: frame.path,
+        charge: frame.charge,
+        components: frame.components,
+        recentred_by,
+    };
+    close(loaded, session, lattice, obs, &state.0, outcome, &info)
+}
+
+/// What [`close`] reports besides the observer.
+struct Closing {
+    path: &'static str,
+    charge: Option<&'static str>,
+    components: usize,
+    recentred_by: f64,
+}
+
+/// Final rows, energy blocks, summary, plots and report.
+fn close<S>(
+    loaded: &LoadedField,
+    session: &Session,
+    lattice: Lattice,
+    mut obs: FieldObserver<'_, S>,
+    state: &S,
+    outcome: Outcome,
+    info: &Closing,
+) -> Result<(), CliError> {
+    let s = &loaded.scenario;
+    let dir = &session.dir;
+    let dt = lattice.dt();
+    let level = (obs.level_of)(state);
+    let t_final = level as f64 * dt;
+    if let Some((_, row, false)) = obs.last_row.take() {
+        let r = obs.energy.row(&row);
+        obs.energy_rows += 1;
+        obs.io(r);
+    }
+    if obs.last_snapshot_time != t_final && outcome.failure().is_none_or(|_| level != 0) {
+        obs.snapshot(state, t_final);
+    }
+    obs.energy.position()?;
+    obs.snapshots.position()?;
+    obs.times.position()?;
+    let snapshot_rows = obs.times.position()?.rows;
+    if s.output.energy_block > 0 {
+        let blocks = std::mem::replace(&mut obs.blocks, BlockAccumulator::new(0)).finish();
+        let offset = obs.offset;
+        Table {
+            header: ["t_start", "levels", "min", "mean", "max"].map(String::from).to_vec(),
+            rows: blocks
+                .iter()
+                .map(|b| {
+                    vec![
+                        (b.first_level + offset - 1) as f64 * dt,
+                        b.levels as f64,
+                        b.min,
+                        b.mean,
+                        b.max,
+                    ]
+                })
+                .collect(),
+        }
+        .write_csv(&dir.join("energy_blocks.csv"))?;
+    }
+    let status = outcome.status.clone();
+    let levels = level;
+    let charges_error_max = match info.charge {
+        Some(name) if !obs.q.first.is_nan() => json!({ name: obs.q.value }),
+        _ => json!({}),
+    };
+    let energy_error_max = obs.e.value;
+    let iterations = outcome.iterations;
+    let own = json!({
+        "scenario": loaded.path.display().to_string(),
+        "model": s.model.name,
+        "scheme": s.method.scheme,
+        "boundary": s.lattice.boundary,
+        "path": info.path,
+        "nodes": lattice.nodes(),
+        "dx": lattice.dx(),
+        "dt": dt,
+        "courant": dt / lattice.dx(),
+        "levels": levels,
+        "energy_initial": if obs.e.first.is_nan() { None } else { Some(obs.e.first) },
+        "energy_error_max": energy_error_max,
+        "charges_error_max": charges_error_max,
+        "recentred_by": info.recentred_by,
+    });
+    let steps = levels.saturating_sub(1) as u64;
+    let value = summary::common(&status, steps, t_final, session.wall_seconds(), iterations, own);
+    write_json(&dir.join("summary.json"), &value)?;
+    if let Some(e) = obs.error.take() {
+        return Err(e);
+    }
+    if s.output.plots {
+        let mut header = vec!["t".to_string(), "energy".to_string()];
+        header.extend(info.charge.map(String::from));
+        let energy = table_for_plots(dir, "energy", &header, obs.energy_rows)?;
+        let width = lattice.nodes() * info.components;
+        let fake: Vec<String> = (0..width).map(|i| i.to_string()).collect();
+        let snaps = rows_for_plots(dir, "snapshots", &fake, snapshot_rows, MAX_PLOT_SNAPSHOTS)?;
+        let times = rows_for_plots(
+            dir,
+            "snapshot_times",
+            &["t".to_string()],
+            snapshot_rows,
+            MAX_PLOT_SNAPSHOTS,
+        )?;
+        let first_component: Vec<Vec<f64>> = snaps
+            .rows
+            .iter()
+            .map(|row| row.iter().step_by(info.components).copied().collect())
+            .collect();
+        let times: Vec<f64> = times.rows.iter().map(|r| r[0]).collect();
+        draw_field(
+            dir,
+            &energy,
+            &first_component,
+            &times,
+            lattice,
+            match (s.model.name.as_str(), info.components) {
+                ("sine-gordon", _) => FieldView::Circle,
+                (_, 1) => FieldView::Real,
+                _ => FieldView::RealPart,
+            },
+            &s.output.plot_format,
+        )?;
+    }
+    if !session.quiet {
+        eprintln!(
+            "{} / {}: {} levels to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
+            s.model.name,
+            s.method.scheme,
+            levels,
+            t_final,
+            energy_error_max,
+            dir.display()
+        );
+    }
+    match status {
+        Status::Failed(error) => Err(CliError::Run {
+            error,
+            dir: dir.clone(),
+        }),
+        Status::Interrupted => Err(CliError::Interrupted { dir: dir.clone() }),
+        _ => Ok(()),
+    }
+}
+
+/// The fast path (the scheme's own O(N) solver) on a periodic lattice.
+pub fn march_fast(loaded: &LoadedField, session: &mut Session, config: &FieldRunConfig) -> Result<(), CliError> {
+    match config.model {
+        Model::SineGordon => march_fast_with(loaded, session, config, SineGordon),
+        Model::Wave => march_fast_with(loaded, session, config, Wave),
+        Model::Phi4 { m2, lambda } => march_fast_with(loaded, session, config, Phi4 { m2, lambda }),
+    }
+}
+
+fn march_fast_with<P: ScalarPotential>(
+    loaded: &LoadedField,
+    session: &mut Session,
+    config: &FieldRunConfig,
+    potential: P,
+) -> Result<(), CliError> {
+    let lattice = config.lattice;
+    let (y0, y1) = config
+        .initial
+        .levels(&lattice)
+        .map_err(|e| loaded.key_error("initial", e.to_string()))?;
+    let marcher = FastMarcher::new(potential, config.scheme, lattice, &y0, &y1, config.solver)
+        .map_err(|e| loaded.key_error("lattice", e.to_string()))?;
+    let wave = config.model == Model::Wave;
+    let recentre = if config.model == Model::SineGordon {
+        config.recentre_every
+    } else {
+        0
+    };
+    let frame = Frame {
+        measure: Box::new(move |s: &FastLevels<P>| {
+            let m = &s.marcher;
+            (m.energy(), wave.then(|| shift_charge(m.previous(), m.current())))
+        }),
+        values: Box::new(|s: &FastLevels<P>| s.marcher.current().iter().map(|v| v + s.recentred_by).collect()),
+        level_of: |s| s.marcher.level(),
+        charge: wave.then_some("shift_charge"),
+        offset: 2,
+        path: "fast",
+        components: 1,
+        recentred_by: |s| s.recentred_by,
+    };
+    march(
+        loaded,
+        session,
+        lattice,
+        FastStepper::<P>::new(recentre),
+        FastLevels::new(marcher),
+        frame,
+        y0,
+    )
+}
+
+/// The generic (density) path for the variational schemes.
+pub fn march_generic<L: CellEnergy<DIM>, const DIM: usize>(
+    loaded: &LoadedField,
+    session: &mut Session,
+    lag: L,
+    lattice: Lattice,
+    (y0, y1): Levels<DIM>,
+    charge: Option<(&'static str, Generator<'_, DIM>)>,
+) -> Result<(), CliError> {
+    let flat = |level: &[SVector<f64, DIM>]| -> Vec<f64> { level.iter().flat_map(|v| v.iter().copied()).collect() };
+    let first = flat(&y0);
+    let mut marcher =
+        GenericMarcher::new(lag, lattice, y0, y1).map_err(|e| loaded.key_error("lattice", e.to_string()))?;
+    let tol = loaded.scenario.method.tolerance.unwrap_or(1e-13);
+    if !(tol.is_finite() && tol > 0.0) {
+        return Err(loaded.key_error("method.tolerance", format!("expected a finite number > 0, got {tol}")));
+    }
+    marcher.rel_tol = tol;
+    let xi = charge.map(|c| c.1);
+    let frame = Frame {
+        measure: Box::new(move |m: &GenericMarcher<L, DIM>| {
+            let e = level_energy(m.lagrangian(), &lattice, m.previous(), m.current());
+            let q = xi.map(|xi| split_charge(m.lagrangian(), &lattice, m.previous(), m.current(), xi));
+            (e, q)
+        }),
+        values: Box::new(move |m: &GenericMarcher<L, DIM>| flat(m.current())),
+        level_of: |m| m.level(),
+        charge: charge.map(|c| c.0),
+        offset: 1,
+        path: "generic",
+        components: DIM,
+        recentred_by: |_| 0.0,
+    };
+    march(
+        loaded,
+        session,
+        lattice,
+        DensityStepper::<L, DIM>::new(),
+        marcher,
+        frame,
+        first,
+    )
+}

@@ -1,0 +1,126 @@
+//! The tail every kind shares: opening a session around a streamed main
+//! table, and closing it with the summary, the plots and the report.
+
+use std::path::Path;
+
+use veselov::run::{Outcome, Status, Words};
+
+use super::readback::table_for_plots;
+use super::stream::Position;
+use super::table::{TableObserver, restore_positions};
+use super::{Plan, Resumable, RunJob, Session, table_bytes, words_error};
+use crate::error::CliError;
+use crate::figures;
+use crate::output::write_json;
+use crate::scenario::{OutputSpec, TimeSpec, output_dir};
+
+/// A session, the positions of its table's files and the rest of the
+/// observer words (when resuming).
+pub type Opened = (Session, Option<(Position, Position)>, Vec<f64>);
+
+/// The session of a run of `kind` from the scenario `file` whose main table
+/// (`trajectory.*`) has `columns` columns, with the positions of its files
+/// and the rest of the observer words when resuming.
+pub fn open_table_session(
+    job: &RunJob,
+    file: &Path,
+    (time, output): (&TimeSpec, &OutputSpec),
+    steps: f64,
+    columns: usize,
+    kind: &str,
+) -> Result<Opened, CliError> {
+    let rows = steps / output.every as f64 + 2.0;
+    let plan = Plan {
+        steps,
+        steps_key: if time.steps.is_some() {
+            "time.steps"
+        } else {
+            "time.t_end"
+        },
+        bytes: table_bytes(rows, columns, &output.formats),
+        bytes_key: "output.every",
+    };
+    let session = Session::open(
+        file,
+        job,
+        output_dir(file, output, job.out.as_deref()),
+        &plan,
+        Some(output.checkpoint_every),
+        kind,
+    )?;
+    let (positions, rest) = match &session.resumed {
+        Some(saved) => {
+            let mut w = Words::new(&saved.observer);
+            let p = restore_positions(&mut w).map_err(|e| words_error(&session.dir, e))?;
+            (Some(p), saved.observer[4..].to_vec())
+        }
+        None => (None, Vec::new()),
+    };
+    Ok((session, positions, rest))
+}
+
+/// Close the table, write the summary and the plots, report, and turn a
+/// failure or an interruption into the command's error.
+pub fn finish<S: Clone>(
+    out: &OutputSpec,
+    session: &Session,
+    mut table: TableObserver<'_, S>,
+    mut status: Status,
+    summary: impl FnOnce(&TableObserver<'_, S>, &Status) -> serde_json::Value,
+    report: impl FnOnce(&TableObserver<'_, S>) -> String,
+) -> Result<(), CliError> {
+    let io_error = table.take_error();
+    if let Some(e) = table.close()?
+        && !matches!(status, Status::Failed(_))
+    {
+        status = Status::Failed(e);
+    }
+    let dir = &session.dir;
+    write_json(&dir.join("summary.json"), &summary(&table, &status))?;
+    if let Some(e) = io_error {
+        return Err(e);
+    }
+    if out.plots {
+        let rows = table.positions()?;
+        let rows = rows.0.rows.max(rows.1.rows);
+        let data = table_for_plots(dir, "trajectory", &table.header, rows)?;
+        let n = table.header.iter().filter(|h| h.starts_with('q')).count();
+        figures::draw_all(dir, &data, n, &out.plot_format)?;
+    }
+    if !session.quiet {
+        eprintln!("{}; outputs in {}", report(&table), dir.display());
+    }
+    match status {
+        Status::Failed(error) => Err(CliError::Run {
+            error,
+            dir: dir.clone(),
+        }),
+        Status::Interrupted => Err(CliError::Interrupted { dir: dir.clone() }),
+        _ => Ok(()),
+    }
+}
+
+/// An outcome for a run that failed before its first step.
+pub fn empty_outcome(status: Status) -> Outcome {
+    Outcome {
+        last_step: 0,
+        steps: 0,
+        iterations: 0,
+        fallback_steps: 0,
+        status,
+    }
+}
+
+/// Iterations and fallback steps over the whole run, resumed parts included.
+pub fn totals(session: &Session, outcome: &Outcome) -> (u64, u64) {
+    let before = session
+        .resumed
+        .as_ref()
+        .map_or((0, 0), |s| (s.iterations, s.fallback_steps));
+    (before.0 + outcome.iterations, before.1 + outcome.fallback_steps)
+}
+
+/// `t₀ + k·h`, as the stepper sets it.
+pub fn t_of(k: u64, t0: f64, h: f64) -> f64 {
+    if k == 0 { t0 } else { t0 + k as f64 * h }
+}

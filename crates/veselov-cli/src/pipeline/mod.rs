@@ -1,0 +1,301 @@
+//! The one run pipeline of the command: every kind of scenario is parsed and
+//! validated by its own module into a job, which this module runs on the
+//! library's driver ([`veselov::run::drive`]) with the command's observers:
+//! streamed writers, progress, diagnostic accumulators, checkpoints.
+//!
+//! What it adds to the driver:
+//! * **Preflight** ([`Plan`]): the step count and output size are known
+//!   before integrating; more than [`MAX_STEPS`] steps or [`MAX_OUTPUT_BYTES`]
+//!   bytes is refused with an error naming the key, unless `--force-large`.
+//! * **Interruption**: SIGINT and SIGTERM set a flag the driver polls; the
+//!   files are closed valid up to their last row and `status = "interrupted"`.
+//!   `--time-limit` sets the same flag after a wall-clock budget.
+//! * **Checkpoints** every `[output] checkpoint_every` steps and at the end
+//!   ([`checkpoint`]), from which `--resume DIR` continues bit for bit.
+//! * **One summary schema** ([`summary`]): common keys plus each kind's own,
+//!   written at the end and on every failure.
+
+pub mod checkpoint;
+pub mod finish;
+pub mod readback;
+pub mod stream;
+pub mod summary;
+pub mod table;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use veselov::run::{Checkpoint, Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, Words, drive};
+
+use crate::error::CliError;
+use crate::output::prepare_dir;
+use crate::progress::Progress;
+use crate::scenario::key_error;
+pub use checkpoint::Saved;
+
+/// Largest step count run without `--force-large`.
+pub const MAX_STEPS: u64 = 1_000_000_000;
+/// Largest planned output (bytes) written without `--force-large`.
+pub const MAX_OUTPUT_BYTES: u64 = 10 << 30;
+
+/// Options of `veselov run`.
+#[derive(Debug, Clone, Default)]
+pub struct RunJob {
+    /// `--out`.
+    pub out: Option<PathBuf>,
+    /// `--quiet`.
+    pub quiet: bool,
+    /// `--force`.
+    pub force: bool,
+    /// `--force-large`: run beyond the preflight limits.
+    pub force_large: bool,
+    /// `--resume DIR`: continue the run in DIR from its checkpoint.
+    pub resume: Option<PathBuf>,
+    /// `--time-limit SECONDS`: end the run as interrupted after this wall time.
+    pub time_limit: Option<f64>,
+}
+
+/// What a run will do, known before it starts.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Steps (or levels) planned; for variable steps an estimate.
+    pub steps: f64,
+    /// The key that sets the step count (named in a refusal).
+    pub steps_key: &'static str,
+    /// Planned output size in bytes.
+    pub bytes: f64,
+    /// The key that sets the output size.
+    pub bytes_key: &'static str,
+}
+
+impl Plan {
+    /// Refuse what is beyond sense unless `force_large`.
+    pub fn check(&self, file: &std::path::Path, force_large: bool) -> Result<(), CliError> {
+        if force_large {
+            return Ok(());
+        }
+        if self.steps.is_nan() || self.steps > MAX_STEPS as f64 {
+            return Err(key_error(
+                file,
+                self.steps_key,
+                format!(
+                    "the run would take {:.3e} steps, more than the limit of {MAX_STEPS:.0e}; \
+                     shorten it or pass --force-large",
+                    self.steps
+                ),
+            ));
+        }
+        if self.bytes.is_nan() || self.bytes > MAX_OUTPUT_BYTES as f64 {
+            return Err(key_error(
+                file,
+                self.bytes_key,
+                format!(
+                    "the run would write {:.3e} bytes, more than the limit of 10 GiB; \
+                     write rows less often or pass --force-large",
+                    self.bytes
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Planned step count as an integer (saturating).
+    pub fn whole_steps(&self) -> u64 {
+        if self.steps >= u64::MAX as f64 {
+            u64::MAX
+        } else {
+            self.steps.max(0.0) as u64
+        }
+    }
+}
+
+/// Bytes of a CSV value (shortest round-trip form, with its separator), for planning.
+pub const CSV_BYTES_PER_VALUE: f64 = 22.0;
+
+/// Output bytes of `rows` rows of `columns` values in `formats`.
+pub fn table_bytes(rows: f64, columns: usize, formats: &[String]) -> f64 {
+    let per_value: f64 = formats
+        .iter()
+        .map(|f| if f == "npy" { 8.0 } else { CSV_BYTES_PER_VALUE })
+        .sum();
+    rows * columns as f64 * per_value
+}
+
+/// A run in progress: output directory, interruption flag, progress, checkpoints.
+pub struct Session {
+    /// The output directory.
+    pub dir: PathBuf,
+    /// `--quiet`.
+    pub quiet: bool,
+    /// When this invocation started.
+    pub start: Instant,
+    /// Set by SIGINT, SIGTERM or the time limit.
+    pub interrupt: Arc<AtomicBool>,
+    /// Steps between checkpoints (`Some(0)`: only at the end; `None`: none,
+    /// for kinds that cannot be resumed).
+    pub checkpoint_every: Option<u64>,
+    /// The checkpoint resumed from, if any.
+    pub resumed: Option<Saved>,
+    progress: Progress,
+}
+
+impl Session {
+    /// Check the plan, prepare (or, resuming, reopen) the output directory,
+    /// and install the signal handlers.
+    pub fn open(
+        file: &std::path::Path,
+        job: &RunJob,
+        dir: PathBuf,
+        plan: &Plan,
+        checkpoint_every: Option<u64>,
+        kind: &str,
+    ) -> Result<Self, CliError> {
+        plan.check(file, job.force_large)?;
+        let (dir, resumed) = match &job.resume {
+            Some(d) => (d.clone(), Some(Saved::read(d, kind)?)),
+            None => (prepare_dir(&dir, job.force)?, None),
+        };
+        let interrupt = Arc::new(AtomicBool::new(false));
+        for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+            signal_hook::flag::register(signal, interrupt.clone()).map_err(|e| CliError::Setup(e.to_string()))?;
+        }
+        if let Some(limit) = job.time_limit {
+            if !(limit.is_finite() && limit > 0.0) {
+                return Err(CliError::Setup(format!(
+                    "--time-limit: expected a number of seconds > 0, got {limit}"
+                )));
+            }
+            let flag = interrupt.clone();
+            std::thread::spawn(move || {
+                std::thread::sleep(Duration::from_secs_f64(limit.min(1e9)));
+                flag.store(true, Ordering::Relaxed);
+            });
+        }
+        if !job.quiet {
+            eprintln!(
+                "preflight: {:.0} steps, about {} of output",
+                plan.steps,
+                human_bytes(plan.bytes)
+            );
+        }
+        Ok(Self {
+            dir,
+            quiet: job.quiet,
+            start: Instant::now(),
+            interrupt,
+            checkpoint_every,
+            resumed,
+            progress: Progress::new(plan.whole_steps(), job.quiet),
+        })
+    }
+
+    /// The stop condition `stop` plus the interruption flag.
+    pub fn stop(&self, stop: StopWhen) -> StopWhen {
+        stop.or_interrupted(self.interrupt.clone())
+    }
+
+    /// Wall seconds of this invocation plus those of the runs it resumes.
+    pub fn wall_seconds(&self) -> f64 {
+        self.start.elapsed().as_secs_f64() + self.resumed.as_ref().map_or(0.0, |s| s.wall_seconds)
+    }
+
+    /// Run `stepper` from `state` (number `first`) to `stop` with `observer`,
+    /// writing a checkpoint every `checkpoint_every` steps and at the end
+    /// (unless the run failed: then the last checkpoint stands).
+    pub fn execute<S, O>(
+        &mut self,
+        stepper: &mut S,
+        state: &mut S::State,
+        first: u64,
+        stop: StopWhen,
+        observer: &mut O,
+    ) -> Result<Outcome, CliError>
+    where
+        S: Stepper + Checkpoint,
+        S::State: Checkpoint,
+        O: Observer<S::State> + Resumable,
+    {
+        let stop = self.stop(stop);
+        let mut total = Outcome {
+            last_step: first,
+            steps: 0,
+            iterations: 0,
+            fallback_steps: 0,
+            status: Status::Completed,
+        };
+        loop {
+            let progress = &mut self.progress;
+            let mut show = |k: u64, _: &S::State, _: &StepStats| {
+                progress.set(k);
+                Control::Continue
+            };
+            let mut chunk = stop.clone();
+            let every = self.checkpoint_every.unwrap_or(0);
+            if let Some(k) = total.last_step.checked_div(every) {
+                let next = (k + 1).saturating_mul(every);
+                chunk.steps = Some(chunk.steps.map_or(next, |n| n.min(next)));
+            }
+            let out = drive(
+                stepper,
+                state,
+                total.last_step,
+                &chunk,
+                &mut [&mut *observer, &mut show],
+            );
+            total.last_step = out.last_step;
+            total.steps += out.steps;
+            total.iterations += out.iterations;
+            total.fallback_steps += out.fallback_steps;
+            total.status = out.status;
+            let done = total.status != Status::Completed
+                || stop.steps.is_some_and(|n| total.last_step >= n)
+                || stop.t_end.is_some_and(|t| stepper.time(state) >= t);
+            if self.checkpoint_every.is_some() && total.status != Status::Stopped && total.failure().is_none() {
+                checkpoint::write(&self.dir, stepper, state, observer, &total, self.wall_seconds())?;
+            }
+            if done {
+                break;
+            }
+        }
+        self.progress.finish();
+        Ok(total)
+    }
+}
+
+/// An observer whose accumulators and open files can be saved in a
+/// checkpoint and restored from one.
+pub trait Resumable {
+    /// Flush the files and append the words that restore this observer.
+    fn save(&mut self, out: &mut Vec<f64>) -> Result<(), CliError>;
+    /// The error that made the observer stop the run, if any.
+    fn take_error(&mut self) -> Option<CliError> {
+        None
+    }
+}
+
+/// Read the `n`-th group of checkpoint words or fail naming the checkpoint.
+pub fn words_error(dir: &std::path::Path, e: veselov::Error) -> CliError {
+    CliError::Io {
+        path: dir.join(checkpoint::FILE),
+        message: e.to_string(),
+    }
+}
+
+/// Restore `target` from the words of a checkpoint.
+pub fn restore<T: Checkpoint + ?Sized>(
+    dir: &std::path::Path,
+    target: &mut T,
+    words: &mut Words<'_>,
+) -> Result<(), CliError> {
+    target.restore(words).map_err(|e| words_error(dir, e))
+}
+
+fn human_bytes(b: f64) -> String {
+    match b {
+        b if b < 1024.0 * 1024.0 => format!("{:.0} KiB", b / 1024.0),
+        b if b < 1024.0 * 1024.0 * 1024.0 => format!("{:.1} MiB", b / 1024.0 / 1024.0),
+        b => format!("{:.2} GiB", b / 1024.0 / 1024.0 / 1024.0),
+    }
+}

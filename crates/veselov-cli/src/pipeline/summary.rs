@@ -1,0 +1,66 @@
+//! The one `summary.json` schema: the common keys every kind writes, then
+//! the kind's own.
+//!
+//! Common keys: `status` (`"ok"`, `"error"` or `"interrupted"`), `steps`
+//! (steps or levels taken), `t_final`, `wall_seconds`, `iterations_mean`
+//! (nonlinear iterations per step) and `failure` (`null`, or `kind`, `step`,
+//! `time`, `message`).
+
+use serde_json::{Map, Value, json};
+use veselov::run::Status;
+
+/// The status string of a run that ended with `status`.
+pub fn status_name(status: &Status) -> &'static str {
+    match status {
+        Status::Completed | Status::Stopped => "ok",
+        Status::Interrupted => "interrupted",
+        Status::Failed(_) => "error",
+    }
+}
+
+/// `{kind, step, time, message}` of a library failure.
+pub fn failure(e: &veselov::Error) -> Value {
+    use veselov::Error as E;
+    let (kind, step, time): (&str, Option<usize>, Option<f64>) = match e {
+        E::NonFiniteState { step, t, .. } => ("non_finite_state", Some(*step), Some(*t)),
+        E::NewtonFailure { step, t, .. } => ("newton_failure", Some(*step), Some(*t)),
+        E::NoStepRoot { step, t, .. } => ("no_step_root", Some(*step), Some(*t)),
+        E::DegenerateStep { step, t, .. } => ("degenerate_step", Some(*step), Some(*t)),
+        E::NegativeStep { step, t, .. } => ("negative_step", Some(*step), Some(*t)),
+        E::LevelSolveFailure { level, t, .. } => ("level_solve_failure", Some(*level), Some(*t)),
+        E::SingularJacobian { .. } => ("singular_jacobian", None, None),
+        E::SingularVelocityHessian { t, .. } => ("singular_velocity_hessian", None, Some(*t)),
+        E::Lie(_) => ("lie_group", None, None),
+        _ => ("invalid_input", None, None),
+    };
+    json!({ "kind": kind, "step": step, "time": time, "message": e.to_string() })
+}
+
+/// The common keys, followed by `own` (the kind's keys, which keep their order).
+pub fn common(status: &Status, steps: u64, t_final: f64, wall_seconds: f64, iterations: u64, own: Value) -> Value {
+    let fail = match status {
+        Status::Failed(e) => failure(e),
+        _ => Value::Null,
+    };
+    let mut map = Map::new();
+    map.insert("status".into(), json!(status_name(status)));
+    map.insert("steps".into(), json!(steps));
+    map.insert("t_final".into(), json!(t_final));
+    map.insert("wall_seconds".into(), json!(wall_seconds));
+    map.insert("iterations_mean".into(), json!(iterations as f64 / steps.max(1) as f64));
+    map.insert("failure".into(), fail);
+    // The former free-text error key, kept for readers of older summaries.
+    map.insert(
+        "error".into(),
+        match status {
+            Status::Failed(e) => json!(e.to_string()),
+            _ => Value::Null,
+        },
+    );
+    if let Value::Object(own) = own {
+        for (k, v) in own {
+            map.entry(k).or_insert(v);
+        }
+    }
+    Value::Object(map)
+}

@@ -1,0 +1,33 @@
+//! One run driver for every integrator family, after the executor/observer
+//! split of the `argmin` crate.
+//!
+//! * A [`Stepper`] advances a state by one step and reports [`StepStats`]:
+//!   `x_{k+1} = Φ(x_k)`. Every family implements it through an adapter
+//!   ([`PhaseStepper`] for fixed-step maps on phase space, [`GroupStepper`]
+//!   on matrix groups, [`SemStepper`] for variable steps, and the lattice
+//!   marchers of [`crate::field`]).
+//! * [`drive`] runs a stepper until a [`StopWhen`] condition holds (end time,
+//!   step count, interruption flag) or a step fails, and shows every new
+//!   state to its [`Observer`]s: writers, progress bars, diagnostic
+//!   accumulators, checkpoints. Observers may stop the run or fail it.
+//! * A state that is no longer finite ends the run with
+//!   [`Error::NonFiniteState`](crate::Error::NonFiniteState) naming the step,
+//!   the time and the quantity; observers never see it.
+//!
+//! The driver knows nothing of files: writing rows is an observer's business,
+//! and the command-line tool supplies its own. A failure keeps everything
+//! the observers saw before it.
+//!
+//! [`Checkpoint`] lets a stepper save and restore what it carries from step
+//! to step (predictor history, compensated-summation terms, lattice levels),
+//! so that a resumed run continues bit for bit.
+
+mod adapters;
+mod checkpoint;
+mod driver;
+mod states;
+
+pub use adapters::{GroupStepper, PhaseStepper, SemStepper};
+pub use checkpoint::{Checkpoint, Words};
+pub(crate) use checkpoint::{restore_option, save_option};
+pub use driver::{Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, drive};
