@@ -8,7 +8,7 @@ use nalgebra::{SMatrix, SVector};
 use super::error::CellError;
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
-use super::smooth::{SmoothDensity, energy_density};
+use super::smooth::{SmoothDensity, energy_density, momentum_density};
 use super::suitability::CellCheck;
 use crate::ad::Scalar;
 use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES};
@@ -95,15 +95,18 @@ impl<L, X, const N: usize> MidpointRule<L, X, N> {
         Ok(self.density.density(&a.centre, &a.value, &a.gradient) * a.volume)
     }
 
-    /// The cell's energy vol_β·ℰ(x̄, ȳ, ∂y/∂x) with the energy density
-    /// ℰ = φ_t·∂𝓛/∂φ_t − 𝓛 (time the last coordinate) at the rule's node.
+    /// The cell's energy vol_β·ℰ and momenta vol_β·𝒫_a (a < N − 1, into
+    /// `momenta`) at the rule's node, with the energy density
+    /// ℰ = φ_t·∂𝓛/∂φ_t − 𝓛 and momentum density 𝒫_a = −∂𝓛/∂φ_t·φ_{x_a} (time
+    /// the last coordinate).
     ///
     /// # Errors
     /// As [`try_cell_lagrangian`](Self::try_cell_lagrangian).
-    pub fn cell_energy<const M: usize>(
+    pub fn cell_energy_momentum<const M: usize>(
         &self,
         cell: &TopCell,
         y: &[SVector<f64, M>],
+        momenta: &mut [f64],
     ) -> std::result::Result<f64, CellError>
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
@@ -119,7 +122,26 @@ impl<L, X, const N: usize> MidpointRule<L, X, N> {
             });
         }
         let a = affine_jet(cell.index, &x[..k], y)?;
+        for (axis, p) in momenta.iter_mut().enumerate().take(N - 1) {
+            *p = momentum_density(&self.density, &a.centre, &a.value, &a.gradient, axis) * a.volume;
+        }
         Ok(energy_density(&self.density, &a.centre, &a.value, &a.gradient) * a.volume)
+    }
+
+    /// The cell's energy vol_β·ℰ (see [`cell_energy_momentum`](Self::cell_energy_momentum)).
+    ///
+    /// # Errors
+    /// As [`try_cell_lagrangian`](Self::try_cell_lagrangian).
+    pub fn cell_energy<const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<f64, M>],
+    ) -> std::result::Result<f64, CellError>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+        X: NodeMap<N>,
+    {
+        self.cell_energy_momentum(cell, y, &mut [])
     }
 }
 

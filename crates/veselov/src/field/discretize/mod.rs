@@ -75,5 +75,5 @@ pub use cosserat::{CosseratCell, CosseratDensity, LinearPotential, NoPotential, 
 pub use error::CellError;
 pub use nodes::{CfkNodes, CubeNodes, NodeMap, cube_corner, factorial, permutation};
 pub use rules::{SINGULAR_NODES, VertexQuadrature, VertexRule, invert, vertex_jet};
-pub use smooth::{SmoothDensity, SpaceTime};
+pub use smooth::{SmoothDensity, SpaceTime, energy_density, momentum_density, time_flux};
 pub use suitability::{CellCheck, GeodesicBall, check_rotations};

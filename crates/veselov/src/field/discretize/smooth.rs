@@ -56,8 +56,28 @@ impl<P: Potential<DIM> + Send + Sync, const DIM: usize, const N: usize> SmoothDe
     }
 }
 
+/// Σ_k (∂𝓛/∂φ_t^k)·(∂φ^k/∂x^a): the directional derivative of 𝓛 with respect
+/// to the time column of the jet (the last base coordinate) along column `a`
+/// (exact, through a dual number).
+pub fn time_flux<S, const M: usize, const N: usize>(
+    density: &S,
+    x: &SVector<f64, N>,
+    y: &SVector<f64, M>,
+    jet: &SMatrix<f64, M, N>,
+    a: usize,
+) -> f64
+where
+    S: SmoothDensity<Euclidean<M>, M, N>,
+{
+    let mut seeded = jet.map(Dual64::from);
+    for k in 0..M {
+        seeded[(k, N - 1)] = Dual64::new(jet[(k, N - 1)], jet[(k, a)]);
+    }
+    density.density(x, &y.map(Dual64::from), &seeded).eps
+}
+
 /// The energy density ℰ = Σ_k φ_t^k ∂𝓛/∂φ_t^k − 𝓛 of a density on ℝ^M with
-/// time the last base coordinate (exact derivative through a dual number).
+/// time the last base coordinate.
 pub fn energy_density<S, const M: usize, const N: usize>(
     density: &S,
     x: &SVector<f64, N>,
@@ -67,11 +87,21 @@ pub fn energy_density<S, const M: usize, const N: usize>(
 where
     S: SmoothDensity<Euclidean<M>, M, N>,
 {
-    // d/dε 𝓛(x, y, jet + ε·(φ_t column)) at ε = 0 is Σ_k φ_t^k ∂𝓛/∂φ_t^k.
-    let mut seeded = jet.map(Dual64::from);
-    for k in 0..M {
-        seeded[(k, N - 1)] = Dual64::new(jet[(k, N - 1)], jet[(k, N - 1)]);
-    }
-    let value = density.density(x, &y.map(Dual64::from), &seeded);
-    value.eps - value.re
+    time_flux(density, x, y, jet, N - 1) - density.density(x, y, jet)
+}
+
+/// The momentum density along space axis a < N − 1:
+/// 𝒫_a = −Σ_k (∂𝓛/∂φ_t^k)(∂φ^k/∂x^a) (for the wave equation −φ_t φ_{x_a},
+/// positive for a wave moving towards +x^a).
+pub fn momentum_density<S, const M: usize, const N: usize>(
+    density: &S,
+    x: &SVector<f64, N>,
+    y: &SVector<f64, M>,
+    jet: &SMatrix<f64, M, N>,
+    a: usize,
+) -> f64
+where
+    S: SmoothDensity<Euclidean<M>, M, N>,
+{
+    -time_flux(density, x, y, jet, a)
 }
