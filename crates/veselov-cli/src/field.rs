@@ -467,6 +467,9 @@ enum Either<T, R> {
 
 /// Run a lattice-field scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    if crate::cfk_field::is_cfk(text) {
+        return crate::cfk_field::run(path, text, job);
+    }
     let loaded = LoadedField::parse(path, text)?;
     let s = &loaded.scenario;
     let solver = loaded.solver()?;

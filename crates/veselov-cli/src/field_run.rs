@@ -128,7 +128,7 @@ impl<S> Resumable for FieldObserver<'_, S> {
 }
 
 /// Lattice states are not restored from checkpoints yet: `--resume` refuses them.
-struct NoResume<T>(T);
+pub(crate) struct NoResume<T>(pub(crate) T);
 
 impl<T: Stepper> Stepper for NoResume<T> {
     type State = T::State;
@@ -158,7 +158,7 @@ impl<T> Checkpoint for NoResume<T> {
 }
 
 /// A lattice state for the pipeline, whose levels are not saved in checkpoints yet.
-struct Unsaved<S>(S);
+pub(crate) struct Unsaved<S>(pub(crate) S);
 
 impl<S> Checkpoint for Unsaved<S> {
     fn save(&self, _: &mut Vec<f64>) {}
@@ -168,7 +168,7 @@ impl<S> Checkpoint for Unsaved<S> {
 }
 
 /// Adapts a stepper of `S` to states wrapped in [`Unsaved`].
-struct Wrapped<T>(NoResume<T>);
+pub(crate) struct Wrapped<T>(pub(crate) NoResume<T>);
 
 impl<T: Stepper> Stepper for Wrapped<T> {
     type State = Unsaved<T::State>;

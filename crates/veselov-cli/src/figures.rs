@@ -7,7 +7,7 @@ use crate::error::CliError;
 use crate::output::Table;
 use crate::plot::{Figure, Scale, Series, draw};
 
-fn plot_err(e: crate::plot::PlotError) -> CliError {
+pub(crate) fn plot_err(e: crate::plot::PlotError) -> CliError {
     CliError::Io {
         path: e.path.clone(),
         message: e.message,
@@ -15,7 +15,7 @@ fn plot_err(e: crate::plot::PlotError) -> CliError {
 }
 
 /// |E(t) − E(0)| against t on a log scale.
-fn draw_energy_error(path: &Path, title: &str, t: &[f64], e: &[f64]) -> Result<(), CliError> {
+pub(crate) fn draw_energy_error(path: &Path, title: &str, t: &[f64], e: &[f64]) -> Result<(), CliError> {
     let e0 = e.first().copied().unwrap_or(0.0);
     let err: Vec<f64> = e.iter().map(|x| (x - e0).abs()).collect();
     let fig = Figure {

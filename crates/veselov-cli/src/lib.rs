@@ -3,6 +3,7 @@
 //! only parses the command line.
 
 pub mod catalog;
+pub mod cfk_field;
 pub mod custom;
 pub mod error;
 pub mod field;

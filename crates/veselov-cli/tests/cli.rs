@@ -85,7 +85,14 @@ fn check_field_example(name: &str, original: &str, dir: &Path) {
     assert!(csv.starts_with("t,energy"), "{name}");
     let npy = std::fs::read(out.join("snapshots.npy")).expect("snapshots.npy");
     assert!(npy.starts_with(b"\x93NUMPY"), "{name}");
-    for plot in ["spacetime.png", "final_waveform.svg", "energy_error.svg"] {
+    let plots: &[&str] = if text.contains("kind = \"cfk\"") {
+        let momentum = std::fs::read_to_string(out.join("momentum.csv")).expect("momentum.csv");
+        assert!(momentum.starts_with("t,p_x,p_y"), "{name}");
+        &["field_0.png", "energy_error.svg"]
+    } else {
+        &["spacetime.png", "final_waveform.svg", "energy_error.svg"]
+    };
+    for plot in plots {
         assert!(out.join(plot).exists(), "{name}: no {plot}");
     }
 }
@@ -775,4 +782,76 @@ fn generic_lattice_paths_complex_field_and_fixed_ends() {
         let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
         assert!(stderr.contains(needle), "`{needle}` not in {stderr}");
     }
+}
+
+/// A 2+1 field on the CFK lattice: the snapshot array has the grid's shape,
+/// the free field's shift momentum is conserved to round-off, the phase
+/// charge of the complex field too, and bad lattice keys are refused by name.
+#[test]
+fn cfk_lattice_fields_run_and_conserve_their_momenta() {
+    let dir = temp_dir("cfk");
+    let text = |model: &str, initial: &str, dt: f64| {
+        format!(
+            "[model]\nname = \"{model}\"\n[lattice]\nkind = \"cfk\"\nspace_dimension = 2\nnodes = [12, 10]\n\
+             spacing = 0.3\ndt = {dt}\n[initial]\nkind = \"{initial}\"\namplitude = 0.5\n[time]\nt_end = 3.0\n\
+             [output]\nsnapshot_every = 5\nplots = false\n"
+        )
+    };
+    for (model, initial, column) in [
+        ("wave", "standing-wave", "shift_momentum"),
+        ("klein-gordon-complex", "plane-wave", "phase_charge"),
+    ] {
+        let out = dir.join(model);
+        let file = scenario(&dir, &text(model, initial, 0.1));
+        veselov()
+            .args(["run", "--quiet", "--out"])
+            .arg(&out)
+            .arg(&file)
+            .assert()
+            .success();
+        let s = summary(&out);
+        assert_eq!(s["status"], "ok", "{model}: {s}");
+        assert_eq!(s["time_steps"], 30, "{model}");
+        let drift = s["charges_error_max"][column].as_f64().expect("charge error");
+        assert!(drift < 1e-12, "{model}: {column} drift {drift:e}");
+        let momentum = std::fs::read_to_string(out.join("momentum.csv")).expect("momentum.csv");
+        assert_eq!(momentum.lines().next(), Some(format!("t,p_x,p_y,{column}").as_str()));
+        assert_eq!(momentum.lines().count(), 32, "{model}: one row per time step");
+        let npy = std::fs::read(out.join("snapshots.npy")).expect("snapshots.npy");
+        let header = String::from_utf8_lossy(&npy[..128]).to_string();
+        let shape = if model == "wave" {
+            "(7, 12, 10)"
+        } else {
+            "(7, 12, 10, 2)"
+        };
+        assert!(header.contains(shape), "{model}: {header}");
+    }
+    let file = scenario(&dir, &text("sine-gordon", "pulse", 0.15));
+    let err = String::from_utf8(
+        veselov()
+            .args(["run", "--quiet", "--out"])
+            .arg(dir.join("x"))
+            .arg(&file)
+            .assert()
+            .failure()
+            .get_output()
+            .stderr
+            .clone(),
+    )
+    .expect("utf-8");
+    assert!(err.contains("`lattice`") && err.contains("stability limit"), "{err}");
+    let file = scenario(&dir, &text("sine-gordon", "plane-wave", 0.1));
+    let err = String::from_utf8(
+        veselov()
+            .args(["run", "--quiet", "--out"])
+            .arg(dir.join("y"))
+            .arg(&file)
+            .assert()
+            .failure()
+            .get_output()
+            .stderr
+            .clone(),
+    )
+    .expect("utf-8");
+    assert!(err.contains("`initial.kind`"), "{err}");
 }

@@ -152,3 +152,51 @@ fn translation_momenta_and_phase_charge_are_conserved() {
     }
     assert!(moved > 1e-6, "a non-symmetry's momentum is not conserved ({moved:e})");
 }
+
+/// The same density, declared position-dependent: the rule then takes its
+/// uncached path (node positions and edge inverse per cell).
+struct Uncached<P>(NonlinearWave<P>);
+
+impl<P: veselov::field::potential::Potential<1> + Send + Sync>
+    veselov::field::discretize::SmoothDensity<Euclidean<1>, 1, 3> for Uncached<P>
+{
+    fn density<D: veselov::ad::Scalar>(
+        &self,
+        x: &SVector<f64, 3>,
+        y: &SVector<D, 1>,
+        jet: &nalgebra::SMatrix<D, 1, 3>,
+    ) -> D {
+        veselov::field::discretize::SmoothDensity::<Euclidean<1>, 1, 3>::density(&self.0, x, y, jet)
+    }
+}
+
+#[test]
+fn cached_shape_geometry_agrees_with_the_per_cell_path() {
+    use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
+    use veselov::field::complex::{TopCell, factorial};
+    let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("node map");
+    let cached = MidpointRule::new(NonlinearWave(SineGordon), nodes);
+    let plain = MidpointRule::new(Uncached(NonlinearWave(SineGordon)), nodes);
+    let mut worst: f64 = 0.0;
+    // At the origin both paths form the same edge vectors; elsewhere the
+    // per-cell path subtracts large node positions (its own round-off).
+    for shape in 0..factorial(3) {
+        let cell = TopCell {
+            index: shape,
+            shape,
+            origin: [0; 8],
+        };
+        let y: Vec<SVector<f64, 1>> = (0..4)
+            .map(|l| SVector::from([0.7 * l as f64 - 0.3 * shape as f64]))
+            .collect();
+        let a: f64 = cached.cell_lagrangian(&cell, &y);
+        let b: f64 = plain.cell_lagrangian(&cell, &y);
+        worst = worst.max((a - b).abs() / a.abs().max(1e-300));
+        for l in 0..4 {
+            let ga = vertex_gradient::<Euclidean<1>, _, 1>(&cached, &cell, &y, l).1;
+            let gb = vertex_gradient::<Euclidean<1>, _, 1>(&plain, &cell, &y, l).1;
+            worst = worst.max((ga - gb).amax() / ga.amax().max(1e-300));
+        }
+    }
+    assert!(worst < 1e-13, "cached and per-cell geometry differ by {worst:e}");
+}

@@ -123,13 +123,34 @@ where
             }
         }
         let origins = (0..size).map(|i| torus.vertex(0, i)).collect();
+        // Ring storage, allocated once; refuse (rather than abort on) a
+        // request the machine cannot hold.
+        let too_large = |what: &str| Error::InvalidParameter {
+            name: "nodes".into(),
+            value: size.to_string(),
+            reason: format!("the {what} of the march do not fit in memory"),
+        };
+        let mut values = Vec::new();
+        values
+            .try_reserve_exact((2 * n + 1).checked_mul(size).ok_or_else(|| too_large("levels"))?)
+            .map_err(|_| too_large("levels"))?;
+        values.resize((2 * n + 1) * size, data[0][0]);
+        let grad_count = (n + 1)
+            .checked_mul(size)
+            .and_then(|k| k.checked_mul(per_vertex))
+            .ok_or_else(|| too_large("cell gradients"))?;
+        let mut grads = Vec::new();
+        grads
+            .try_reserve_exact(grad_count)
+            .map_err(|_| too_large("cell gradients"))?;
+        grads.resize(grad_count, SVector::zeros());
         let mut marcher = Self {
             up,
             down,
             origins,
             perms,
-            values: vec![data[0][0]; (2 * n + 1) * size],
-            grads: vec![SVector::zeros(); (n + 1) * size * per_vertex],
+            values,
+            grads,
             next_values: vec![data[0][0]; size],
             next_grads: vec![SVector::zeros(); size * per_vertex],
             outcomes: vec![VertexOutcome::default(); size],

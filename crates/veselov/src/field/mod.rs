@@ -83,4 +83,4 @@ pub use potential::{ComplexKleinGordon, NonlinearWave, Phi4, Potential, ScalarPo
 pub use region::{Node, Region, window};
 pub use run::{BlockAccumulator, BlockStats, FieldRun, FieldRunConfig, LevelInfo, Model, Snapshot, run_lattice};
 pub use scheme::Scheme;
-pub use stepping::{DensityStepper, FastLevels, FastStepper};
+pub use stepping::{CauchyStepper, DensityStepper, FastLevels, FastStepper};

@@ -60,12 +60,90 @@ pub struct MidpointRule<L, X, const N: usize> {
     pub density: L,
     /// The node map (simplices).
     pub nodes: X,
+    /// Per shape (N ≤ 4, translation-invariant node maps): (T^X)⁻¹ and vol_β.
+    geometry: [Option<(SMatrix<f64, N, N>, f64)>; SHAPE_CACHE],
 }
 
-impl<L, X, const N: usize> MidpointRule<L, X, N> {
-    /// Q_mid of `density` on the simplices of `nodes`.
+/// Shapes whose geometry a [`MidpointRule`] caches (4! simplices per cube).
+const SHAPE_CACHE: usize = 24;
+
+impl<L, X: NodeMap<N>, const N: usize> MidpointRule<L, X, N> {
+    /// Q_mid of `density` on the simplices of `nodes`. For a
+    /// translation-invariant node map of dimension N ≤ 4 the inverse edge
+    /// matrix and the volume of every shape are computed once here.
     pub fn new(density: L, nodes: X) -> Self {
-        Self { density, nodes }
+        let mut geometry = [None; SHAPE_CACHE];
+        if nodes.translation_invariant() && N <= 4 {
+            let count: usize = (1..=N).product();
+            for (shape, slot) in geometry.iter_mut().enumerate().take(count) {
+                let probe = TopCell {
+                    index: 0,
+                    shape,
+                    origin: [0; crate::field::complex::MAX_LATTICE_DIMENSION],
+                };
+                let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
+                if cell_nodes(&nodes, &probe, &mut x) == N + 1 {
+                    let tx = SMatrix::<f64, N, N>::from_fn(|r, c| x[c + 1][r] - x[0][r]);
+                    if let Ok((inv, jac)) = invert_nodes(0, &tx) {
+                        *slot = Some((inv, jac / factorial(N) as f64));
+                    }
+                }
+            }
+        }
+        Self {
+            density,
+            nodes,
+            geometry,
+        }
+    }
+
+    /// The affine jet from the cached geometry of the cell's shape, if any
+    /// (the centre only where the density depends on position).
+    fn cached_jet<D: Scalar, const M: usize>(&self, cell: &TopCell, y: &[SVector<D, M>]) -> Option<AffineJet<D, M, N>>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        let (inv, volume) = (*self.geometry.get(cell.shape)?)?;
+        if y.len() != N + 1 || self.density.depends_on_position() {
+            return None;
+        }
+        let gradient = SMatrix::<D, M, N>::from_fn(|k, a| {
+            (0..N).fold(D::zero(), |acc, c| acc + (y[c + 1][k] - y[0][k]) * inv[(c, a)])
+        });
+        let w = D::from(1.0 / (N + 1) as f64);
+        let value = y
+            .iter()
+            .fold(SVector::<D, M>::from_element(D::zero()), |acc, b| acc + b)
+            * w;
+        Some(AffineJet {
+            centre: SVector::zeros(),
+            value,
+            gradient,
+            volume,
+        })
+    }
+
+    fn jet<D: Scalar, const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<D, M>],
+    ) -> std::result::Result<AffineJet<D, M, N>, CellError>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        if let Some(jet) = self.cached_jet(cell, y) {
+            return Ok(jet);
+        }
+        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
+        let k = cell_nodes(&self.nodes, cell, &mut x);
+        if k != N + 1 {
+            return Err(CellError::Nodes {
+                cell: cell.index,
+                expected: N + 1,
+                got: k,
+            });
+        }
+        affine_jet(cell.index, &x[..k], y)
     }
 
     /// The discrete Lagrangian with its failure named.
@@ -82,16 +160,7 @@ impl<L, X, const N: usize> MidpointRule<L, X, N> {
         L: SmoothDensity<Euclidean<M>, M, N>,
         X: NodeMap<N>,
     {
-        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = cell_nodes(&self.nodes, cell, &mut x);
-        if k != N + 1 {
-            return Err(CellError::Nodes {
-                cell: cell.index,
-                expected: N + 1,
-                got: k,
-            });
-        }
-        let a = affine_jet(cell.index, &x[..k], y)?;
+        let a = self.jet(cell, y)?;
         Ok(self.density.density(&a.centre, &a.value, &a.gradient) * a.volume)
     }
 
@@ -112,16 +181,7 @@ impl<L, X, const N: usize> MidpointRule<L, X, N> {
         L: SmoothDensity<Euclidean<M>, M, N>,
         X: NodeMap<N>,
     {
-        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-        let k = cell_nodes(&self.nodes, cell, &mut x);
-        if k != N + 1 {
-            return Err(CellError::Nodes {
-                cell: cell.index,
-                expected: N + 1,
-                got: k,
-            });
-        }
-        let a = affine_jet(cell.index, &x[..k], y)?;
+        let a = self.jet(cell, y)?;
         for (axis, p) in momenta.iter_mut().enumerate().take(N - 1) {
             *p = momentum_density(&self.density, &a.centre, &a.value, &a.gradient, axis) * a.volume;
         }

@@ -21,6 +21,13 @@ pub trait NodeMap<const N: usize>: Send + Sync {
     /// k + 1, or 0 if the map does not know the cell (a shape index outside
     /// the complex's shape classes) or `out` is too short.
     fn cell_nodes(&self, cell: &TopCell, out: &mut [SVector<f64, N>]) -> usize;
+
+    /// Whether the edge vectors x(v_l) − x(v₀) of a cell depend on its shape
+    /// only, not on its position (true for affine maps of a lattice): rules
+    /// may then cache each shape's geometry. Default false.
+    fn translation_invariant(&self) -> bool {
+        false
+    }
 }
 
 pub use crate::field::complex::factorial;
@@ -150,6 +157,9 @@ impl CfkNodes<2> {
 }
 
 impl<const N: usize> NodeMap<N> for CfkNodes<N> {
+    fn translation_invariant(&self) -> bool {
+        true
+    }
     fn cell_nodes(&self, cell: &TopCell, out: &mut [SVector<f64, N>]) -> usize {
         if out.len() < N + 1 || cell.shape >= factorial(N) {
             return 0;

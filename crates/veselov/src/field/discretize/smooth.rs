@@ -16,11 +16,20 @@ use num_dual::Dual64;
 pub trait SmoothDensity<F: Fibre<M>, const M: usize, const N: usize>: Send + Sync {
     /// 𝓛(x, y, φ).
     fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>, jet: &SMatrix<D, M, N>) -> D;
+
+    /// Whether 𝓛 depends on the base point x (default true); rules skip
+    /// computing x where it does not.
+    fn depends_on_position(&self) -> bool {
+        true
+    }
 }
 
 impl<T: SmoothDensity<F, M, N> + ?Sized, F: Fibre<M>, const M: usize, const N: usize> SmoothDensity<F, M, N> for &T {
     fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>, jet: &SMatrix<D, M, N>) -> D {
         (**self).density(x, y, jet)
+    }
+    fn depends_on_position(&self) -> bool {
+        (**self).depends_on_position()
     }
 }
 
@@ -44,6 +53,9 @@ impl<L: Density<DIM> + Send + Sync, const DIM: usize> SmoothDensity<Euclidean<DI
 impl<P: Potential<DIM> + Send + Sync, const DIM: usize, const N: usize> SmoothDensity<Euclidean<DIM>, DIM, N>
     for NonlinearWave<P>
 {
+    fn depends_on_position(&self) -> bool {
+        false
+    }
     fn density<D: Scalar>(&self, _x: &SVector<f64, N>, y: &SVector<D, DIM>, jet: &SMatrix<D, DIM, N>) -> D {
         let mut kin = D::zero();
         for k in 0..DIM {

@@ -1,0 +1,722 @@
+//! Fields in 2+1 dimensions on the CFK simplicial lattice (`[lattice] kind =
+//! "cfk"`): the density 𝓛 = ½(φ_t² − |∇φ|²) + N(φ) discretized by the
+//! midpoint rule on the simplices of x_a = Δx(v_a − w/3), t = wΔt/3
+//! (w = v₀ + v₁ + v₂), periodic in both space directions, and marched vertex
+//! by vertex by the core's Cauchy integrator.
+//!
+//! ```toml
+//! [model]
+//! name = "sine-gordon"          # sine-gordon | wave | klein-gordon-phi4 | klein-gordon-complex
+//! [lattice]
+//! kind = "cfk"
+//! space_dimension = 2
+//! nodes = [48, 48]              # nodes per space axis (periodic)
+//! spacing = 0.25                # Δx
+//! courant = 0.4                 # Δt/Δx (or dt = …)
+//! [initial]
+//! kind = "pulse"                # pulse | standing-wave | plane-wave (complex field)
+//! amplitude = 4.0
+//! [time]
+//! t_end = 10.0
+//! [output]
+//! snapshot_every = 5            # time steps Δt between snapshots
+//! ```
+//!
+//! Outputs: `energy.csv` (t, energy: the cell energies of one slab of
+//! duration Δt divided by Δt), `momentum.csv` (t, p_x, p_y — the field's
+//! momentum −∫φ_t∇φ, not exactly conserved, since lattice translations are
+//! discrete symmetries — then the level momenta of the vertical symmetries,
+//! conserved to round-off: `shift_momentum` of the wave equation,
+//! `phase_charge` of the complex field), `snapshots.npy` (snapshots × nx × ny
+//! [× 2]), `snapshot_times.csv`, `summary.json`, `energy_error.svg` and heat
+//! maps `field_<k>.png` of a few snapshots spread over the run.
+
+use std::f64::consts::TAU;
+use std::path::{Path, PathBuf};
+
+use nalgebra::{SVector, Vector3};
+use serde::Deserialize;
+use serde_json::json;
+use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
+use veselov::field::complex::CfkTorus;
+use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
+use veselov::field::fibre::Euclidean;
+use veselov::field::{CauchyStepper, ComplexKleinGordon, NonlinearWave, Phi4, Potential, SineGordon, Wave};
+use veselov::run::{Control, Observer, Status, StepStats, StopWhen};
+
+use crate::error::CliError;
+use crate::field::{FieldModelSpec, FieldTimeSpec};
+use crate::field_run::{NoResume, Unsaved, Wrapped};
+use crate::output::{Table, write_json};
+use crate::pipeline::readback::rows_for_plots;
+use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, summary};
+use crate::run::RunJob;
+use crate::scenario::{OutputSpec, finite_value, key_error, output_dir, parse_toml, positive_value};
+
+/// Whether a field scenario asks for a CFK lattice.
+pub fn is_cfk(text: &str) -> bool {
+    toml::from_str::<toml::Table>(text)
+        .ok()
+        .and_then(|t| t.get("lattice")?.get("kind")?.as_str().map(|k| k == "cfk"))
+        .unwrap_or(false)
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CfkScenario {
+    model: FieldModelSpec,
+    lattice: CfkLatticeSpec,
+    #[serde(default)]
+    method: CfkMethodSpec,
+    initial: CfkInitialSpec,
+    time: FieldTimeSpec,
+    #[serde(default)]
+    output: CfkOutputSpec,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CfkLatticeSpec {
+    /// `cfk`.
+    kind: String,
+    /// Space dimension (2).
+    space_dimension: usize,
+    /// Nodes per space axis.
+    nodes: Vec<usize>,
+    /// Δx.
+    spacing: f64,
+    dt: Option<f64>,
+    courant: Option<f64>,
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CfkMethodSpec {
+    /// `midpoint` (the only rule on this lattice kind).
+    rule: Option<String>,
+    /// Relative tolerance of the vertex solves (default 1e-14).
+    tolerance: Option<f64>,
+    /// Newton iterations per vertex (default 30).
+    max_iterations: Option<usize>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CfkInitialSpec {
+    /// `pulse | standing-wave | plane-wave`.
+    kind: String,
+    amplitude: Option<f64>,
+    /// Pulse: Gaussian width (default a tenth of the shorter side).
+    width: Option<f64>,
+    /// Standing and plane waves: mode numbers [mx, my] (default [1, 1]).
+    mode: Option<Vec<i32>>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CfkOutputSpec {
+    dir: Option<PathBuf>,
+    /// Time steps Δt between snapshots (default 10; 0: first and last only).
+    #[serde(default = "ten")]
+    snapshot_every: usize,
+    #[serde(default = "yes")]
+    plots: bool,
+    #[serde(default = "svg")]
+    plot_format: String,
+}
+
+fn ten() -> usize {
+    10
+}
+fn yes() -> bool {
+    true
+}
+fn svg() -> String {
+    "svg".into()
+}
+
+impl Default for CfkOutputSpec {
+    fn default() -> Self {
+        Self {
+            dir: None,
+            snapshot_every: ten(),
+            plots: true,
+            plot_format: svg(),
+        }
+    }
+}
+
+/// The validated set-up shared by every model.
+struct Setup {
+    path: PathBuf,
+    scenario: CfkScenario,
+    nodes: [usize; 2],
+    dx: f64,
+    dt: f64,
+    t_end: f64,
+    options: CauchyOptions,
+}
+
+impl Setup {
+    fn key(&self, key: &str, message: impl Into<String>) -> CliError {
+        key_error(&self.path, key, message)
+    }
+
+    fn parse(path: &Path, text: &str) -> Result<Self, CliError> {
+        let scenario: CfkScenario = parse_toml(path, text)?;
+        let l = &scenario.lattice;
+        let key = |k: &str, m: String| key_error(path, k, m);
+        if l.kind != "cfk" {
+            return Err(key("lattice.kind", format!("expected \"cfk\", got `{}`", l.kind)));
+        }
+        if l.space_dimension != 2 {
+            return Err(key(
+                "lattice.space_dimension",
+                format!("CFK field runs are in 2 space dimensions, got {}", l.space_dimension),
+            ));
+        }
+        if l.nodes.len() != 2 || l.nodes.iter().any(|&n| !(3..=4096).contains(&n)) {
+            return Err(key(
+                "lattice.nodes",
+                format!("expected two node counts in 3..=4096, got {:?}", l.nodes),
+            ));
+        }
+        // The march keeps 7 levels of values and 4 levels of cell gradients
+        // (about 1 KiB per node of a level): cap a level at 2²⁰ nodes.
+        if l.nodes[0] * l.nodes[1] > MAX_LEVEL_NODES {
+            return Err(key(
+                "lattice.nodes",
+                format!(
+                    "{} × {} nodes per level exceed the limit of {MAX_LEVEL_NODES}",
+                    l.nodes[0], l.nodes[1]
+                ),
+            ));
+        }
+        let dx = positive_value(path, "lattice.spacing", l.spacing)?;
+        let dt = match (l.dt, l.courant) {
+            (Some(_), Some(_)) => return Err(key("lattice", "give either `dt` or `courant`, not both".into())),
+            (None, None) => {
+                return Err(key(
+                    "lattice",
+                    "missing `dt` or `courant` (dt = courant·spacing)".into(),
+                ));
+            }
+            (Some(dt), None) => positive_value(path, "lattice.dt", dt)?,
+            (None, Some(c)) => positive_value(path, "lattice.courant", c)? * dx,
+        };
+        // Measured: the march of the wave equation on this lattice is stable
+        // at Δt/Δx = 0.4 and grows exponentially at 0.45 (a pulse on 24×24
+        // nodes to t = 30); the simplices are skewed, so the limit is below
+        // the square grid's 1/√2.
+        if dt / dx > MAX_COURANT {
+            return Err(key(
+                "lattice",
+                format!(
+                    "Δt/Δx = {:.3} exceeds the stability limit {MAX_COURANT} of the CFK march",
+                    dt / dx
+                ),
+            ));
+        }
+        let m = &scenario.method;
+        if let Some(rule) = &m.rule
+            && rule != "midpoint"
+        {
+            return Err(key(
+                "method.rule",
+                format!("unknown rule `{rule}`, expected \"midpoint\""),
+            ));
+        }
+        let mut options = CauchyOptions::default();
+        if let Some(t) = m.tolerance {
+            options.tolerance = positive_value(path, "method.tolerance", t)?;
+        }
+        if let Some(k) = m.max_iterations {
+            if k == 0 {
+                return Err(key("method.max_iterations", "expected an integer ≥ 1".into()));
+            }
+            options.max_iterations = k;
+        }
+        let t_end = positive_value(path, "time.t_end", scenario.time.t_end)?;
+        let o = &scenario.output;
+        if o.plot_format != "svg" && o.plot_format != "png" {
+            return Err(key(
+                "output.plot_format",
+                format!("unknown plot format `{}`", o.plot_format),
+            ));
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            nodes: [l.nodes[0], l.nodes[1]],
+            scenario,
+            dx,
+            dt,
+            t_end,
+            options,
+        })
+    }
+
+    /// Time steps Δt to run (the run ends at the first whole step ≥ t_end).
+    fn steps(&self) -> f64 {
+        (self.t_end / self.dt).ceil()
+    }
+
+    fn param(&self, name: &str, default: f64, allowed: &[&str]) -> Result<f64, CliError> {
+        for k in self.scenario.model.params.keys() {
+            if !allowed.contains(&k.as_str()) {
+                return Err(self.key(
+                    &format!("model.params.{k}"),
+                    format!("unknown parameter for `{}`", self.scenario.model.name),
+                ));
+            }
+        }
+        let v = self.scenario.model.params.get(name).copied().unwrap_or(default);
+        finite_value(&self.path, &format!("model.params.{name}"), v)
+    }
+}
+
+/// Largest number of nodes per level.
+const MAX_LEVEL_NODES: usize = 1 << 20;
+
+/// Largest Δt/Δx accepted.
+const MAX_COURANT: f64 = 0.4;
+
+/// Run a CFK-lattice field scenario.
+pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    let setup = Setup::parse(path, text)?;
+    match setup.scenario.model.name.as_str() {
+        "sine-gordon" => {
+            setup.param("m2", 0.0, &[])?;
+            march::<SineGordon, 1>(&setup, &job, SineGordon, None)
+        }
+        "wave" => {
+            setup.param("m2", 0.0, &[])?;
+            march::<Wave, 1>(&setup, &job, Wave, Some(("shift_momentum", |_| SVector::from([1.0]))))
+        }
+        "klein-gordon-phi4" => {
+            let p = Phi4 {
+                m2: setup.param("m2", 1.0, &["m2", "lambda"])?,
+                lambda: setup.param("lambda", 1.0, &["m2", "lambda"])?,
+            };
+            march::<Phi4, 1>(&setup, &job, p, None)
+        }
+        "klein-gordon-complex" => {
+            let p = ComplexKleinGordon {
+                m2: setup.param("m2", 1.0, &["m2", "lambda"])?,
+                lambda: setup.param("lambda", 1.0, &["m2", "lambda"])?,
+            };
+            march::<ComplexKleinGordon, 2>(
+                &setup,
+                &job,
+                p,
+                Some(("phase_charge", |y| {
+                    SVector::from_fn(|k, _| if k == 0 { -y[1] } else { y[0] })
+                })),
+            )
+        }
+        other => Err(setup.key("model.name", format!("unknown field model `{other}`"))),
+    }
+}
+
+/// A field φ(x, y, t) with M components.
+type InitialField<const M: usize> = Box<dyn Fn(&Vector3<f64>) -> SVector<f64, M>>;
+
+/// The initial field φ(x, y, t) of the scenario (M components).
+fn initial<const M: usize>(
+    setup: &Setup,
+    potential_m2: f64,
+) -> Result<InitialField<M>, CliError> {
+    let i = &setup.scenario.initial;
+    let (lx, ly) = (setup.nodes[0] as f64 * setup.dx, setup.nodes[1] as f64 * setup.dx);
+    let amplitude = finite_value(&setup.path, "initial.amplitude", i.amplitude.unwrap_or(1.0))?;
+    let mode = i.mode.clone().unwrap_or_else(|| vec![1, 1]);
+    if mode.len() != 2 {
+        return Err(setup.key("initial.mode", format!("expected two mode numbers, got {mode:?}")));
+    }
+    let (kx, ky) = (TAU * mode[0] as f64 / lx, TAU * mode[1] as f64 / ly);
+    let complex = M == 2;
+    match (i.kind.as_str(), complex) {
+        ("pulse", false) => {
+            let w = positive_value(&setup.path, "initial.width", i.width.unwrap_or(0.1 * lx.min(ly)))?;
+            let (cx, cy) = (0.5 * lx, 0.5 * ly);
+            // At rest: the same profile on the first Cauchy levels (O(Δt²)).
+            Ok(Box::new(move |x| {
+                let r2 = (x[0] - cx).powi(2) + (x[1] - cy).powi(2);
+                SVector::from_element(amplitude * (-0.5 * r2 / (w * w)).exp())
+            }))
+        }
+        ("standing-wave", false) => {
+            let omega = (kx * kx + ky * ky + potential_m2).sqrt();
+            Ok(Box::new(move |x| SVector::from_element(amplitude * (kx * x[0]).cos() * (ky * x[1]).sin() * (omega * x[2]).cos())))
+        }
+        ("plane-wave", true) => {
+            let omega = (kx * kx + ky * ky + potential_m2).sqrt();
+            Ok(Box::new(move |x| {
+                let phase = kx * x[0] + ky * x[1] - omega * x[2];
+                SVector::from_fn(|k, _| amplitude * if k == 0 { phase.cos() } else { phase.sin() })
+            }))
+        }
+        (kind, _) => Err(setup.key(
+            "initial.kind",
+            format!(
+                "`{kind}` is not initial data for `{}` (scalar fields: pulse, standing-wave; the complex field: plane-wave)",
+                setup.scenario.model.name
+            ),
+        )),
+    }
+}
+
+type Generator<const M: usize> = fn(&SVector<f64, M>) -> SVector<f64, M>;
+type Rule<P> = MidpointRule<NonlinearWave<P>, CfkNodes<3>, 3>;
+type Marcher<P, const M: usize> = CauchyMarcher<Euclidean<M>, Rule<P>, M>;
+
+/// Writes the rows of one time step Δt (every 3 levels) and the snapshots.
+struct CfkObserver<P, const M: usize> {
+    rule: Rule<P>,
+    torus: CfkTorus,
+    dt: f64,
+    symmetry: Option<(&'static str, Generator<M>)>,
+    snapshot_every: usize,
+    energy: CsvStream,
+    momentum: CsvStream,
+    snapshots: NpyStream,
+    times: CsvStream,
+    energy0: f64,
+    energy_error_max: f64,
+    charge0: f64,
+    charge_error_max: f64,
+    last_snapshot: Option<u64>,
+    error: Option<CliError>,
+}
+
+impl<P: Potential<M> + Copy, const M: usize> CfkObserver<P, M>
+where
+    NonlinearWave<P>: SmoothDensity<Euclidean<M>, M, 3>,
+{
+    /// Energy and field momenta of the slab below the cut.
+    fn measure(&self, m: &Marcher<P, M>) -> Result<(f64, [f64; 2]), veselov::Error> {
+        let (mut e, mut p) = (0.0, [0.0; 2]);
+        let mut failure = None;
+        m.for_each_straddling_cell(|cell, y| {
+            let mut pc = [0.0; 2];
+            match self.rule.cell_energy_momentum(cell, y, &mut pc) {
+                Ok(ec) => {
+                    e += ec;
+                    p[0] += pc[0];
+                    p[1] += pc[1];
+                }
+                Err(err) => failure = Some(err),
+            }
+        });
+        match failure {
+            Some(err) => Err(err.into()),
+            None => Ok((e / self.dt, [p[0] / self.dt, p[1] / self.dt])),
+        }
+    }
+
+    /// The field at the level of time step k (weight 3k), on the fixed grid:
+    /// node (v₀, v₁) of level 3k sits at x = Δx(v₀ − k), y = Δx(v₁ − k).
+    fn grid(&self, m: &Marcher<P, M>, k: i64) -> Option<Vec<f64>> {
+        let level = m.level_values(3 * k)?;
+        let [nx, ny] = [self.torus.periods()[0], self.torus.periods()[1]];
+        let mut out = vec![0.0; nx * ny * M];
+        for (i, y) in level.iter().enumerate() {
+            let v = self.torus.vertex(3 * k, i);
+            let gx = (v[0] - k).rem_euclid(nx as i64) as usize;
+            let gy = (v[1] - k).rem_euclid(ny as i64) as usize;
+            out[(gx * ny + gy) * M..][..M].copy_from_slice(y.as_slice());
+        }
+        Some(out)
+    }
+
+    fn io(&mut self, r: Result<(), CliError>) {
+        if let Err(e) = r
+            && self.error.is_none()
+        {
+            self.error = Some(e);
+        }
+    }
+
+    fn record(&mut self, m: &Marcher<P, M>, k: u64) -> Result<(), veselov::Error> {
+        let t = k as f64 * self.dt;
+        let (e, p) = self.measure(m)?;
+        if !e.is_finite() {
+            return Err(veselov::Error::NonFiniteState {
+                step: k as usize,
+                t,
+                what: "energy".into(),
+            });
+        }
+        if k == 0 {
+            self.energy0 = e;
+        }
+        // A conservative march never multiplies its energy a hundredfold:
+        // such growth is an instability, not physics.
+        if k > 0 && (e - self.energy0).abs() > 100.0 * self.energy0.abs().max(f64::MIN_POSITIVE) {
+            return Err(veselov::Error::LevelSolveFailure {
+                level: 3 * k as usize,
+                t,
+                residual: e,
+                iterations: 0,
+                reason: format!("unstable march: the energy grew from {:.6e} to {e:.6e}", self.energy0),
+            });
+        }
+        self.energy_error_max = self.energy_error_max.max((e - self.energy0).abs());
+        let mut row = vec![t, p[0], p[1]];
+        if let Some((_, d)) = self.symmetry {
+            let q = m.level_momentum(d);
+            if k == 0 {
+                self.charge0 = q;
+            }
+            self.charge_error_max = self.charge_error_max.max((q - self.charge0).abs());
+            row.push(q);
+        }
+        let r = self.energy.row(&[t, e]).and_then(|()| self.momentum.row(&row));
+        self.io(r);
+        if self.snapshot_every > 0 && k.is_multiple_of(self.snapshot_every as u64) {
+            self.snapshot(m, k);
+        }
+        Ok(())
+    }
+
+    fn snapshot(&mut self, m: &Marcher<P, M>, k: u64) {
+        let Some(values) = self.grid(m, k as i64) else { return };
+        let t = k as f64 * self.dt;
+        let r = self.snapshots.row(&values).and_then(|()| self.times.row(&[t]));
+        self.io(r);
+        self.last_snapshot = Some(k);
+    }
+}
+
+impl<P: Potential<M> + Copy, const M: usize> Observer<Unsaved<Marcher<P, M>>> for CfkObserver<P, M>
+where
+    NonlinearWave<P>: SmoothDensity<Euclidean<M>, M, 3>,
+{
+    fn observe(&mut self, step: u64, state: &Unsaved<Marcher<P, M>>, _: &StepStats) -> Control {
+        // One time step Δt every three levels.
+        if !step.is_multiple_of(3) {
+            return Control::Continue;
+        }
+        if let Err(e) = self.record(&state.0, step / 3) {
+            return Control::Fail(e);
+        }
+        if self.error.is_some() {
+            Control::Stop
+        } else {
+            Control::Continue
+        }
+    }
+}
+
+impl<P, const M: usize> Resumable for CfkObserver<P, M> {
+    fn save(&mut self, _out: &mut Vec<f64>) -> Result<(), CliError> {
+        self.energy.position()?;
+        self.momentum.position()?;
+        self.snapshots.position()?;
+        self.times.position()?;
+        Ok(())
+    }
+    fn take_error(&mut self) -> Option<CliError> {
+        self.error.take()
+    }
+}
+
+fn march<P: Potential<M> + Copy + 'static, const M: usize>(
+    setup: &Setup,
+    job: &RunJob,
+    potential: P,
+    symmetry: Option<(&'static str, Generator<M>)>,
+) -> Result<(), CliError>
+where
+    NonlinearWave<P>: SmoothDensity<Euclidean<M>, M, 3>,
+{
+    let s = &setup.scenario;
+    let m2 = s
+        .model
+        .params
+        .get("m2")
+        .copied()
+        .unwrap_or(if s.model.name == "sine-gordon" { 1.0 } else { 0.0 });
+    let field = initial::<M>(setup, m2)?;
+    let torus = CfkTorus::new(3, &setup.nodes).map_err(|e| setup.key("lattice.nodes", e.to_string()))?;
+    let nodes = CfkNodes::<3>::space_time(setup.dx, setup.dt).map_err(|e| setup.key("lattice", e.to_string()))?;
+    let data: Vec<Vec<SVector<f64, M>>> = (0..6)
+        .map(|w| {
+            (0..torus.level_size())
+                .map(|i| field(&nodes.node(&torus.vertex(w, i))))
+                .collect()
+        })
+        .collect();
+    let rule = MidpointRule::new(NonlinearWave(potential), nodes);
+    let marcher = CauchyMarcher::new(rule, torus.clone(), 0, &data, setup.options)
+        .map_err(|e| setup.key("initial", e.to_string()))?;
+    let steps = setup.steps();
+    let cells = (setup.nodes[0] * setup.nodes[1] * M) as f64;
+    let snapshots = match s.output.snapshot_every {
+        0 => 2.0,
+        k => steps / k as f64 + 2.0,
+    };
+    let plan = Plan {
+        steps: 3.0 * steps,
+        steps_key: "time.t_end",
+        bytes: snapshots * cells * 8.0 + (steps + 1.0) * 7.0 * CSV_BYTES_PER_VALUE,
+        bytes_key: "output.snapshot_every",
+    };
+    if job.resume.is_some() {
+        return Err(CliError::Setup(format!(
+            "{}: --resume: CFK lattice runs cannot be resumed yet",
+            setup.path.display()
+        )));
+    }
+    let spec = OutputSpec {
+        dir: s.output.dir.clone(),
+        ..Default::default()
+    };
+    let mut session = Session::open(
+        &setup.path,
+        job,
+        output_dir(&setup.path, &spec, job.out.as_deref()),
+        &plan,
+        None,
+        "cfk-field",
+    )?;
+    let dir = session.dir.clone();
+    let mut header = vec!["t".to_string(), "p_x".to_string(), "p_y".to_string()];
+    header.extend(symmetry.map(|(name, _)| name.to_string()));
+    let tail = if M == 1 {
+        vec![setup.nodes[0], setup.nodes[1]]
+    } else {
+        vec![setup.nodes[0], setup.nodes[1], M]
+    };
+    let mut obs = CfkObserver {
+        rule,
+        torus,
+        dt: setup.dt,
+        symmetry,
+        snapshot_every: s.output.snapshot_every,
+        energy: CsvStream::create(&dir.join("energy.csv"), &["t".into(), "energy".into()], None)?,
+        momentum: CsvStream::create(&dir.join("momentum.csv"), &header, None)?,
+        snapshots: NpyStream::create(&dir.join("snapshots.npy"), &tail, snapshots as u64, None)?,
+        times: CsvStream::create(&dir.join("snapshot_times.csv"), &["t".to_string()], None)?,
+        energy0: f64::NAN,
+        energy_error_max: 0.0,
+        charge0: f64::NAN,
+        charge_error_max: 0.0,
+        last_snapshot: None,
+        error: None,
+    };
+    let mut state = Unsaved(marcher);
+    let start = obs.record(&state.0, 0);
+    let outcome = match start {
+        Err(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
+        Ok(()) => session.execute(
+            &mut Wrapped(NoResume(CauchyStepper::<Euclidean<M>, Rule<P>, M>::new(
+                setup.dt / 3.0,
+                3,
+            ))),
+            &mut state,
+            0,
+            StopWhen::steps(3 * steps as u64),
+            &mut obs,
+        )?,
+    };
+    let k_final = outcome.last_step / 3;
+    if obs.last_snapshot != Some(k_final) {
+        obs.snapshot(&state.0, k_final);
+    }
+    obs.energy.position()?;
+    obs.momentum.position()?;
+    obs.snapshots.position()?;
+    let snapshot_rows = obs.times.position()?.rows;
+    let t_final = k_final as f64 * setup.dt;
+    let own = json!({
+        "scenario": setup.path.display().to_string(),
+        "model": s.model.name,
+        "lattice": "cfk",
+        "nodes": setup.nodes,
+        "dx": setup.dx,
+        "dt": setup.dt,
+        "courant": setup.dt / setup.dx,
+        "levels": outcome.last_step,
+        "time_steps": k_final,
+        "vertex_solves": outcome.last_step * (setup.nodes[0] * setup.nodes[1]) as u64,
+        "energy_initial": obs.energy0,
+        "energy_error_max": obs.energy_error_max,
+        "charges_error_max": match symmetry {
+            Some((name, _)) => json!({ name: obs.charge_error_max }),
+            None => json!({}),
+        },
+    });
+    let value = summary::common(
+        &outcome.status,
+        outcome.last_step,
+        t_final,
+        session.wall_seconds(),
+        outcome.iterations,
+        own,
+    );
+    write_json(&dir.join("summary.json"), &value)?;
+    if let Some(e) = obs.error.take() {
+        return Err(e);
+    }
+    if s.output.plots {
+        draw(&dir, setup, snapshot_rows, &s.output.plot_format)?;
+    }
+    if !session.quiet {
+        eprintln!(
+            "{} on a {}×{} CFK lattice: {} time steps to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
+            s.model.name,
+            setup.nodes[0],
+            setup.nodes[1],
+            k_final,
+            t_final,
+            obs.energy_error_max,
+            dir.display()
+        );
+    }
+    match outcome.status {
+        Status::Failed(error) => Err(CliError::Run { error, dir }),
+        Status::Interrupted => Err(CliError::Interrupted { dir }),
+        _ => Ok(()),
+    }
+}
+
+/// Energy error and heat maps (first component) of a few snapshots spread
+/// over the run, read back from the files.
+fn draw(dir: &Path, setup: &Setup, snapshot_rows: u64, format: &str) -> Result<(), CliError> {
+    let energy = Table::read_csv(&dir.join("energy.csv"))?;
+    if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
+        crate::figures::draw_energy_error(
+            &dir.join(format!("energy_error.{format}")),
+            "Discrete energy error",
+            &t,
+            &e,
+        )?;
+    }
+    let [nx, ny] = setup.nodes;
+    let components = if setup.scenario.model.name == "klein-gordon-complex" {
+        2
+    } else {
+        1
+    };
+    let width: Vec<String> = (0..nx * ny * components).map(|i| i.to_string()).collect();
+    let snaps = rows_for_plots(dir, "snapshots", &width, snapshot_rows, 4)?;
+    let times = rows_for_plots(dir, "snapshot_times", &["t".to_string()], snapshot_rows, 4)?;
+    for (k, (values, t)) in snaps.rows.iter().zip(&times.rows).enumerate() {
+        // Rows along y, columns along x.
+        let grid: Vec<Vec<f64>> = (0..ny)
+            .map(|gy| (0..nx).map(|gx| values[(gx * ny + gy) * components]).collect())
+            .collect();
+        let title = format!("{} at t = {:.3}", if components == 2 { "Re φ" } else { "φ" }, t[0]);
+        let map = crate::heatmap::Heatmap {
+            title: &title,
+            x_label: "x",
+            y_label: "y",
+            x_range: (0.0, nx as f64 * setup.dx),
+            y_range: (0.0, ny as f64 * setup.dx),
+            values: &grid,
+        };
+        crate::heatmap::draw_heatmap(&dir.join(format!("field_{k}.png")), &map).map_err(crate::figures::plot_err)?;
+    }
+    Ok(())
+}
