@@ -826,32 +826,8 @@ fn cfk_lattice_fields_run_and_conserve_their_momenta() {
         };
         assert!(header.contains(shape), "{model}: {header}");
     }
-    let file = scenario(&dir, &text("sine-gordon", "pulse", 0.15));
-    let err = String::from_utf8(
-        veselov()
-            .args(["run", "--quiet", "--out"])
-            .arg(dir.join("x"))
-            .arg(&file)
-            .assert()
-            .failure()
-            .get_output()
-            .stderr
-            .clone(),
-    )
-    .expect("utf-8");
+    let err = failing("cfk-unstable", &text("sine-gordon", "pulse", 0.15));
     assert!(err.contains("`lattice`") && err.contains("stability limit"), "{err}");
-    let file = scenario(&dir, &text("sine-gordon", "plane-wave", 0.1));
-    let err = String::from_utf8(
-        veselov()
-            .args(["run", "--quiet", "--out"])
-            .arg(dir.join("y"))
-            .arg(&file)
-            .assert()
-            .failure()
-            .get_output()
-            .stderr
-            .clone(),
-    )
-    .expect("utf-8");
+    let err = failing("cfk-initial", &text("sine-gordon", "plane-wave", 0.1));
     assert!(err.contains("`initial.kind`"), "{err}");
 }
