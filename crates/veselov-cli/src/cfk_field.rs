@@ -322,10 +322,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
 type InitialField<const M: usize> = Box<dyn Fn(&Vector3<f64>) -> SVector<f64, M>>;
 
 /// The initial field φ(x, y, t) of the scenario (M components).
-fn initial<const M: usize>(
-    setup: &Setup,
-    potential_m2: f64,
-) -> Result<InitialField<M>, CliError> {
+fn initial<const M: usize>(setup: &Setup, potential_m2: f64) -> Result<InitialField<M>, CliError> {
     let i = &setup.scenario.initial;
     let (lx, ly) = (setup.nodes[0] as f64 * setup.dx, setup.nodes[1] as f64 * setup.dx);
     let amplitude = finite_value(&setup.path, "initial.amplitude", i.amplitude.unwrap_or(1.0))?;
