@@ -146,15 +146,12 @@ pub enum Error {
         /// Why it stopped: iteration limit, non-finite, singular.
         reason: String,
     },
-    /// A vertex solve Leg_v(y_{Δv}) = μ_v of the Cauchy marcher failed.
-    #[error(
-        "vertex {vertex} of level {level} did not converge: residual {residual:e} after {iterations} iterations ({reason})"
-    )]
+    /// A vertex solve Leg_v(y_{Δv}) = μ_v of a Cauchy marcher failed.
+    #[error("{vertex} did not converge: residual {residual:e} after {iterations} iterations ({reason})")]
     VertexSolveFailure {
-        /// Weight level of the vertex whose equation was solved.
-        level: i64,
-        /// In-level index of that vertex.
-        vertex: usize,
+        /// The vertex whose equation was solved: "vertex i of level w" on a
+        /// lattice, "vertex v (Δv = u)" on a complex.
+        vertex: String,
         /// Residual (max norm) at the last iterate.
         residual: f64,
         /// Iterations performed.

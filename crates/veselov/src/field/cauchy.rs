@@ -375,8 +375,7 @@ where
             self.next_grads = next_grads;
             self.outcomes = outcomes;
             return Err(Error::VertexSolveFailure {
-                level: w,
-                vertex: i,
+                vertex: format!("vertex {i} of level {w}"),
                 residual: o.relative_residual,
                 iterations: o.iterations,
                 reason: f.reason().into(),

@@ -213,8 +213,7 @@ where
             .collect();
         if let Some((p, (_, o))) = results.iter().enumerate().find(|(_, (_, o))| o.failure.is_some()) {
             return Err(Error::VertexSolveFailure {
-                level: -1,
-                vertex: pairs[p].0,
+                vertex: format!("vertex {} (Δv = {})", pairs[p].0, pairs[p].1),
                 residual: o.relative_residual,
                 iterations: o.iterations,
                 reason: o.failure.map_or("", |f| f.reason()).into(),
