@@ -287,18 +287,25 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     match setup.scenario.model.name.as_str() {
         "sine-gordon" => {
             setup.param("m2", 0.0, &[])?;
-            march::<SineGordon, 1>(&setup, &job, SineGordon, None)
+            // Linearised about φ = 0: N = cos φ ≈ 1 − φ²/2, mass 1.
+            march::<SineGordon, 1>(&setup, &job, SineGordon, (1.0, 0.0), None)
         }
         "wave" => {
             setup.param("m2", 0.0, &[])?;
-            march::<Wave, 1>(&setup, &job, Wave, Some(("shift_momentum", |_| SVector::from([1.0]))))
+            march::<Wave, 1>(
+                &setup,
+                &job,
+                Wave,
+                (0.0, 0.0),
+                Some(("shift_momentum", |_| SVector::from([1.0]))),
+            )
         }
         "klein-gordon-phi4" => {
             let p = Phi4 {
                 m2: setup.param("m2", 1.0, &["m2", "lambda"])?,
                 lambda: setup.param("lambda", 1.0, &["m2", "lambda"])?,
             };
-            march::<Phi4, 1>(&setup, &job, p, None)
+            march::<Phi4, 1>(&setup, &job, p, (p.m2, 0.0), None)
         }
         "klein-gordon-complex" => {
             let p = ComplexKleinGordon {
@@ -309,6 +316,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
                 &setup,
                 &job,
                 p,
+                (p.m2, p.lambda),
                 Some(("phase_charge", |y| {
                     SVector::from_fn(|k, _| if k == 0 { -y[1] } else { y[0] })
                 })),
@@ -321,8 +329,10 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
 /// A field φ(x, y, t) with M components.
 type InitialField<const M: usize> = Box<dyn Fn(&Vector3<f64>) -> SVector<f64, M>>;
 
-/// The initial field φ(x, y, t) of the scenario (M components).
-fn initial<const M: usize>(setup: &Setup, potential_m2: f64) -> Result<InitialField<M>, CliError> {
+/// The initial field φ(x, y, t) of the scenario (M components); the waves
+/// take their frequency from ω² = k² + m² (+ λA² for the complex plane
+/// wave, which is then exact).
+fn initial<const M: usize>(setup: &Setup, (m2, lambda): (f64, f64)) -> Result<InitialField<M>, CliError> {
     let i = &setup.scenario.initial;
     let (lx, ly) = (setup.nodes[0] as f64 * setup.dx, setup.nodes[1] as f64 * setup.dx);
     let amplitude = finite_value(&setup.path, "initial.amplitude", i.amplitude.unwrap_or(1.0))?;
@@ -343,11 +353,11 @@ fn initial<const M: usize>(setup: &Setup, potential_m2: f64) -> Result<InitialFi
             }))
         }
         ("standing-wave", false) => {
-            let omega = (kx * kx + ky * ky + potential_m2).sqrt();
+            let omega = (kx * kx + ky * ky + m2).max(0.0).sqrt();
             Ok(Box::new(move |x| SVector::from_element(amplitude * (kx * x[0]).cos() * (ky * x[1]).sin() * (omega * x[2]).cos())))
         }
         ("plane-wave", true) => {
-            let omega = (kx * kx + ky * ky + potential_m2).sqrt();
+            let omega = (kx * kx + ky * ky + m2 + lambda * amplitude * amplitude).max(0.0).sqrt();
             Ok(Box::new(move |x| {
                 let phase = kx * x[0] + ky * x[1] - omega * x[2];
                 SVector::from_fn(|k, _| amplitude * if k == 0 { phase.cos() } else { phase.sin() })
@@ -522,19 +532,14 @@ fn march<P: Potential<M> + Copy + 'static, const M: usize>(
     setup: &Setup,
     job: &RunJob,
     potential: P,
+    dispersion: (f64, f64),
     symmetry: Option<(&'static str, Generator<M>)>,
 ) -> Result<(), CliError>
 where
     NonlinearWave<P>: SmoothDensity<Euclidean<M>, M, 3>,
 {
     let s = &setup.scenario;
-    let m2 = s
-        .model
-        .params
-        .get("m2")
-        .copied()
-        .unwrap_or(if s.model.name == "sine-gordon" { 1.0 } else { 0.0 });
-    let field = initial::<M>(setup, m2)?;
+    let field = initial::<M>(setup, dispersion)?;
     let torus = CfkTorus::new(3, &setup.nodes).map_err(|e| setup.key("lattice.nodes", e.to_string()))?;
     let nodes = CfkNodes::<3>::space_time(setup.dx, setup.dt).map_err(|e| setup.key("lattice", e.to_string()))?;
     let data: Vec<Vec<SVector<f64, M>>> = (0..6)
