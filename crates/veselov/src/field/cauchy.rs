@@ -444,5 +444,6 @@ where
     }
 }
 
-/// Largest vertex count of a CFK simplex the marcher handles.
+// The cell buffers hold every vertex of a CFK simplex of the largest
+// lattice dimension (n + 1 vertices).
 const _: () = assert!(MAX_CELL_VERTICES > MAX_LATTICE_DIMENSION);
