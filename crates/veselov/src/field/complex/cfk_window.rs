@@ -12,7 +12,7 @@
 
 use super::cellular::{CellComplex, FiniteComplex, Simplicial};
 use super::cfk::{CfkCell, cofaces_in, faces_of, simplex_of, star_walk, top_record, vertices_of};
-use super::window::{Axis, Extent, factorial};
+use super::window::{Axis, Extent, factorial, keep_wrapped};
 use super::{MAX_LATTICE_DIMENSION, StarEntry, TopCell, TopCells};
 use crate::error::Result;
 
@@ -107,23 +107,11 @@ impl CellComplex for CfkWindow {
     }
     fn faces(&self, cell: &CfkCell, out: &mut Vec<(CfkCell, i8)>) {
         faces_of(cell, out);
-        out.retain_mut(|(a, _)| match self.wrap(a) {
-            Some(w) => {
-                *a = w;
-                true
-            }
-            None => false,
-        });
+        keep_wrapped(out, |c| self.wrap(c));
     }
     fn cofaces(&self, cell: &CfkCell, out: &mut Vec<(CfkCell, i8)>) {
         cofaces_in(self.extent.dimension(), cell, out);
-        out.retain_mut(|(b, _)| match self.wrap(b) {
-            Some(w) => {
-                *b = w;
-                true
-            }
-            None => false,
-        });
+        keep_wrapped(out, |c| self.wrap(c));
     }
     fn vertices(&self, cell: &CfkCell) -> Vec<CfkCell> {
         vertices_of(cell).into_iter().filter_map(|v| self.wrap(&v)).collect()

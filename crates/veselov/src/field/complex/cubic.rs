@@ -12,7 +12,7 @@
 //! with base vertex v, vertex b is v + Σ_{bit i of b} e_i.
 
 use super::cellular::{CellComplex, FiniteComplex};
-use super::window::{Axis, Extent, Point, check_dimension};
+use super::window::{Axis, Extent, Point, check_dimension, keep_wrapped};
 use super::{MAX_LATTICE_DIMENSION, StarEntry, TopCell, TopCells};
 use crate::error::Result;
 
@@ -218,23 +218,11 @@ impl CellComplex for CubicWindow {
     }
     fn faces(&self, cell: &CubicCell, out: &mut Vec<(CubicCell, i8)>) {
         raw_faces(self.extent.dimension(), cell, out);
-        out.retain_mut(|(a, _)| match self.wrap(a) {
-            Some(w) => {
-                *a = w;
-                true
-            }
-            None => false,
-        });
+        keep_wrapped(out, |c| self.wrap(c));
     }
     fn cofaces(&self, cell: &CubicCell, out: &mut Vec<(CubicCell, i8)>) {
         raw_cofaces(self.extent.dimension(), cell, out);
-        out.retain_mut(|(b, _)| match self.wrap(b) {
-            Some(w) => {
-                *b = w;
-                true
-            }
-            None => false,
-        });
+        keep_wrapped(out, |c| self.wrap(c));
     }
     fn vertices(&self, cell: &CubicCell) -> Vec<CubicCell> {
         raw_vertices(self.extent.dimension(), cell)

@@ -39,6 +39,18 @@ pub(crate) fn invalid(name: &str, value: impl std::fmt::Display, reason: &str) -
     }
 }
 
+/// Keeps the incident cells that lie in a window, replaced by their wrapped
+/// representatives (`wrap` returns `None` outside the window).
+pub(crate) fn keep_wrapped<C>(cells: &mut Vec<(C, i8)>, wrap: impl Fn(&C) -> Option<C>) {
+    cells.retain_mut(|(c, _)| match wrap(c) {
+        Some(w) => {
+            *c = w;
+            true
+        }
+        None => false,
+    });
+}
+
 /// Checks a lattice dimension: 1 ≤ n ≤ [`MAX_LATTICE_DIMENSION`].
 ///
 /// # Errors
