@@ -20,6 +20,7 @@
 //! t_end = 10.0
 //! [output]
 //! snapshot_every = 5            # time steps Δt between snapshots
+//! checkpoint_every = 100        # time steps Δt between checkpoints (0: at the end only)
 //! ```
 //!
 //! Outputs: `energy.csv` (t, energy: the cell energies of one slab of
@@ -42,15 +43,14 @@ use veselov::field::complex::CfkTorus;
 use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
 use veselov::field::fibre::Euclidean;
 use veselov::field::{CauchyStepper, ComplexKleinGordon, NonlinearWave, Phi4, Potential, SineGordon, Wave};
-use veselov::run::{Control, Observer, Status, StepStats, StopWhen};
+use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
 
 use crate::error::CliError;
 use crate::field::{FieldModelSpec, FieldTimeSpec};
-use crate::field_run::{NoResume, Unsaved, Wrapped};
 use crate::output::{Table, write_json};
 use crate::pipeline::readback::rows_for_plots;
-use crate::pipeline::stream::{CsvStream, NpyStream};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, summary};
+use crate::pipeline::stream::{CsvStream, NpyStream, Position};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, summary, words_error};
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, finite_value, key_error, output_dir, parse_toml, positive_value};
 
@@ -120,6 +120,9 @@ struct CfkOutputSpec {
     /// Time steps Δt between snapshots (default 10; 0: first and last only).
     #[serde(default = "ten")]
     snapshot_every: usize,
+    /// Time steps Δt between checkpoints (default 0: only where the run ends).
+    #[serde(default)]
+    checkpoint_every: u64,
     #[serde(default = "yes")]
     plots: bool,
     #[serde(default = "svg")]
@@ -141,6 +144,7 @@ impl Default for CfkOutputSpec {
         Self {
             dir: None,
             snapshot_every: ten(),
+            checkpoint_every: 0,
             plots: true,
             plot_format: svg(),
         }
@@ -495,16 +499,16 @@ where
     }
 }
 
-impl<P: Potential<M> + Copy, const M: usize> Observer<Unsaved<Marcher<P, M>>> for CfkObserver<P, M>
+impl<P: Potential<M> + Copy, const M: usize> Observer<Marcher<P, M>> for CfkObserver<P, M>
 where
     NonlinearWave<P>: SmoothDensity<Euclidean<M>, M, 3>,
 {
-    fn observe(&mut self, step: u64, state: &Unsaved<Marcher<P, M>>, _: &StepStats) -> Control {
+    fn observe(&mut self, step: u64, state: &Marcher<P, M>, _: &StepStats) -> Control {
         // One time step Δt every three levels.
         if !step.is_multiple_of(3) {
             return Control::Continue;
         }
-        if let Err(e) = self.record(&state.0, step / 3) {
+        if let Err(e) = self.record(state, step / 3) {
             return Control::Fail(e);
         }
         if self.error.is_some() {
@@ -515,12 +519,43 @@ where
     }
 }
 
+/// The positions of `energy.csv`, `momentum.csv`, `snapshots.npy` and
+/// `snapshot_times.csv` at a checkpoint (the first words of the observer's record).
+fn read_positions(w: &mut Words<'_>) -> veselov::Result<[Position; 4]> {
+    let mut p = [Position::default(); 4];
+    for q in &mut p {
+        q.bytes = w.one()?.to_bits();
+        q.rows = w.one()?.to_bits();
+    }
+    Ok(p)
+}
+
+impl<P, const M: usize> CfkObserver<P, M> {
+    /// Restore the accumulators after [`read_positions`].
+    fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
+        [self.energy0, self.energy_error_max, self.charge0, self.charge_error_max] =
+            [w.one()?, w.one()?, w.one()?, w.one()?];
+        let has = w.flag()?;
+        let k = w.one()?.to_bits();
+        self.last_snapshot = has.then_some(k);
+        Ok(())
+    }
+}
+
 impl<P, const M: usize> Resumable for CfkObserver<P, M> {
-    fn save(&mut self, _out: &mut Vec<f64>) -> Result<(), CliError> {
-        self.energy.position()?;
-        self.momentum.position()?;
-        self.snapshots.position()?;
-        self.times.position()?;
+    /// Stream positions first (read before the files are reopened), then the accumulators.
+    fn save(&mut self, out: &mut Vec<f64>) -> Result<(), CliError> {
+        for p in [
+            self.energy.position()?,
+            self.momentum.position()?,
+            self.snapshots.position()?,
+            self.times.position()?,
+        ] {
+            out.extend([p.bytes, p.rows].map(f64::from_bits));
+        }
+        out.extend([self.energy0, self.energy_error_max, self.charge0, self.charge_error_max]);
+        out.push(f64::from(u8::from(self.last_snapshot.is_some())));
+        out.push(f64::from_bits(self.last_snapshot.unwrap_or(0)));
         Ok(())
     }
     fn take_error(&mut self) -> Option<CliError> {
@@ -564,12 +599,6 @@ where
         bytes: snapshots * cells * 8.0 + (steps + 1.0) * 7.0 * CSV_BYTES_PER_VALUE,
         bytes_key: "output.snapshot_every",
     };
-    if job.resume.is_some() {
-        return Err(CliError::Setup(format!(
-            "{}: --resume: CFK lattice runs cannot be resumed yet",
-            setup.path.display()
-        )));
-    }
     let spec = OutputSpec {
         dir: s.output.dir.clone(),
         ..Default::default()
@@ -579,7 +608,7 @@ where
         job,
         output_dir(&setup.path, &spec, job.out.as_deref()),
         &plan,
-        None,
+        Some(s.output.checkpoint_every.saturating_mul(3)),
         "cfk-field",
     )?;
     let dir = session.dir.clone();
@@ -590,16 +619,22 @@ where
     } else {
         vec![setup.nodes[0], setup.nodes[1], M]
     };
+    let saved = session.resumed.clone();
+    let mut words = saved.as_ref().map(|c| Words::new(&c.observer));
+    let at = match &mut words {
+        Some(w) => read_positions(w).map_err(|e| words_error(&dir, e))?.map(Some),
+        None => [None; 4],
+    };
     let mut obs = CfkObserver {
         rule,
         torus,
         dt: setup.dt,
         symmetry,
         snapshot_every: s.output.snapshot_every,
-        energy: CsvStream::create(&dir.join("energy.csv"), &["t".into(), "energy".into()], None)?,
-        momentum: CsvStream::create(&dir.join("momentum.csv"), &header, None)?,
-        snapshots: NpyStream::create(&dir.join("snapshots.npy"), &tail, snapshots as u64, None)?,
-        times: CsvStream::create(&dir.join("snapshot_times.csv"), &["t".to_string()], None)?,
+        energy: CsvStream::create(&dir.join("energy.csv"), &["t".into(), "energy".into()], at[0])?,
+        momentum: CsvStream::create(&dir.join("momentum.csv"), &header, at[1])?,
+        snapshots: NpyStream::create(&dir.join("snapshots.npy"), &tail, snapshots as u64, at[2])?,
+        times: CsvStream::create(&dir.join("snapshot_times.csv"), &["t".to_string()], at[3])?,
         energy0: f64::NAN,
         energy_error_max: 0.0,
         charge0: f64::NAN,
@@ -607,24 +642,29 @@ where
         last_snapshot: None,
         error: None,
     };
-    let mut state = Unsaved(marcher);
-    let start = obs.record(&state.0, 0);
+    let mut state = marcher;
+    let mut stepper = CauchyStepper::<Euclidean<M>, Rule<P>, M>::new(setup.dt / 3.0, 3);
+    let (first, start) = match (&saved, words) {
+        (Some(saved), Some(mut w)) => {
+            obs.restore(&mut w).map_err(|e| words_error(&dir, e))?;
+            restore(&dir, &mut state, &mut Words::new(&saved.state))?;
+            (saved.step, Ok(()))
+        }
+        _ => (0, obs.record(&state, 0)),
+    };
     let outcome = match start {
         Err(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
         Ok(()) => session.execute(
-            &mut Wrapped(NoResume(CauchyStepper::<Euclidean<M>, Rule<P>, M>::new(
-                setup.dt / 3.0,
-                3,
-            ))),
+            &mut stepper,
             &mut state,
-            0,
+            first,
             StopWhen::steps(3 * steps as u64),
             &mut obs,
         )?,
     };
     let k_final = outcome.last_step / 3;
     if obs.last_snapshot != Some(k_final) {
-        obs.snapshot(&state.0, k_final);
+        obs.snapshot(&state, k_final);
     }
     obs.energy.position()?;
     obs.momentum.position()?;

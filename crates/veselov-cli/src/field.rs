@@ -157,6 +157,10 @@ pub struct FieldOutputSpec {
     /// per block (default 0: none).
     #[serde(default)]
     pub energy_block: usize,
+    /// Levels between checkpoints (default 0: a checkpoint only where the
+    /// run ends, interrupted or not; `--resume` continues from the last one).
+    #[serde(default)]
+    pub checkpoint_every: u64,
     /// Draw plots (default true).
     #[serde(default = "yes")]
     pub plots: bool,
@@ -185,6 +189,7 @@ impl Default for FieldOutputSpec {
             snapshot_every: hundred(),
             energy_every: one(),
             energy_block: 0,
+            checkpoint_every: 0,
             plots: true,
             plot_format: svg(),
         }
@@ -606,18 +611,12 @@ fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f6
             "output.energy_every"
         },
     };
-    if job.resume.is_some() {
-        return Err(CliError::Setup(format!(
-            "{}: --resume: lattice-field runs cannot be resumed yet",
-            loaded.path.display()
-        )));
-    }
     Session::open(
         &loaded.path,
         job,
         output_dir(&loaded.path, &output_spec(&loaded.scenario), job.out.as_deref()),
         &plan,
-        None,
+        Some(o.checkpoint_every),
         "lattice-field",
     )
 }

@@ -11,16 +11,16 @@ use veselov::field::{
     GenericMarcher, Lattice, Levels, Model, Phi4, ScalarPotential, SineGordon, Wave, level_energy, shift_charge,
     split_charge,
 };
-use veselov::run::{Checkpoint, Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, Words};
+use veselov::run::{Checkpoint, Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, Words, save_count};
 
 use crate::error::CliError;
 use crate::field::LoadedField;
 use crate::figures::{FieldView, draw_field};
 use crate::output::{Table, write_json};
 use crate::pipeline::readback::{MAX_PLOT_SNAPSHOTS, rows_for_plots, table_for_plots};
-use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::stream::{CsvStream, NpyStream, Position};
 use crate::pipeline::table::{Acc, Tracker};
-use crate::pipeline::{Resumable, Session, summary};
+use crate::pipeline::{Resumable, Session, restore, summary, words_error};
 
 /// Measures the newest level pair of a state: (energy, charge).
 type Measure<'a, S> = Box<dyn Fn(&S) -> (f64, Option<f64>) + 'a>;
@@ -97,9 +97,8 @@ impl<'a, S> FieldObserver<'a, S> {
     }
 }
 
-impl<S> Observer<Unsaved<S>> for FieldObserver<'_, S> {
-    fn observe(&mut self, _: u64, state: &Unsaved<S>, _: &StepStats) -> Control {
-        let state = &state.0;
+impl<S> Observer<S> for FieldObserver<'_, S> {
+    fn observe(&mut self, _: u64, state: &S, _: &StepStats) -> Control {
         if let Err(e) = self.row(state) {
             return Control::Fail(e);
         }
@@ -115,83 +114,66 @@ impl<S> Observer<Unsaved<S>> for FieldObserver<'_, S> {
     }
 }
 
+impl<S> FieldObserver<'_, S> {
+    /// Restore the accumulators saved by [`Resumable::save`] (after the
+    /// stream positions, which [`read_positions`] has read).
+    fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
+        self.energy_rows = w.one()?.to_bits();
+        self.last_snapshot_time = w.one()?;
+        self.last_row = if w.flag()? {
+            let m = w.count()?;
+            let len = w.count()?;
+            let row = w.take(len)?.to_vec();
+            Some((m, row, w.flag()?))
+        } else {
+            None
+        };
+        self.e.restore(w)?;
+        self.q.restore(w)?;
+        self.blocks.restore(w)
+    }
+}
+
+/// The positions of `energy.csv`, `snapshots.npy` and `snapshot_times.csv`
+/// at a checkpoint (the first words of the observer's record).
+fn read_positions(w: &mut Words<'_>) -> veselov::Result<[Position; 3]> {
+    let mut p = [Position::default(); 3];
+    for q in &mut p {
+        q.bytes = w.one()?.to_bits();
+        q.rows = w.one()?.to_bits();
+    }
+    Ok(p)
+}
+
 impl<S> Resumable for FieldObserver<'_, S> {
-    fn save(&mut self, _out: &mut Vec<f64>) -> Result<(), CliError> {
-        self.energy.position()?;
-        self.snapshots.position()?;
-        self.times.position()?;
+    /// Stream positions first (read before the files are reopened), then the accumulators.
+    fn save(&mut self, out: &mut Vec<f64>) -> Result<(), CliError> {
+        for p in [
+            self.energy.position()?,
+            self.snapshots.position()?,
+            self.times.position()?,
+        ] {
+            out.extend([p.bytes, p.rows].map(f64::from_bits));
+        }
+        out.push(f64::from_bits(self.energy_rows));
+        out.push(self.last_snapshot_time);
+        match &self.last_row {
+            Some((m, row, written)) => {
+                out.push(1.0);
+                save_count(out, *m);
+                save_count(out, row.len());
+                out.extend_from_slice(row);
+                out.push(f64::from(u8::from(*written)));
+            }
+            None => out.push(0.0),
+        }
+        self.e.save(out);
+        self.q.save(out);
+        self.blocks.save(out);
         Ok(())
     }
     fn take_error(&mut self) -> Option<CliError> {
         self.error.take()
-    }
-}
-
-/// Lattice states are not restored from checkpoints yet: `--resume` refuses them.
-pub(crate) struct NoResume<T>(pub(crate) T);
-
-impl<T: Stepper> Stepper for NoResume<T> {
-    type State = T::State;
-    fn step(&mut self, index: u64, state: &mut T::State) -> veselov::Result<StepStats> {
-        self.0.step(index, state)
-    }
-    fn time(&self, state: &T::State) -> f64 {
-        self.0.time(state)
-    }
-    fn non_finite(&self, state: &T::State) -> Option<String> {
-        self.0.non_finite(state)
-    }
-    fn finish(&mut self, state: &mut T::State) {
-        self.0.finish(state);
-    }
-}
-
-impl<T> Checkpoint for NoResume<T> {
-    fn save(&self, _: &mut Vec<f64>) {}
-    fn restore(&mut self, _: &mut Words<'_>) -> veselov::Result<()> {
-        Err(veselov::Error::InvalidParameter {
-            name: "--resume".into(),
-            value: "a lattice-field run".into(),
-            reason: "lattice runs cannot be resumed yet".into(),
-        })
-    }
-}
-
-/// A lattice state for the pipeline, whose levels are not saved in checkpoints yet.
-pub(crate) struct Unsaved<S>(pub(crate) S);
-
-impl<S> Checkpoint for Unsaved<S> {
-    fn save(&self, _: &mut Vec<f64>) {}
-    fn restore(&mut self, _: &mut Words<'_>) -> veselov::Result<()> {
-        Ok(())
-    }
-}
-
-/// Adapts a stepper of `S` to states wrapped in [`Unsaved`].
-pub(crate) struct Wrapped<T>(pub(crate) NoResume<T>);
-
-impl<T: Stepper> Stepper for Wrapped<T> {
-    type State = Unsaved<T::State>;
-    fn step(&mut self, index: u64, state: &mut Self::State) -> veselov::Result<StepStats> {
-        self.0.step(index, &mut state.0)
-    }
-    fn time(&self, state: &Self::State) -> f64 {
-        self.0.time(&state.0)
-    }
-    fn non_finite(&self, state: &Self::State) -> Option<String> {
-        self.0.non_finite(&state.0)
-    }
-    fn finish(&mut self, state: &mut Self::State) {
-        self.0.finish(&mut state.0);
-    }
-}
-
-impl<T> Checkpoint for Wrapped<T> {
-    fn save(&self, out: &mut Vec<f64>) {
-        self.0.save(out);
-    }
-    fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
-        self.0.restore(w)
     }
 }
 
@@ -215,16 +197,22 @@ pub struct Frame<'a, S> {
     pub recentred_by: fn(&S) -> f64,
 }
 
-/// March `state` with `stepper` to `t_end` and write everything.
-pub fn march<T: Stepper>(
+/// March `state` with `stepper` to `t_end` and write everything; resuming,
+/// `state` and `stepper` (built from the scenario as for a fresh run) are
+/// restored from the checkpoint and the files are continued where it stood.
+pub fn march<T>(
     loaded: &LoadedField,
     session: &mut Session,
     lattice: Lattice,
-    stepper: T,
-    state: T::State,
+    mut stepper: T,
+    mut state: T::State,
     frame: Frame<'_, T::State>,
     y0: Vec<f64>,
-) -> Result<(), CliError> {
+) -> Result<(), CliError>
+where
+    T: Stepper + Checkpoint,
+    T::State: Checkpoint,
+{
     let s = &loaded.scenario;
     let dir = session.dir.clone();
     let dt = lattice.dt();
@@ -241,6 +229,12 @@ pub fn march<T: Stepper>(
         0 => 2,
         k => (total / k).saturating_add(2),
     };
+    let saved = session.resumed.clone();
+    let mut words = saved.as_ref().map(|c| Words::new(&c.observer));
+    let at = match &mut words {
+        Some(w) => read_positions(w).map_err(|e| words_error(&dir, e))?.map(Some),
+        None => [None; 3],
+    };
     let mut obs = FieldObserver {
         measure: frame.measure,
         values: frame.values,
@@ -249,10 +243,10 @@ pub fn march<T: Stepper>(
         offset: frame.offset,
         energy_every: s.output.energy_every,
         snapshot_every: s.output.snapshot_every,
-        energy: CsvStream::create(&dir.join("energy.csv"), &header, None)?,
+        energy: CsvStream::create(&dir.join("energy.csv"), &header, at[0])?,
         energy_rows: 0,
-        snapshots: NpyStream::create(&dir.join("snapshots.npy"), &tail, snapshots_planned as u64, None)?,
-        times: CsvStream::create(&dir.join("snapshot_times.csv"), &["t".to_string()], None)?,
+        snapshots: NpyStream::create(&dir.join("snapshots.npy"), &tail, snapshots_planned as u64, at[1])?,
+        times: CsvStream::create(&dir.join("snapshot_times.csv"), &["t".to_string()], at[2])?,
         last_snapshot_time: f64::NAN,
         last_row: None,
         e: Tracker::new(Acc::Dev),
@@ -260,34 +254,38 @@ pub fn march<T: Stepper>(
         blocks: BlockAccumulator::new(s.output.energy_block),
         error: None,
     };
-    let r = obs.snapshots.row(&y0).and_then(|()| obs.times.row(&[0.0]));
-    obs.io(r);
-    obs.last_snapshot_time = 0.0;
-    let mut state = Unsaved(state);
-    let first = (obs.level_of)(&state.0);
     let mut start_failure = None;
-    if frame.offset == first {
-        // The generic path measures its initial level pair.
-        start_failure = obs.row(&state.0).err();
-    }
+    let first = match (&saved, words) {
+        (Some(saved), Some(mut w)) => {
+            obs.restore(&mut w).map_err(|e| words_error(&dir, e))?;
+            restore(&dir, &mut state, &mut Words::new(&saved.state))?;
+            restore(&dir, &mut stepper, &mut Words::new(&saved.stepper))?;
+            saved.step
+        }
+        _ => {
+            let r = obs.snapshots.row(&y0).and_then(|()| obs.times.row(&[0.0]));
+            obs.io(r);
+            obs.last_snapshot_time = 0.0;
+            let first = (obs.level_of)(&state);
+            if frame.offset == first {
+                // The generic path measures its initial level pair.
+                start_failure = obs.row(&state).err();
+            }
+            first as u64
+        }
+    };
     let outcome = match start_failure {
         Some(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
-        None => session.execute(
-            &mut Wrapped(NoResume(stepper)),
-            &mut state,
-            first as u64,
-            StopWhen::steps(total as u64),
-            &mut obs,
-        )?,
+        None => session.execute(&mut stepper, &mut state, first, StopWhen::steps(total as u64), &mut obs)?,
     };
-    let recentred_by = (frame.recentred_by)(&state.0);
+    let recentred_by = (frame.recentred_by)(&state);
     let info = Closing {
         path: frame.path,
         charge: frame.charge,
         components: frame.components,
         recentred_by,
     };
-    close(loaded, session, lattice, obs, &state.0, outcome, &info)
+    close(loaded, session, lattice, obs, &state, outcome, &info)
 }
 
 /// What [`close`] reports besides the observer.

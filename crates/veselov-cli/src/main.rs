@@ -42,6 +42,9 @@ enum Command {
         /// End the run as interrupted (with a checkpoint) after this many seconds of wall time.
         #[arg(long, value_name = "SECONDS")]
         time_limit: Option<f64>,
+        /// Also write a checkpoint whenever this many seconds of wall time have passed since the last.
+        #[arg(long, value_name = "SECONDS")]
+        checkpoint_seconds: Option<f64>,
     },
     /// List the built-in models with their parameters and defaults.
     Models,
@@ -143,6 +146,7 @@ fn main() -> ExitCode {
             force_large,
             resume,
             time_limit,
+            checkpoint_seconds,
         } => run_scenario(
             &scenario,
             run::RunJob {
@@ -152,6 +156,7 @@ fn main() -> ExitCode {
                 force_large,
                 resume,
                 time_limit,
+                checkpoint_seconds,
             },
         ),
         Command::Models => {

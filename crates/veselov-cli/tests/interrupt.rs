@@ -41,9 +41,30 @@ fn npy_rows(path: &Path) -> (usize, usize) {
     (rows, bytes.len() - 10 - len)
 }
 
+/// The files of a run kind: the CSV file watched for progress, the NPY file
+/// whose rows match a CSV file's, and every file compared after resuming.
+struct Files {
+    watch: &'static str,
+    /// Bytes the watched file must hold before the run is killed.
+    watch_bytes: u64,
+    /// (csv, npy, values per NPY row; 0: the CSV's column count).
+    paired: (&'static str, &'static str, usize),
+    compared: &'static [&'static str],
+    /// Extra arguments of the interrupted run.
+    args: &'static [&'static str],
+}
+
+const TRAJECTORY: Files = Files {
+    watch: "trajectory.csv",
+    watch_bytes: 100_000,
+    paired: ("trajectory.csv", "trajectory.npy", 0),
+    compared: &["trajectory.csv", "trajectory.npy"],
+    args: &[],
+};
+
 /// Run `text` to the end in one go, and again killed with SIGTERM once
-/// `trajectory.csv` holds rows, then resumed; compare.
-fn interrupt_and_resume(name: &str, text: &str) {
+/// the watched file holds rows, then resumed; compare.
+fn interrupt_and_resume(name: &str, text: &str, files: &Files) {
     let dir = temp_dir(name);
     let file = dir.join("scenario.toml");
     std::fs::write(&file, text).expect("scenario");
@@ -58,7 +79,9 @@ fn interrupt_and_resume(name: &str, text: &str) {
 
     let part = dir.join("part");
     let mut child = Command::new(binary())
-        .args(["run", "--quiet", "--out"])
+        .args(["run", "--quiet"])
+        .args(files.args)
+        .arg("--out")
         .arg(&part)
         .arg(&file)
         .spawn()
@@ -66,7 +89,7 @@ fn interrupt_and_resume(name: &str, text: &str) {
     let start = Instant::now();
     // Wait for a checkpoint and some rows on disk, then terminate.
     while !(part.join("checkpoint.json").exists()
-        && std::fs::metadata(part.join("trajectory.csv")).is_ok_and(|m| m.len() > 100_000))
+        && std::fs::metadata(part.join(files.watch)).is_ok_and(|m| m.len() > files.watch_bytes))
     {
         assert!(start.elapsed() < Duration::from_secs(60), "no progress");
         assert!(
@@ -82,12 +105,15 @@ fn interrupt_and_resume(name: &str, text: &str) {
     let status = child.wait().expect("wait");
     assert!(!status.success(), "an interrupted run exits non-zero");
     assert_eq!(summary(&part)["status"], "interrupted");
-    let table = Table::read_csv(&part.join("trajectory.csv")).expect("parseable CSV");
-    let whole_rows = Table::read_csv(&whole.join("trajectory.csv")).expect("CSV").rows.len();
-    assert!(table.rows.len() < whole_rows, "stopped mid-way");
-    let (rows, data) = npy_rows(&part.join("trajectory.npy"));
+    let watched = Table::read_csv(&part.join(files.watch)).expect("parseable CSV");
+    let whole_rows = Table::read_csv(&whole.join(files.watch)).expect("CSV").rows.len();
+    assert!(watched.rows.len() < whole_rows, "stopped mid-way");
+    let (csv, npy, width) = files.paired;
+    let table = Table::read_csv(&part.join(csv)).expect("parseable CSV");
+    let (rows, data) = npy_rows(&part.join(npy));
     assert_eq!(rows, table.rows.len());
-    assert_eq!(data, rows * table.header.len() * 8);
+    let width = if width == 0 { table.header.len() } else { width };
+    assert_eq!(data, rows * width * 8);
 
     let status = Command::new(binary())
         .args(["run", "--quiet", "--resume"])
@@ -98,7 +124,7 @@ fn interrupt_and_resume(name: &str, text: &str) {
     assert!(status.success());
     assert_eq!(summary(&part)["status"], "ok");
     assert_eq!(summary(&part)["steps"], summary(&whole)["steps"]);
-    for f in ["trajectory.csv", "trajectory.npy"] {
+    for f in files.compared {
         let a = std::fs::read(whole.join(f)).expect("whole");
         let b = std::fs::read(part.join(f)).expect("resumed");
         assert!(a == b, "{name}: {f} differs after resume");
@@ -128,6 +154,7 @@ formats = ["csv", "npy"]
 plots = false
 checkpoint_every = 5000
 "#,
+        &TRAJECTORY,
     );
 }
 
@@ -148,5 +175,139 @@ formats = ["csv", "npy"]
 plots = false
 checkpoint_every = 10000
 "#,
+        &TRAJECTORY,
+    );
+}
+
+const LATTICE: Files = Files {
+    watch: "energy.csv",
+    watch_bytes: 100_000,
+    paired: ("snapshot_times.csv", "snapshots.npy", 64),
+    compared: &["energy.csv", "snapshots.npy", "snapshot_times.csv", "energy_blocks.csv"],
+    args: &[],
+};
+
+#[test]
+fn lattice_field_run_survives_sigterm_and_resumes_bit_for_bit() {
+    // The fast path (sine-Gordon triangles, periodic, re-centred mod 2π).
+    interrupt_and_resume(
+        "lattice-fast",
+        r#"
+[model]
+name = "sine-gordon"
+[lattice]
+nodes = 64
+length = 16.0
+boundary = "periodic"
+courant = 0.25
+[method]
+scheme = "triangle"
+[initial]
+kind = "kink-antikink"
+[time]
+t_end = 30000.0
+[output]
+snapshot_every = 997
+energy_every = 3
+energy_block = 1000
+plots = false
+checkpoint_every = 20000
+"#,
+        &LATTICE,
+    );
+}
+
+#[test]
+fn generic_lattice_run_survives_sigterm_and_resumes_bit_for_bit() {
+    // The generic path (symmetric rectangles, fixed ends: a whole-level Newton solve).
+    interrupt_and_resume(
+        "lattice-generic",
+        r#"
+[model]
+name = "wave"
+[lattice]
+nodes = 64
+length = 10.0
+boundary = "dirichlet"
+courant = 0.5
+[method]
+scheme = "symmetric-rectangle"
+[initial]
+kind = "dalembert"
+amplitude = 0.5
+mode = 1
+[time]
+t_end = 800.0
+[output]
+snapshot_every = 101
+energy_every = 1
+energy_block = 250
+plots = false
+checkpoint_every = 3000
+"#,
+        &LATTICE,
+    );
+}
+
+#[test]
+fn cfk_lattice_run_survives_sigterm_and_resumes_bit_for_bit() {
+    // The vertex-by-vertex Cauchy integrator on a periodic 2+1 CFK lattice.
+    interrupt_and_resume(
+        "cfk",
+        r#"
+[model]
+name = "klein-gordon-complex"
+[lattice]
+kind = "cfk"
+space_dimension = 2
+nodes = [12, 12]
+spacing = 0.5
+courant = 0.4
+[initial]
+kind = "plane-wave"
+amplitude = 0.5
+[time]
+t_end = 250.0
+[output]
+snapshot_every = 97
+checkpoint_every = 100
+plots = false
+"#,
+        &Files {
+            watch: "momentum.csv",
+            watch_bytes: 10_000,
+            paired: ("snapshot_times.csv", "snapshots.npy", 12 * 12 * 2),
+            compared: &["energy.csv", "momentum.csv", "snapshots.npy", "snapshot_times.csv"],
+            args: &[],
+        },
+    );
+}
+
+#[test]
+fn checkpoints_by_wall_time_resume_bit_for_bit() {
+    // No `checkpoint_every`: only the clock writes checkpoints before the end.
+    interrupt_and_resume(
+        "clock",
+        r#"
+[model]
+name = "double-pendulum"
+[method]
+name = "galerkin-lobatto"
+stages = 3
+dt = 0.001
+[time]
+steps = 400000
+[initial]
+q = [1.5, -0.5]
+v = [0.0, 0.0]
+[output]
+every = 7
+formats = ["csv", "npy"]
+plots = false
+"#,
+        &Files {
+            args: &["--checkpoint-seconds", "0.2"],
+            ..TRAJECTORY
+        },
     );
 }

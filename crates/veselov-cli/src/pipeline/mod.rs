@@ -10,8 +10,9 @@
 //! * **Interruption**: SIGINT and SIGTERM set a flag the driver polls; the
 //!   files are closed valid up to their last row and `status = "interrupted"`.
 //!   `--time-limit` sets the same flag after a wall-clock budget.
-//! * **Checkpoints** every `[output] checkpoint_every` steps and at the end
-//!   ([`checkpoint`]), from which `--resume DIR` continues bit for bit.
+//! * **Checkpoints** every `[output] checkpoint_every` steps, every
+//!   `--checkpoint-seconds` of wall time, and at the end ([`checkpoint`]),
+//!   from which `--resume DIR` continues bit for bit.
 //! * **One summary schema** ([`summary`]): common keys plus each kind's own,
 //!   written at the end and on every failure.
 
@@ -55,6 +56,9 @@ pub struct RunJob {
     pub resume: Option<PathBuf>,
     /// `--time-limit SECONDS`: end the run as interrupted after this wall time.
     pub time_limit: Option<f64>,
+    /// `--checkpoint-seconds SECONDS`: also write a checkpoint whenever this
+    /// much wall time has passed since the last one.
+    pub checkpoint_seconds: Option<f64>,
 }
 
 /// What a run will do, known before it starts.
@@ -136,10 +140,15 @@ pub struct Session {
     /// Steps between checkpoints (`Some(0)`: only at the end; `None`: none,
     /// for kinds that cannot be resumed).
     pub checkpoint_every: Option<u64>,
+    /// Wall time between checkpoints (`--checkpoint-seconds`).
+    pub checkpoint_seconds: Option<Duration>,
     /// The checkpoint resumed from, if any.
     pub resumed: Option<Saved>,
     progress: Progress,
 }
+
+/// Steps between two looks at the clock for time-based checkpoints.
+const CLOCK_EVERY: u64 = 256;
 
 impl Session {
     /// Check the plan, prepare (or, resuming, reopen) the output directory,
@@ -161,6 +170,15 @@ impl Session {
         for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
             signal_hook::flag::register(signal, interrupt.clone()).map_err(|e| CliError::Setup(e.to_string()))?;
         }
+        let checkpoint_seconds = match job.checkpoint_seconds {
+            None => None,
+            Some(s) if s.is_finite() && s > 0.0 => Some(Duration::from_secs_f64(s.min(1e9))),
+            Some(s) => {
+                return Err(CliError::Setup(format!(
+                    "--checkpoint-seconds: expected a number of seconds > 0, got {s}"
+                )));
+            }
+        };
         if let Some(limit) = job.time_limit {
             if !(limit.is_finite() && limit > 0.0) {
                 return Err(CliError::Setup(format!(
@@ -186,6 +204,7 @@ impl Session {
             start: Instant::now(),
             interrupt,
             checkpoint_every,
+            checkpoint_seconds: checkpoint_seconds.filter(|_| checkpoint_every.is_some()),
             resumed,
             progress: Progress::new(plan.whole_steps(), job.quiet),
         })
@@ -202,8 +221,10 @@ impl Session {
     }
 
     /// Run `stepper` from `state` (number `first`) to `stop` with `observer`,
-    /// writing a checkpoint every `checkpoint_every` steps and at the end
-    /// (unless the run failed: then the last checkpoint stands).
+    /// writing a checkpoint every `checkpoint_every` steps, whenever
+    /// `checkpoint_seconds` have passed since the last one (the clock is read
+    /// every 256 steps), and at the end (unless the run failed: then the last
+    /// checkpoint stands).
     pub fn execute<S, O>(
         &mut self,
         stepper: &mut S,
@@ -225,11 +246,20 @@ impl Session {
             fallback_steps: 0,
             status: Status::Completed,
         };
+        let mut last_checkpoint = Instant::now();
         loop {
             let progress = &mut self.progress;
+            let mut due = false;
+            let clock = self.checkpoint_seconds;
             let mut show = |k: u64, _: &S::State, _: &StepStats| {
                 progress.set(k);
-                Control::Continue
+                match clock {
+                    Some(every) if k.is_multiple_of(CLOCK_EVERY) && last_checkpoint.elapsed() >= every => {
+                        due = true;
+                        Control::Stop
+                    }
+                    _ => Control::Continue,
+                }
             };
             let mut chunk = stop.clone();
             let every = self.checkpoint_every.unwrap_or(0);
@@ -249,6 +279,11 @@ impl Session {
             total.iterations += out.iterations;
             total.fallback_steps += out.fallback_steps;
             total.status = out.status;
+            if due && total.status == Status::Stopped {
+                // Stopped by the clock, not by an observer: a checkpoint is due.
+                total.status = Status::Completed;
+                last_checkpoint = Instant::now();
+            }
             let done = total.status != Status::Completed
                 || stop.steps.is_some_and(|n| total.last_step >= n)
                 || stop.t_end.is_some_and(|t| stepper.time(state) >= t);

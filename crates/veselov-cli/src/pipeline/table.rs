@@ -60,11 +60,13 @@ impl Tracker {
         };
     }
 
-    fn save(&self, out: &mut Vec<f64>) {
+    /// Append the words that restore this tracker.
+    pub fn save(&self, out: &mut Vec<f64>) {
         out.extend([self.first, self.value]);
     }
 
-    fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
+    /// Restore what [`Tracker::save`] wrote.
+    pub fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
         self.first = w.one()?;
         self.value = w.one()?;
         Ok(())

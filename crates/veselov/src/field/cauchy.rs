@@ -26,9 +26,10 @@ use rayon::prelude::*;
 
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, mixed_block, vertex_gradient};
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, TopCell, permutation};
-use super::fibre::Fibre;
+use super::fibre::{Euclidean, Fibre};
 pub use super::legendre::{CauchyOptions, LevelReport};
 use super::legendre::{VertexOutcome, solve_legendre};
+use crate::run::{Checkpoint, Words};
 use crate::{Error, Result};
 
 /// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
@@ -163,17 +164,25 @@ where
             let slot = marcher.value_slot(first_level + l as i64);
             marcher.values[slot * size..(slot + 1) * size].copy_from_slice(level);
         }
-        // Gradients of the cells based at the first n levels (all their
-        // vertices are Cauchy data).
-        for base in first_level..first_level + n as i64 {
-            let slot = marcher.grad_slot(base);
-            let mut out = vec![SVector::zeros(); per_vertex];
+        marcher.fill_gradients();
+        Ok(marcher)
+    }
+
+    /// Gradients of the cells based at the n levels below `level()` (all
+    /// their vertices are known), computed from the stored values exactly as
+    /// the march computes them.
+    fn fill_gradients(&mut self) {
+        let n = self.torus.dimension();
+        let size = self.torus.level_size();
+        let per_vertex = self.perms.len() * (n + 1);
+        let mut out = vec![SVector::zeros(); per_vertex];
+        for base in self.level - n as i64..self.level {
+            let slot = self.grad_slot(base);
             for i in 0..size {
-                marcher.cell_gradients(base, i, None, &mut out);
-                marcher.grads[(slot * size + i) * per_vertex..(slot * size + i + 1) * per_vertex].copy_from_slice(&out);
+                self.cell_gradients(base, i, None, &mut out);
+                self.grads[(slot * size + i) * per_vertex..(slot * size + i + 1) * per_vertex].copy_from_slice(&out);
             }
         }
-        Ok(marcher)
     }
 
     /// The periodic lattice.
@@ -447,3 +456,46 @@ where
 // The cell buffers hold every vertex of a CFK simplex of the largest
 // lattice dimension (n + 1 vertices).
 const _: () = assert!(MAX_CELL_VERTICES > MAX_LATTICE_DIMENSION);
+
+/// A checkpoint of a march of vector-valued fields: the level and the 2n
+/// known levels above the cut; the cell gradients are recomputed from them
+/// by the same code as during the march, so the restored march continues
+/// bit for bit.
+impl<L, const M: usize> Checkpoint for CauchyMarcher<Euclidean<M>, L, M>
+where
+    L: DiscreteLagrangian<Euclidean<M>, M>,
+{
+    fn save(&self, out: &mut Vec<f64>) {
+        let n = self.torus.dimension() as i64;
+        out.push(self.level as f64);
+        for w in self.level - n..self.level + n {
+            if let Some(level) = self.level_values(w) {
+                for y in level {
+                    out.extend_from_slice(y.as_slice());
+                }
+            }
+        }
+    }
+
+    fn restore(&mut self, words: &mut Words<'_>) -> Result<()> {
+        let level = words.one()?;
+        if !(level.is_finite() && level.fract() == 0.0 && level.abs() < 2f64.powi(52)) {
+            return Err(Error::InvalidParameter {
+                name: "checkpoint".into(),
+                value: level.to_string(),
+                reason: "not a level number".into(),
+            });
+        }
+        self.level = level as i64;
+        let n = self.torus.dimension() as i64;
+        let size = self.torus.level_size();
+        for w in self.level - n..self.level + n {
+            let slot = self.value_slot(w);
+            for y in &mut self.values[slot * size..(slot + 1) * size] {
+                words.fill(y.as_mut_slice())?;
+            }
+        }
+        self.fill_gradients();
+        Ok(())
+    }
+}

@@ -26,6 +26,7 @@ use super::lattice::{Lattice, invalid};
 use super::potential::ScalarPotential;
 use super::scheme::Scheme;
 use crate::error::{Error, Result, check_finite};
+use crate::run::{Checkpoint, Words, save_count};
 
 /// Iteration controls of the implicit level solves.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -616,5 +617,66 @@ impl<P: ScalarPotential> FastMarcher<P> {
         std::mem::swap(&mut self.prev_a, &mut self.cur_a);
         self.prev_a[0] = self.prev_a[n];
         Ok(worst)
+    }
+}
+
+/// Everything a level depends on besides the construction data: the stored
+/// levels, the extrapolation and potential-derivative caches and the
+/// counters, so that a restored marcher continues bit for bit. (The cyclic
+/// factorisation depends on the lattice only and is rebuilt by `new`.)
+impl<P> Checkpoint for FastMarcher<P> {
+    fn save(&self, out: &mut Vec<f64>) {
+        for count in [self.level, self.filled, self.a_filled, self.last_iterations] {
+            save_count(out, count);
+        }
+        out.push(f64::from_bits(self.total_iterations));
+        out.push(self.energy);
+        for v in self.levels.iter().chain(&self.a_hist) {
+            out.extend_from_slice(v);
+        }
+        for v in [
+            &self.next,
+            &self.prev_a,
+            &self.cur_a,
+            &self.cur_v,
+            &self.cur_d2,
+            &self.at,
+            &self.base,
+            &self.delta,
+        ] {
+            out.extend_from_slice(v);
+        }
+    }
+
+    fn restore(&mut self, w: &mut Words<'_>) -> Result<()> {
+        self.level = w.count()?;
+        self.filled = w.count()?;
+        self.a_filled = w.count()?;
+        self.last_iterations = w.count()?;
+        self.total_iterations = w.one()?.to_bits();
+        self.energy = w.one()?;
+        for v in self.levels.iter_mut().chain(&mut self.a_hist) {
+            w.fill(v)?;
+        }
+        for v in [
+            &mut self.next,
+            &mut self.prev_a,
+            &mut self.cur_a,
+            &mut self.cur_v,
+            &mut self.cur_d2,
+            &mut self.at,
+            &mut self.base,
+            &mut self.delta,
+        ] {
+            w.fill(v)?;
+        }
+        if self.filled > self.levels.len() || self.a_filled > self.a_hist.len().max(1) {
+            return Err(invalid(
+                "checkpoint",
+                self.filled,
+                "more stored levels than this marcher holds",
+            ));
+        }
+        Ok(())
     }
 }

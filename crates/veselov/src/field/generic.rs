@@ -27,6 +27,7 @@ use super::density::{CellJet, CellLagrangian, cell_jet, gather};
 use super::lattice::{Boundary, CellShape, Lattice, invalid};
 use super::region::Node;
 use crate::error::{Error, Result, check_finite};
+use crate::run::{Checkpoint, Words, save_count};
 use crate::solve::BlockTridiagonal;
 
 /// Three stored levels `j−1, j` and the result `j+1`, plus tangents.
@@ -329,5 +330,26 @@ pub fn node_value<const DIM: usize>(lat: &Lattice, level: &[SVector<f64, DIM>], 
             })
         }
         None => (0..n).contains(&i).then(|| level[i as usize]),
+    }
+}
+
+/// The two stored levels and the level index (the tolerances are
+/// construction data, set again by the caller).
+impl<L, const DIM: usize> Checkpoint for GenericMarcher<L, DIM> {
+    fn save(&self, out: &mut Vec<f64>) {
+        save_count(out, self.level);
+        save_count(out, self.last_iterations);
+        for v in self.prev.iter().chain(&self.curr) {
+            out.extend_from_slice(v.as_slice());
+        }
+    }
+
+    fn restore(&mut self, w: &mut Words<'_>) -> Result<()> {
+        self.level = w.count()?;
+        self.last_iterations = w.count()?;
+        for v in self.prev.iter_mut().chain(&mut self.curr) {
+            w.fill(v.as_mut_slice())?;
+        }
+        Ok(())
     }
 }

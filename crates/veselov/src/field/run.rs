@@ -12,7 +12,7 @@ use super::potential::{Phi4, ScalarPotential, SineGordon, Wave};
 use super::scheme::Scheme;
 use super::stepping::{FastLevels, FastStepper};
 use crate::error::{Error, Result};
-use crate::run::{Control, Status, StepStats, StopWhen, drive};
+use crate::run::{Checkpoint, Control, Status, StepStats, StopWhen, Words, drive, save_count};
 
 /// The scalar models of the fast paths.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -174,6 +174,44 @@ impl BlockAccumulator {
             self.close();
         }
         self.blocks
+    }
+}
+
+/// The open block and the blocks closed so far.
+impl Checkpoint for BlockAccumulator {
+    fn save(&self, out: &mut Vec<f64>) {
+        for count in [self.block, self.first, self.count, self.blocks.len()] {
+            save_count(out, count);
+        }
+        out.extend([self.min, self.max, self.sum]);
+        for b in &self.blocks {
+            save_count(out, b.first_level);
+            save_count(out, b.levels);
+            out.extend([b.min, b.mean, b.max]);
+        }
+    }
+    fn restore(&mut self, w: &mut Words<'_>) -> Result<()> {
+        let block = w.count()?;
+        if block != self.block {
+            return Err(invalid("checkpoint", block, "written with another energy block length"));
+        }
+        self.first = w.count()?;
+        self.count = w.count()?;
+        let closed = w.count()?;
+        [self.min, self.max, self.sum] = [w.one()?, w.one()?, w.one()?];
+        self.blocks.clear();
+        for _ in 0..closed {
+            let (first_level, levels) = (w.count()?, w.count()?);
+            let [min, mean, max] = [w.one()?, w.one()?, w.one()?];
+            self.blocks.push(BlockStats {
+                first_level,
+                levels,
+                min,
+                mean,
+                max,
+            });
+        }
+        Ok(())
     }
 }
 

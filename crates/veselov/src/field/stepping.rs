@@ -12,7 +12,7 @@ use super::fibre::Fibre;
 use super::generic::GenericMarcher;
 use super::potential::ScalarPotential;
 use crate::error::Result;
-use crate::run::{StepStats, Stepper};
+use crate::run::{Checkpoint, StepStats, Stepper, Words};
 
 /// The fast marcher of a scalar model, with its 2π re-centring (sine-Gordon).
 #[derive(Debug, Clone)]
@@ -164,5 +164,45 @@ where
         top.iter()
             .any(|y| !F::is_finite(y))
             .then(|| format!("field level {}", m.top_level()))
+    }
+}
+
+/// The marcher's levels and caches, then the re-centring carried between levels.
+impl<P> Checkpoint for FastLevels<P> {
+    fn save(&self, out: &mut Vec<f64>) {
+        self.marcher.save(out);
+        out.push(self.recentred_by);
+        out.push(f64::from(u8::from(self.pending_recentre)));
+    }
+    fn restore(&mut self, w: &mut Words<'_>) -> Result<()> {
+        self.marcher.restore(w)?;
+        self.recentred_by = w.one()?;
+        self.pending_recentre = w.flag()?;
+        Ok(())
+    }
+}
+
+/// The fast stepper carries nothing from level to level (its re-centring
+/// period is construction data).
+impl<P> Checkpoint for FastStepper<P> {
+    fn save(&self, _: &mut Vec<f64>) {}
+    fn restore(&mut self, _: &mut Words<'_>) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// The density stepper carries nothing (the marcher is the state).
+impl<L, const DIM: usize> Checkpoint for DensityStepper<L, DIM> {
+    fn save(&self, _: &mut Vec<f64>) {}
+    fn restore(&mut self, _: &mut Words<'_>) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// The CFK stepper carries nothing (its time scale is construction data).
+impl<F, L, const M: usize> Checkpoint for CauchyStepper<F, L, M> {
+    fn save(&self, _: &mut Vec<f64>) {}
+    fn restore(&mut self, _: &mut Words<'_>) -> Result<()> {
+        Ok(())
     }
 }

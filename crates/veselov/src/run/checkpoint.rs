@@ -78,6 +78,28 @@ impl<'a> Words<'a> {
         }
     }
 
+    /// Fill `target` with the next `target.len()` words.
+    ///
+    /// # Errors
+    /// If fewer words are left.
+    pub fn fill(&mut self, target: &mut [f64]) -> Result<()> {
+        target.copy_from_slice(self.take(target.len())?);
+        Ok(())
+    }
+
+    /// The next word read as a count (its bits, as written by [`save_count`]).
+    ///
+    /// # Errors
+    /// If no word is left or the count does not fit in `usize`.
+    pub fn count(&mut self) -> Result<usize> {
+        let bits = self.one()?.to_bits();
+        usize::try_from(bits).map_err(|_| Error::InvalidParameter {
+            name: "checkpoint".into(),
+            value: bits.to_string(),
+            reason: "a count too large for this machine".into(),
+        })
+    }
+
     /// Error unless every word was read.
     ///
     /// # Errors
@@ -96,6 +118,11 @@ impl<'a> Words<'a> {
             })
         }
     }
+}
+
+/// Save a count exactly (as the bits of one word), read back by [`Words::count`].
+pub fn save_count(out: &mut Vec<f64>, n: usize) {
+    out.push(f64::from_bits(n as u64));
 }
 
 /// Save an optional fixed-length record: a flag word, then the record (or zeros).
