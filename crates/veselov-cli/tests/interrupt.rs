@@ -237,7 +237,7 @@ kind = "dalembert"
 amplitude = 0.5
 mode = 1
 [time]
-t_end = 800.0
+t_end = 2000.0
 [output]
 snapshot_every = 101
 energy_every = 1

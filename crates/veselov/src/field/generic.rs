@@ -1,16 +1,15 @@
 //! Generic time marching for any [`CellLagrangian`] (triangles or
-//! rectangles, field values in `ℝ^DIM`, any boundary condition).
-//!
-//! Level `j+1` solves the DELf equations at every active node of level `j`
-//! (seed 002 (5.2) and its rectangle analogue) by a global Newton iteration on
-//! the whole new level: the exact Jacobian `∂R_i/∂y_{m,j+1}` is assembled from
-//! the cells' Hessian blocks (hyper-dual numbers) and factored as a
-//! block-tridiagonal system (cyclic on periodic lattices; each node couples to
-//! its two neighbours on the new level), O(N·DIM³) per Newton iteration
-//! ([`crate::solve::BlockTridiagonal`]). This path serves any density,
-//! vector-valued fields and every boundary condition; the scalar schemes of
-//! seed 002 have faster paths in [`super::fast`] (fixed-point iterations that
-//! need no Hessians).
+//! rectangles, field values in `ℝ^DIM`, any boundary condition), as a use of
+//! the field core: the three levels j − 1, j, j + 1 are a window of the
+//! [`SpacetimeLattice`] of the cell shape, the cell Lagrangian is seen by the
+//! core through [`CoreCell`] (with the winding jump added to the vertices a
+//! cell takes across the seam), and level j + 1 is the whole-level Newton
+//! solve of the core's [`LevelSolver`]: the DELf equations at every active
+//! node of level j (seed 002 (5.2) and its rectangle analogue), the exact
+//! Jacobian from the core's mixed blocks, factored as a block-tridiagonal
+//! system (cyclic on periodic lattices), O(N·DIM³) per Newton iteration and
+//! no allocation inside a level. The scalar schemes of seed 002 have faster
+//! paths in [`super::fast`] (fixed-point iterations that need no Hessians).
 //!
 //! Boundary conditions: periodic/winding (indices mod N, the jump added to
 //! every component), Dirichlet (end nodes fixed, equations at the inner
@@ -23,23 +22,57 @@
 
 use nalgebra::SVector;
 
-use super::density::{CellJet, CellLagrangian, cell_jet, gather};
+use super::cell::DiscreteLagrangian;
+use super::complex::{SpacetimeLattice, TopCell};
+use super::density::{CellLagrangian, CoreCell};
+use super::fibre::Euclidean;
 use super::lattice::{Boundary, CellShape, Lattice, invalid};
-use super::region::Node;
+use super::legendre::CauchyOptions;
+use super::level_solve::LevelSolver;
+use crate::ad::Scalar;
 use crate::error::{Error, Result, check_finite};
 use crate::run::{Checkpoint, Words, save_count};
-use crate::solve::BlockTridiagonal;
 
-/// Three stored levels `j−1, j` and the result `j+1`, plus tangents.
+/// A cell Lagrangian on a periodic lattice with a winding jump: the vertices
+/// a cell at the seam (space origin N − 1) takes from node 0 are seen with
+/// the jump added to every component, as [`node_value`] does.
+#[derive(Debug, Clone, Copy)]
+struct Seam<'a, L> {
+    lag: &'a L,
+    offsets: &'static [(i64, i64)],
+    nodes: i64,
+    jump: f64,
+}
+
+impl<L: CellLagrangian<DIM>, const DIM: usize> DiscreteLagrangian<Euclidean<DIM>, DIM> for Seam<'_, L> {
+    fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[SVector<D, DIM>]) -> D {
+        let core = CoreCell(self.lag);
+        if self.jump == 0.0 || cell.origin[0] + 1 < self.nodes {
+            return core.cell_lagrangian(cell, y);
+        }
+        let mut z: [SVector<D, DIM>; 4] = std::array::from_fn(|l| y[l.min(y.len() - 1)]);
+        for (zl, &(di, _)) in z.iter_mut().zip(self.offsets).take(y.len()) {
+            if cell.origin[0] + di >= self.nodes {
+                zl.iter_mut().for_each(|c| *c += D::from(self.jump));
+            }
+        }
+        core.cell_lagrangian(cell, &z[..y.len()])
+    }
+}
+
+/// Levels `j−1, j` and the solve of `j+1` on a three-level window of the core.
 #[derive(Debug, Clone)]
 pub struct GenericMarcher<L, const DIM: usize> {
     lag: L,
     lattice: Lattice,
-    /// Levels `j−1` and `j`.
-    prev: Vec<SVector<f64, DIM>>,
-    curr: Vec<SVector<f64, DIM>>,
+    window: SpacetimeLattice,
+    /// Values of the window, level by level: `j−1`, `j`, then the new level.
+    values: Vec<SVector<f64, DIM>>,
+    solver: LevelSolver<DIM>,
     level: usize,
-    /// Relative tolerance of the Newton correction.
+    /// Relative tolerance of the level residual (max |DELf| over the size of
+    /// the terms summed; Newton also stops where it stalls at round-off
+    /// within 100 × this).
     pub rel_tol: f64,
     /// Newton iteration cap.
     pub max_iter: usize,
@@ -63,18 +96,32 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
             }
             check_finite(what, y.iter().flat_map(|v| v.iter()))?;
         }
-        if lattice.boundary() == Boundary::Free && lag.shape() == CellShape::Triangle {
+        let shape = lag.shape();
+        if lattice.boundary() == Boundary::Free && shape == CellShape::Triangle {
             return Err(invalid(
                 "boundary",
                 "Free",
                 "free ends are not supported for triangles (the DELf at node N−1 does not involve the new level)",
             ));
         }
+        let window = SpacetimeLattice::seed002(shape, &lattice, 3)?;
+        let active = match lattice.boundary() {
+            Boundary::Dirichlet { .. } => 1..n - 1,
+            _ => 0..n,
+        };
+        let at = |i: usize, j: i64| window.vertex_at(i as i64, j).unwrap_or(usize::MAX);
+        let equations: Vec<usize> = active.clone().map(|i| at(i, 1)).collect();
+        let unknowns: Vec<usize> = active.map(|i| at(i, 2)).collect();
+        let solver = LevelSolver::new(&window, &equations, &unknowns, lattice.is_periodic())?;
+        let mut values = y0;
+        values.extend_from_slice(&y1);
+        values.extend_from_slice(&y1);
         Ok(Self {
             lag,
             lattice,
-            prev: y0,
-            curr: y1,
+            window,
+            values,
+            solver,
             level: 1,
             rel_tol: 1e-14,
             max_iter: 30,
@@ -96,88 +143,16 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
     }
     /// The newest level.
     pub fn current(&self) -> &[SVector<f64, DIM>] {
-        &self.curr
+        let n = self.lattice.nodes();
+        &self.values[n..2 * n]
     }
     /// The level before the newest.
     pub fn previous(&self) -> &[SVector<f64, DIM>] {
-        &self.prev
+        &self.values[..self.lattice.nodes()]
     }
     /// Newton iterations of the last step.
     pub fn last_iterations(&self) -> usize {
         self.last_iterations
-    }
-
-    /// Nodes whose DELf equation is solved (and whose new value is unknown).
-    fn active(&self) -> std::ops::Range<usize> {
-        let n = self.lattice.nodes();
-        match self.lattice.boundary() {
-            Boundary::Dirichlet { .. } => 1..n - 1,
-            _ => 0..n,
-        }
-    }
-
-    /// Value getter over three levels (`dj = −1, 0, 1` relative to `j`).
-    fn getter<'a>(&'a self, next: &'a [SVector<f64, DIM>]) -> impl Fn(Node) -> Option<SVector<f64, DIM>> + 'a {
-        let lat = self.lattice;
-        move |(i, dj): Node| {
-            let level: &[SVector<f64, DIM>] = match dj {
-                -1 => &self.prev,
-                0 => &self.curr,
-                1 => next,
-                _ => return None,
-            };
-            node_value(&lat, level, i)
-        }
-    }
-
-    /// Unknown index of node `i` of the new level (`None` if fixed).
-    fn unknown(&self, i: i64) -> Option<usize> {
-        let n = self.lattice.nodes() as i64;
-        let i = if self.lattice.is_periodic() { i.rem_euclid(n) } else { i };
-        let r = self.active();
-        (i >= r.start as i64 && i < r.end as i64).then(|| i as usize - r.start)
-    }
-
-    /// Residual and Jacobian of the DELf at the active nodes of level `j`
-    /// for a trial new level. The Jacobian couples each node only to its two
-    /// neighbours on the new level, so it is block tridiagonal (cyclic on
-    /// periodic lattices) with DIM×DIM blocks; `None` in the Jacobian slot
-    /// means a coupling outside that pattern (not produced by triangles or
-    /// rectangles).
-    fn assemble(
-        &self,
-        next: &[SVector<f64, DIM>],
-        with_jac: bool,
-    ) -> (Vec<SVector<f64, DIM>>, Option<Option<BlockTridiagonal<DIM>>>) {
-        let shape = self.lag.shape();
-        let nv = shape.vertices();
-        let act = self.active();
-        let m = act.len();
-        let mut r = vec![SVector::<f64, DIM>::zeros(); m];
-        let mut jac = with_jac.then(|| Some(BlockTridiagonal::<DIM>::zeros(m, self.lattice.is_periodic())));
-        let get = self.getter(next);
-        for (row, i) in act.enumerate() {
-            for (l, &(di, dj)) in shape.offsets().iter().enumerate() {
-                let c = (i as i64 - di, -dj);
-                let Some(v) = gather(shape, c, &get) else { continue };
-                let jet: CellJet<DIM> = cell_jet(&self.lag, &v[..nv]);
-                r[row] += jet.grad[l];
-                if let Some(slot) = jac.as_mut() {
-                    for (mm, &(ei, ej)) in shape.offsets().iter().enumerate() {
-                        if c.1 + ej != 1 {
-                            continue;
-                        }
-                        if let Some(col) = self.unknown(c.0 + ei) {
-                            match slot.as_mut().and_then(|j| j.block_mut(row, col)) {
-                                Some(block) => *block += jet.hess[l][mm],
-                                None => *slot = None,
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        (r, jac)
     }
 
     /// Compute level `j+1`.
@@ -208,107 +183,65 @@ impl<L: CellLagrangian<DIM>, const DIM: usize> GenericMarcher<L, DIM> {
                 });
             }
         }
-        let mut next: Vec<SVector<f64, DIM>> = (0..n).map(|i| self.curr[i] * 2.0 - self.prev[i]).collect();
+        let (old, new) = self.values.split_at_mut(2 * n);
+        for (i, z) in new.iter_mut().enumerate() {
+            *z = old[n + i] * 2.0 - old[i];
+        }
         if let Boundary::Dirichlet { left, right } = self.lattice.boundary() {
-            next[0] = SVector::from_element(left);
-            next[n - 1] = SVector::from_element(right);
+            new[0] = SVector::from_element(left);
+            new[n - 1] = SVector::from_element(right);
         }
-        let act = self.active();
-        let scale = self
-            .curr
-            .iter()
-            .flat_map(|v| v.iter())
-            .fold(1.0_f64, |a, b| a.max(b.abs()));
-        let tol = self.rel_tol * scale;
-        let fail = |residual: f64, iterations: usize, reason: &str| Error::LevelSolveFailure {
-            level: self.level + 1,
-            t: self.lattice.t(self.level + 1),
-            residual,
-            iterations,
-            reason: reason.to_string(),
+        let seam = Seam {
+            lag: &self.lag,
+            offsets: self.lag.shape().offsets(),
+            nodes: n as i64,
+            jump: self.lattice.boundary().jump().unwrap_or(0.0),
         };
-        let mut it = 0;
-        loop {
-            it += 1;
-            let (r, jac) = self.assemble(&next, true);
-            let Some(Some(jac)) = jac else {
-                return Err(fail(f64::NAN, it, "coupling outside the block-tridiagonal pattern"));
-            };
-            let Some(lu) = jac.factor() else {
-                return Err(fail(f64::NAN, it, "singular Jacobian"));
-            };
-            let minus_r: Vec<SVector<f64, DIM>> = r.iter().map(|v| -v).collect();
-            let dx = lu.solve(&minus_r);
-            let mut change: f64 = 0.0;
-            for (row, i) in act.clone().enumerate() {
-                next[i] += dx[row];
-                change = change.max(dx[row].amax());
-            }
-            if !change.is_finite() {
-                return Err(fail(change, it, "non-finite iterate"));
-            }
-            if change <= tol {
-                break;
-            }
-            if it >= self.max_iter {
-                return Err(fail(change, it, "iteration limit"));
-            }
-        }
-        if !tangents.is_empty() {
-            self.propagate(&next, tangents)
-                .ok_or_else(|| fail(f64::NAN, it, "singular tangent Jacobian"))?;
-        }
-        self.prev = std::mem::replace(&mut self.curr, next);
-        self.level += 1;
-        self.last_iterations = it;
-        Ok(())
-    }
-
-    fn propagate(&self, next: &[SVector<f64, DIM>], tangents: &mut [Tangent<DIM>]) -> Option<()> {
-        let (_, jac) = self.assemble(next, true);
-        let lu = jac??.factor()?;
-        let shape = self.lag.shape();
-        let nv = shape.vertices();
-        let act = self.active();
-        let get = self.getter(next);
-        let plain = Lattice::new(
-            self.lattice.nodes(),
-            1.0,
-            1.0,
-            match self.lattice.boundary() {
-                Boundary::Winding { .. } => Boundary::Periodic,
-                b => b,
+        let options = CauchyOptions {
+            tolerance: self.rel_tol,
+            max_iterations: self.max_iter,
+        };
+        let next = self.level + 1;
+        let t = self.lattice.t(next);
+        let at_level = |e: Error| match e {
+            Error::LevelSolveFailure {
+                residual,
+                iterations,
+                reason,
+                ..
+            } => Error::LevelSolveFailure {
+                level: next,
+                t,
+                residual,
+                iterations,
+                reason,
             },
-        )
-        .ok()?;
-        let n = self.lattice.nodes();
-        for t in tangents.iter_mut() {
-            let mut rhs = vec![SVector::<f64, DIM>::zeros(); act.len()];
-            for (row, i) in act.clone().enumerate() {
-                for (l, &(di, dj)) in shape.offsets().iter().enumerate() {
-                    let c = (i as i64 - di, -dj);
-                    let Some(v) = gather(shape, c, &get) else { continue };
-                    let jet = cell_jet(&self.lag, &v[..nv]);
-                    for (mm, &(ei, ej)) in shape.offsets().iter().enumerate() {
-                        let level = match c.1 + ej {
-                            -1 => &t.0,
-                            0 => &t.1,
-                            _ => continue,
-                        };
-                        if let Some(w) = node_value(&plain, level, c.0 + ei) {
-                            rhs[row] -= jet.hess[l][mm] * w;
-                        }
-                    }
-                }
+            other => other,
+        };
+        let report = self
+            .solver
+            .solve::<_, Euclidean<DIM>, _>(&self.window, &seam, &mut self.values, &options, next)
+            .map_err(at_level)?;
+        for tangent in tangents.iter_mut() {
+            let mut out = vec![SVector::zeros(); self.solver.unknowns().len()];
+            let known = |v: usize| match v / n {
+                0 => Some(tangent.0[v % n]),
+                1 => Some(tangent.1[v % n]),
+                _ => None,
+            };
+            self.solver
+                .linearised::<_, Euclidean<DIM>, _>(&self.window, &seam, &self.values, known, &mut out, next)
+                .map_err(at_level)?;
+            let mut v_next = vec![SVector::zeros(); n];
+            for (&u, x) in self.solver.unknowns().iter().zip(&out) {
+                v_next[u - 2 * n] = *x;
             }
-            let x = lu.solve(&rhs);
-            let mut new = vec![SVector::zeros(); n];
-            for (row, i) in act.clone().enumerate() {
-                new[i] = x[row];
-            }
-            t.0 = std::mem::replace(&mut t.1, new);
+            tangent.0 = std::mem::replace(&mut tangent.1, v_next);
         }
-        Some(())
+        self.values.copy_within(n.., 0);
+        self.level = next;
+        self.last_iterations = report.iterations;
+        Ok(())
     }
 }
 
@@ -339,7 +272,7 @@ impl<L, const DIM: usize> Checkpoint for GenericMarcher<L, DIM> {
     fn save(&self, out: &mut Vec<f64>) {
         save_count(out, self.level);
         save_count(out, self.last_iterations);
-        for v in self.prev.iter().chain(&self.curr) {
+        for v in &self.values[..2 * self.lattice.nodes()] {
             out.extend_from_slice(v.as_slice());
         }
     }
@@ -347,7 +280,8 @@ impl<L, const DIM: usize> Checkpoint for GenericMarcher<L, DIM> {
     fn restore(&mut self, w: &mut Words<'_>) -> Result<()> {
         self.level = w.count()?;
         self.last_iterations = w.count()?;
-        for v in self.prev.iter_mut().chain(&mut self.curr) {
+        let n = self.lattice.nodes();
+        for v in &mut self.values[..2 * n] {
             w.fill(v.as_mut_slice())?;
         }
         Ok(())

@@ -18,7 +18,8 @@
 //! (interior, closure, boundary, regularity, windows), [`density`] (cell
 //! Lagrangians, the triangle and rectangle rules, DELf assembly, discrete
 //! action), [`potential`] (sine-Gordon, wave, φ⁴, complex Klein–Gordon),
-//! [`generic`] (Newton marching of any density, tangent-linear steps),
+//! [`generic`] (marching of any density as a use of the core: a
+//! three-level window and the core's whole-level Newton solve, tangent-linear steps),
 //! [`scheme`] and [`fast`] (the six scalar schemes in O(N) per level, with
 //! their energies), [`cyclic`] (prefactored cyclic tridiagonal solves),
 //! [`initial`] (kink–antikink, kink, breather, d'Alembert data), [`noether`]

@@ -107,111 +107,150 @@ impl<const B: usize> BlockTridiagonal<B> {
 
     /// Factor for repeated solves; `None` if a pivot block is singular.
     pub fn factor(&self) -> Option<BlockTridiagonalLu<B>> {
+        let mut lu = BlockTridiagonalLu::new(self.blocks(), self.cyclic);
+        self.factor_into(&mut lu).then_some(lu)
+    }
+
+    /// Factor into `lu` (made by [`BlockTridiagonalLu::new`] for this size),
+    /// without allocating; `false` if a pivot block is singular or the sizes
+    /// differ.
+    pub fn factor_into(&self, lu: &mut BlockTridiagonalLu<B>) -> bool {
         let n = self.blocks();
-        if n == 0 {
-            return None;
+        if n == 0 || lu.m_inv.len() != n {
+            return false;
         }
         let cyclic = self.cyclic && n >= 3;
-        let mut diag = self.diag.clone();
+        lu.diag.copy_from_slice(&self.diag);
+        lu.lower.copy_from_slice(&self.lower);
         let mut woodbury = None;
         if cyclic {
             let gamma = -self.diag[0];
-            let gamma_inv = gamma.try_inverse()?;
+            let Some(gamma_inv) = gamma.try_inverse() else {
+                return false;
+            };
             let vt_last = gamma_inv * self.corner_top;
-            diag[0] -= gamma;
-            diag[n - 1] -= self.corner_bottom * vt_last;
+            lu.diag[0] -= gamma;
+            lu.diag[n - 1] -= self.corner_bottom * vt_last;
             woodbury = Some((gamma, vt_last));
         }
         // Block Thomas: M_i = D_i − L_i C′_{i−1}, C′_i = M_i⁻¹ U_i.
-        let mut m_inv = Vec::with_capacity(n);
-        let mut c_prime = Vec::with_capacity(n);
         for i in 0..n {
             let m = if i == 0 {
-                diag[0]
+                lu.diag[0]
             } else {
-                diag[i] - self.lower[i] * c_prime[i - 1]
+                lu.diag[i] - self.lower[i] * lu.c_prime[i - 1]
             };
-            let inv = m.try_inverse()?;
-            c_prime.push(if i + 1 < n {
+            let Some(inv) = m.try_inverse() else {
+                return false;
+            };
+            lu.c_prime[i] = if i + 1 < n {
                 inv * self.upper[i]
             } else {
                 SMatrix::zeros()
-            });
-            m_inv.push(inv);
+            };
+            lu.m_inv[i] = inv;
         }
-        let mut lu = BlockTridiagonalLu {
-            lower: self.lower.clone(),
-            m_inv,
-            c_prime,
-            woodbury: None,
-        };
+        lu.woodbury = None;
         if let Some((gamma, vt_last)) = woodbury {
             // Z = A′⁻¹U, one column of blocks per column of U; then the
             // capacitance matrix I + VᵀZ.
-            let mut z = vec![SMatrix::<f64, B, B>::zeros(); n];
+            let mut w = std::mem::take(&mut lu.scratch);
             for col in 0..B {
-                let mut u = vec![SVector::<f64, B>::zeros(); n];
-                u[0] = gamma.column(col).into_owned();
-                u[n - 1] = self.corner_bottom.column(col).into_owned();
-                let zc = lu.solve_plain(&u);
-                for (zi, zci) in z.iter_mut().zip(&zc) {
+                w.u.iter_mut().for_each(|v| *v = SVector::zeros());
+                w.u[0] = gamma.column(col).into_owned();
+                w.u[n - 1] = self.corner_bottom.column(col).into_owned();
+                lu.solve_plain(&w.u, &mut w.column);
+                for (zi, zci) in w.z.iter_mut().zip(&w.column) {
                     zi.set_column(col, zci);
                 }
             }
-            let capacitance = SMatrix::<f64, B, B>::identity() + z[0] + vt_last * z[n - 1];
-            lu.woodbury = Some(Woodbury {
-                z,
-                vt_last,
-                capacitance_inv: capacitance.try_inverse()?,
-            });
+            let capacitance = SMatrix::<f64, B, B>::identity() + w.z[0] + vt_last * w.z[n - 1];
+            let inverse = capacitance.try_inverse();
+            lu.scratch = w;
+            let Some(capacitance_inv) = inverse else {
+                return false;
+            };
+            lu.woodbury = Some((vt_last, capacitance_inv));
         }
-        Some(lu)
+        true
     }
 }
 
-#[derive(Debug, Clone, PartialEq)]
-struct Woodbury<const B: usize> {
+/// Work space of the cyclic (Woodbury) factorisation.
+#[derive(Debug, Clone, PartialEq, Default)]
+struct WoodburyScratch<const B: usize> {
+    /// Z = A′⁻¹U.
     z: Vec<SMatrix<f64, B, B>>,
-    vt_last: SMatrix<f64, B, B>,
-    capacitance_inv: SMatrix<f64, B, B>,
+    u: Vec<SVector<f64, B>>,
+    column: Vec<SVector<f64, B>>,
 }
 
 /// A factored [`BlockTridiagonal`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct BlockTridiagonalLu<const B: usize> {
     lower: Vec<SMatrix<f64, B, B>>,
+    diag: Vec<SMatrix<f64, B, B>>,
     m_inv: Vec<SMatrix<f64, B, B>>,
     c_prime: Vec<SMatrix<f64, B, B>>,
-    woodbury: Option<Woodbury<B>>,
+    /// (Γ⁻¹C_top, (I + VᵀZ)⁻¹) of a cyclic matrix.
+    woodbury: Option<(SMatrix<f64, B, B>, SMatrix<f64, B, B>)>,
+    scratch: WoodburyScratch<B>,
 }
 
 impl<const B: usize> BlockTridiagonalLu<B> {
-    fn solve_plain(&self, r: &[SVector<f64, B>]) -> Vec<SVector<f64, B>> {
+    /// Storage for the factors of an `n`-block matrix (cyclic or not), to be
+    /// filled by [`BlockTridiagonal::factor_into`].
+    pub fn new(n: usize, cyclic: bool) -> Self {
+        let zero = vec![SMatrix::zeros(); n];
+        let scratch = if cyclic {
+            WoodburyScratch {
+                z: zero.clone(),
+                u: vec![SVector::zeros(); n],
+                column: vec![SVector::zeros(); n],
+            }
+        } else {
+            WoodburyScratch::default()
+        };
+        Self {
+            lower: zero.clone(),
+            diag: zero.clone(),
+            m_inv: zero.clone(),
+            c_prime: zero,
+            woodbury: None,
+            scratch,
+        }
+    }
+
+    fn solve_plain(&self, r: &[SVector<f64, B>], d: &mut [SVector<f64, B>]) {
         let n = self.m_inv.len();
-        let mut d = Vec::with_capacity(n);
         for i in 0..n {
             let rhs = if i == 0 { r[0] } else { r[i] - self.lower[i] * d[i - 1] };
-            d.push(self.m_inv[i] * rhs);
+            d[i] = self.m_inv[i] * rhs;
         }
         for i in (0..n.saturating_sub(1)).rev() {
             let next = d[i + 1];
             d[i] -= self.c_prime[i] * next;
         }
-        d
     }
 
     /// Solve A x = r.
     pub fn solve(&self, r: &[SVector<f64, B>]) -> Vec<SVector<f64, B>> {
-        let mut y = self.solve_plain(r);
-        if let Some(w) = &self.woodbury {
-            let n = y.len();
-            let vty = y[0] + w.vt_last * y[n - 1];
-            let coef = w.capacitance_inv * vty;
-            for (yi, zi) in y.iter_mut().zip(&w.z) {
-                *yi -= zi * coef;
+        let mut x = vec![SVector::zeros(); self.m_inv.len()];
+        self.solve_into(r, &mut x);
+        x
+    }
+
+    /// Solve A x = r into `x` (as long as `r`), without allocating.
+    pub fn solve_into(&self, r: &[SVector<f64, B>], x: &mut [SVector<f64, B>]) {
+        self.solve_plain(r, x);
+        if let Some((vt_last, capacitance_inv)) = &self.woodbury {
+            let n = x.len();
+            let vty = x[0] + vt_last * x[n - 1];
+            let coef = capacitance_inv * vty;
+            for (xi, zi) in x.iter_mut().zip(&self.scratch.z) {
+                *xi -= zi * coef;
             }
         }
-        y
     }
 }
 
