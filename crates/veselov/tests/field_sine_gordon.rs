@@ -53,32 +53,86 @@ fn energy_blocks(scheme: Scheme, levels: usize, block: usize) -> (f64, Vec<Block
     (e0, blocks)
 }
 
+/// Levels in ten collision periods of the kink–antikink pair: the solitons
+/// move at ±c on the circle of length 40 and meet every 40/(2c) time units
+/// (≈ 25.73); the energy error oscillates with that period, so means over
+/// whole periods remove the oscillation and leave any drift.
+fn ten_collision_periods(h: f64) -> usize {
+    let c = veselov::field::PeriodicKink::new(10.0, 1e-6).expect("kink").speed;
+    (10.0 * 40.0 / (2.0 * c) / h).round() as usize
+}
+
+/// The energy error over `time_units` in windows of ten collision periods:
+/// (mean of E − E₀ over the first half of the windows, over the second half,
+/// the largest |E − E₀| of the first window, the largest |E − E₀|).
+fn drift(scheme: Scheme, time_units: f64) -> (f64, f64, f64, f64) {
+    let h = 40.0 / 255.0 / 8.0;
+    let levels = (time_units / h) as usize;
+    let window = ten_collision_periods(h);
+    let (_, blocks) = energy_blocks(scheme, levels, window);
+    let worst = blocks.iter().map(|b| b.max.abs().max(b.min.abs())).fold(0.0, f64::max);
+    let first_excursion = blocks[0].max.abs().max(blocks[0].min.abs());
+    let half = blocks.len() / 2;
+    let mean = |b: &[Block]| b.iter().map(|b| b.mean).sum::<f64>() / b.len() as f64;
+    (mean(&blocks[..half]), mean(&blocks[half..]), first_excursion, worst)
+}
+
+/// Asserts, for each scheme with its bound, that the mean energy error over
+/// the second half of the run differs from that over the first half by at
+/// most the bound (means over whole collision periods remove the collision
+/// oscillation, of amplitude ≈ 0.09 for the triangles and rectangles and
+/// 2.5·10⁻³ for the symmetric rectangles, |E₀| ≈ 14.6), and that the error
+/// stays within 1.5 times its first excursion.
+fn assert_no_drift(time_units: f64, cases: &[(Scheme, f64)]) {
+    for &(scheme, bound) in cases {
+        let (first, second, excursion, worst) = drift(scheme, time_units);
+        let d = (second - first).abs();
+        println!(
+            "{}: mean E − E₀ over the first half {first:.4e}, over the second {second:.4e} (change {d:.2e}), max |ΔE| {worst:.3e}",
+            scheme.name()
+        );
+        assert!(
+            d <= bound,
+            "{}: drift {d:e} over {time_units} time units",
+            scheme.name()
+        );
+        assert!(worst <= 1.5 * excursion, "{}: unbounded error {worst:e}", scheme.name());
+    }
+}
+
 #[test]
 fn multisymplectic_energy_errors_do_not_drift() {
-    // 2000 time units = 102 000 levels at h = k/8 = 0.0196 (≈ 160 collisions);
-    // blocks of 5000 levels (≈ 98 time units, ≈ 4 collisions) as in Fig. 5.7.
-    let levels = (2000.0 / (40.0 / 255.0 / 8.0)) as usize;
-    for scheme in [Scheme::Triangle, Scheme::Rectangle, Scheme::SymmetricRectangle] {
-        let (e0, blocks) = energy_blocks(scheme, levels, 5000);
-        let (first, last) = (&blocks[0], &blocks[blocks.len() - 1]);
-        let spread = (first.max - first.min).max(last.max - last.min);
-        let worst = blocks.iter().map(|b| b.max.abs().max(b.min.abs())).fold(0.0, f64::max);
-        println!(
-            "{}: E0 = {e0:.6}, first block mean {:.3e} [{:.3e}, {:.3e}], last block mean {:.3e} [{:.3e}, {:.3e}], max |ΔE| {worst:.3e}",
-            scheme.name(),
-            first.mean,
-            first.min,
-            first.max,
-            last.mean,
-            last.min,
-            last.max
-        );
-        // No drift: the block means at the start and the end agree within
-        // the spread of one block (collisions make the error oscillate).
-        assert!((last.mean - first.mean).abs() <= spread, "{}: drift", scheme.name());
-        // Bounded: the error never exceeds a few block spreads.
-        assert!(worst <= 3.0 * spread, "{}: unbounded error {worst:e}", scheme.name());
-    }
+    // 2000 time units = 102 000 levels at h = k/8 = 0.0196 (≈ 78 collisions,
+    // 7 windows). Measured changes of the half-run means: triangle 2·10⁻⁶,
+    // symmetric rectangle 7·10⁻⁵ (the settling of its first windows), the
+    // paper's two schemes, held to 2·10⁻⁴ (the old test compared against the
+    // collision spread and would have passed 0.18). The non-symmetric
+    // rectangle (5.10), which the paper did not run for long, shows a slow
+    // decline of its means (−2·10⁻³ per 2000 time units at first, about
+    // −7·10⁻³ over 30 000 measured), 2 % of its oscillation here: held to
+    // 3·10⁻³, and reported.
+    assert_no_drift(
+        2000.0,
+        &[
+            (Scheme::Triangle, 2e-4),
+            (Scheme::SymmetricRectangle, 2e-4),
+            (Scheme::Rectangle, 3e-3),
+        ],
+    );
+}
+
+/// The whole horizon of seed 002 §5.2 (t = 129 000, 6.6 million levels per
+/// scheme) for the paper's two multisymplectic schemes (measured: changes of
+/// the half-run means 1.2·10⁻⁷ for the triangles, 5.6·10⁻⁸ for the symmetric
+/// rectangles; six minutes on two busy cores):
+/// `cargo test --release -p veselov --test field_sine_gordon -- --ignored --nocapture`.
+#[test]
+#[ignore = "long: the whole §5.2 horizon, a few minutes"]
+fn multisymplectic_energy_errors_do_not_drift_over_the_paper_horizon() {
+    assert_no_drift(
+        129_000.0,
+        &[(Scheme::Triangle, 2e-4), (Scheme::SymmetricRectangle, 2e-4)],
+    );
 }
 
 #[test]
