@@ -301,7 +301,8 @@ fn duplicated_lagrangian_and_discretization_are_antisymmetric() {
             "{method:?}: {ld} vs {ls}"
         );
     }
-    // Lemma 3.4 for the flat retraction, and the force enters only off the diagonal.
+    // The van der Pol force vanishes at zero velocity (Lemma 3.4 itself is
+    // checked for any inverse retraction in `tests/variational_order.rs`).
     let f = VanDerPol::default().force();
     let q = Vector2::new(0.2, 0.3);
     assert_eq!(f.force(0.0, &q, &Vector2::zeros()), Vector2::zeros());
