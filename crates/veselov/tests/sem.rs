@@ -276,3 +276,56 @@ fn lee_bvp_reproduces_an_initial_value_run() {
     assert!(sol.windows(2).all(|w| w[1].0 > w[0].0));
     let _ = Vector2::<f64>::zeros();
 }
+
+/// The left-point rule (3.18) is first order where it has no turning point:
+/// the circular Kepler orbit, errors against the exact orbit at the time
+/// each run ends (t ≥ 3), steps 0.02 … 0.0025.
+#[test]
+fn left_point_rule_is_first_order_on_the_circular_orbit() {
+    let kepler = Kepler::new(0.0).expect("valid");
+    let x0 = kepler.initial_state();
+    let steps = [0.02, 0.01, 0.005, 0.0025];
+    let errors: Vec<f64> = steps
+        .iter()
+        .map(|&dt| {
+            let mut sem = SemIntegrator::new(SemAction::new(kepler.system(), SemRule::LeftPoint).expect("valid"));
+            let run = run_sem(&mut sem, 0.0, x0.q, x0.p, dt, 3.0, 1_000_000, false);
+            assert!(run.failure.is_none(), "dt = {dt}: {:?}", run.failure);
+            let s = &run.states[run.states.len() - 1];
+            let (q, _) = veselov::special::kepler_exact(0.0, s.t).expect("exact orbit");
+            ((s.q[0] - q[0]).powi(2) + (s.q[1] - q[1]).powi(2)).sqrt()
+        })
+        .collect();
+    let fit = fit_order(&steps, &errors, 1e-12).expect("fit");
+    println!("left point, circular orbit: errors {errors:?}, order {:.3}", fit.order);
+    assert!((fit.order - 1.0).abs() < 0.1, "order {:.3}", fit.order);
+}
+
+/// The midpoint rule's fixed-energy step has an admissible root along the
+/// whole Kepler orbit only below e* = √(5/8) ≈ 0.7906 (note 001): probed on
+/// both sides, at three steps each.
+#[test]
+fn midpoint_kepler_threshold_is_probed_on_both_sides() {
+    for (e, fails) in [(0.78, false), (0.80, true)] {
+        let kepler = Kepler::new(e).expect("valid");
+        let x0 = kepler.initial_state();
+        for dt in [0.004, 0.002, 0.001] {
+            let mut sem = SemIntegrator::new(SemAction::new(kepler.system(), SemRule::Midpoint).expect("valid"));
+            let run = run_sem(
+                &mut sem,
+                0.0,
+                x0.q,
+                x0.p,
+                dt,
+                2.0 * std::f64::consts::PI,
+                10_000_000,
+                false,
+            );
+            match (&run.failure, fails) {
+                (None, false) => {}
+                (Some(Error::NoStepRoot { .. } | Error::DegenerateStep { .. }), true) => {}
+                (f, _) => panic!("e = {e}, dt = {dt}: {f:?}"),
+            }
+        }
+    }
+}
