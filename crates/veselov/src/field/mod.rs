@@ -33,6 +33,14 @@
 //! marcher on a rolling three-level window, slaved nodes, natural or
 //! prescribed ends, evolution momentum maps).
 //!
+//! The field models (sine-Gordon, the wave equation, φ⁴ and complex
+//! Klein–Gordon) live here, in [`potential`], rather than in
+//! [`crate::models`]: each is only the potential `N(φ)` of the density
+//! `½(|φ_t|² − |φ_x|²) + N(φ)`, an implementation of this core's
+//! [`Potential`] and [`ScalarPotential`] traits with the closed-form values
+//! the fast O(N) kernels need, so the traits and their implementations stay
+//! in one place; their initial data are in [`initial`].
+//!
 //! ```
 //! use veselov::field::{FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
 //!

@@ -5,16 +5,19 @@
 //! are taken by directional forward mode with `Copy` scalars: the gradient by
 //! `2n` first-order passes, the Hessian by `n(2n+1)` hyper-dual passes, each
 //! writing into buffers allocated once, so a step allocates nothing. The
-//! Galerkin equations, Newton iteration and discrete Legendre transforms are
-//! those of [`GalerkinIntegrator`](super::GalerkinIntegrator) (see there), on
-//! heap storage sized at construction.
+//! Galerkin equations and discrete Legendre transforms are those of
+//! [`GalerkinIntegrator`](super::GalerkinIntegrator) (see there), on heap
+//! storage sized at construction, and both are solved by the one Newton
+//! iteration [`solve_newton`]; this path takes full Newton steps
+//! ([`LineSearch::Full`]) from a constant-position predictor.
 
 use num_dual::{Dual64, HyperDual64};
 
+use super::galerkin::EULER_LAGRANGE_NEWTON_STEP;
 use super::scheme::GalerkinScheme;
 use crate::ad::Scalar;
 use crate::error::{Error, Result, check_finite, check_step};
-use crate::solve::{DenseLu, NewtonOptions};
+use crate::solve::{DenseLu, LineSearch, NewtonOptions, NewtonSystem, solve_newton};
 
 /// A Lagrangian on `Rⁿ` with `n` fixed at run time.
 pub trait DynLagrangian {
@@ -97,6 +100,8 @@ pub struct DynGalerkinIntegrator<L> {
     options: NewtonOptions,
     /// Control-point increments `Z^ν`, `(m+1)·n`.
     z: Vec<f64>,
+    /// Trial control points of a line search, `(m+1)·n`.
+    trial: Vec<f64>,
     base: Vec<f64>,
     /// `G_ν`, `(m+1)·n`.
     g: Vec<f64>,
@@ -129,6 +134,7 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
             n,
             options: NewtonOptions::default(),
             z: vec![0.0; (m + 1) * n],
+            trial: vec![0.0; (m + 1) * n],
             base: vec![0.0; n],
             g: vec![0.0; (m + 1) * n],
             stage_grad: vec![0.0; r * 2 * n],
@@ -202,6 +208,19 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
         s
     }
 
+    /// `‖R‖∞` of the step equations `p_k + G₀ = 0`, `G_ν = 0 (ν = 1..m−1)` at the last evaluation.
+    fn residual_norm(&self, p: &[f64]) -> f64 {
+        let n = self.n;
+        let mut residual = 0.0_f64;
+        for nu in 0..self.scheme.intervals() {
+            for a in 0..n {
+                let r = self.g[nu * n + a] + if nu == 0 { p[a] } else { 0.0 };
+                residual = residual.max(r.abs());
+            }
+        }
+        residual
+    }
+
     /// One step `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})`; returns the Newton iterations.
     pub fn step(&mut self, index: usize, state: &mut DynState) -> Result<usize> {
         let n = self.n;
@@ -219,61 +238,93 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
         self.base.copy_from_slice(&state.q);
         // Predictor: constant position (the Newton iteration converges from it for small h).
         self.z.fill(0.0);
-        let dim = m * n;
-        let mut last = f64::INFINITY;
-        let mut residual = f64::INFINITY;
-        for it in 1..=self.options.max_iterations {
-            self.evaluate(state.t, true);
-            residual = 0.0;
-            for nu in 0..m {
-                for a in 0..n {
-                    let r = self.g[nu * n + a] + if nu == 0 { state.p[a] } else { 0.0 };
-                    residual = residual.max(r.abs());
-                    self.delta[nu * n + a] = -r;
-                    for mu in 1..=m {
-                        for b in 0..n {
-                            self.lu.matrix[(nu * n + a) * dim + (mu - 1) * n + b] = self.block(nu, a, mu, b);
-                        }
-                    }
-                }
-            }
-            if !residual.is_finite() {
-                break;
-            }
-            self.lu.factor("Newton step of the discrete Euler–Lagrange equations")?;
-            self.lu.solve(&mut self.delta);
-            let scale = self.base.iter().chain(&self.z).fold(1.0_f64, |s, v| s.max(v.abs()));
-            let mut upd = 0.0_f64;
-            for k in 0..dim {
-                self.z[n + k] += self.delta[k];
-                upd = upd.max(self.delta[k].abs());
-            }
-            let upd = upd / scale;
-            if !upd.is_finite() {
-                break;
-            }
-            if upd <= self.options.tol || (it > 1 && upd >= last && upd <= self.options.stall_threshold) {
-                self.evaluate(state.t, false);
-                // q_{k+1} = q_k + Zᵐ, p_{k+1} = p_k + h Σᵢ bᵢ ∂L/∂q(i) (= G_m at the solution).
-                for a in 0..n {
-                    state.q[a] += self.z[m * n + a];
-                    let mut dp = 0.0;
-                    for i in 0..self.scheme.quadrature_len() {
-                        dp += self.h * self.scheme.quadrature_weights()[i] * self.stage_grad[i * 2 * n + a];
-                    }
-                    state.p[a] += dp;
-                }
-                state.t += self.h;
-                return Ok(it);
-            }
-            last = upd;
-        }
-        Err(Error::NewtonFailure {
-            step: index,
+        let options = self.options;
+        let mut equations = DynStepEquations {
+            integrator: self,
             t: state.t,
-            residual,
-            iterations: self.options.max_iterations,
-            reason: "no convergence within the iteration limit".into(),
-        })
+            p: &state.p,
+        };
+        let report = solve_newton(&mut equations, &options, LineSearch::Full, index, state.t)?;
+        // q_{k+1} = q_k + Zᵐ, p_{k+1} = p_k + h Σᵢ bᵢ ∂L/∂q(i) (= G_m at the solution).
+        for a in 0..n {
+            state.q[a] += self.z[m * n + a];
+            let mut dp = 0.0;
+            for i in 0..self.scheme.quadrature_len() {
+                dp += self.h * self.scheme.quadrature_weights()[i] * self.stage_grad[i * 2 * n + a];
+            }
+            state.p[a] += dp;
+        }
+        state.t += self.h;
+        Ok(report.iterations)
+    }
+}
+
+/// The equations of one step of a [`DynGalerkinIntegrator`] at time `t` from
+/// the momentum `p = p_k`: unknowns `Z¹..Zᵐ`.
+struct DynStepEquations<'a, L> {
+    integrator: &'a mut DynGalerkinIntegrator<L>,
+    t: f64,
+    p: &'a [f64],
+}
+
+impl<L: DynLagrangian> NewtonSystem for DynStepEquations<'_, L> {
+    const LINEARISATION: &'static str = EULER_LAGRANGE_NEWTON_STEP;
+
+    fn evaluate(&mut self) -> f64 {
+        self.integrator.evaluate(self.t, true);
+        self.integrator.residual_norm(self.p)
+    }
+
+    fn assemble(&mut self) {
+        let s = &mut *self.integrator;
+        let (n, m) = (s.n, s.scheme.intervals());
+        let dim = m * n;
+        for nu in 0..m {
+            for a in 0..n {
+                let r = s.g[nu * n + a] + if nu == 0 { self.p[a] } else { 0.0 };
+                s.delta[nu * n + a] = -r;
+                for mu in 1..=m {
+                    for b in 0..n {
+                        s.lu.matrix[(nu * n + a) * dim + (mu - 1) * n + b] = s.block(nu, a, mu, b);
+                    }
+                }
+            }
+        }
+    }
+
+    fn linear_system(&mut self) -> (&mut DenseLu, &mut [f64]) {
+        let s = &mut *self.integrator;
+        (&mut s.lu, &mut s.delta)
+    }
+
+    fn scale(&self) -> f64 {
+        let s = &*self.integrator;
+        s.base.iter().chain(&s.z).fold(1.0_f64, |acc, v| acc.max(v.abs()))
+    }
+
+    fn trial_residual(&mut self, lambda: f64) -> f64 {
+        let s = &mut *self.integrator;
+        let n = s.n;
+        s.trial.copy_from_slice(&s.z);
+        for (k, d) in s.delta.iter().enumerate() {
+            s.trial[n + k] += lambda * d;
+        }
+        std::mem::swap(&mut s.z, &mut s.trial);
+        s.evaluate(self.t, false);
+        std::mem::swap(&mut s.z, &mut s.trial);
+        s.residual_norm(self.p)
+    }
+
+    fn update(&mut self, lambda: f64) {
+        let s = &mut *self.integrator;
+        let n = s.n;
+        for (k, d) in s.delta.iter().enumerate() {
+            s.z[n + k] += lambda * d;
+        }
+    }
+
+    fn accept(&mut self) -> f64 {
+        self.integrator.evaluate(self.t, false);
+        self.integrator.residual_norm(self.p)
     }
 }

@@ -27,7 +27,7 @@ use super::lagrangian::{Hessian, Jet, Lagrangian, hessian, jet, velocity_from_mo
 use super::scheme::{GalerkinScheme, Method};
 use super::state::{FlowJacobian, OneStepMap, PhaseState, StepStats, continues};
 use crate::error::{Error, Result, check_finite, check_step};
-use crate::solve::{DenseLu, NewtonOptions, NewtonReport, NewtonStop};
+use crate::solve::{DenseLu, LineSearch, NewtonOptions, NewtonReport, NewtonStop, NewtonSystem, solve_newton};
 
 /// Value and discrete Legendre transforms of `L_d(q₀, q₁)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -78,6 +78,119 @@ enum Mode {
     Step,
     /// Unknowns `Q¹..Q^{m−1}`, equations `G₁..G_{m−1} = 0` (endpoints fixed).
     BoundaryValue,
+}
+
+/// What the Newton iterations of the Galerkin integrators linearise, named in
+/// a singular-Jacobian error.
+pub(super) const EULER_LAGRANGE_NEWTON_STEP: &str = "Newton step of the discrete Euler–Lagrange equations";
+
+/// The equations of one Newton solve of a [`GalerkinIntegrator`]: the control
+/// points of `mode` at time `t`, with `p = p_k` in step mode.
+struct ControlPointEquations<'a, L, const N: usize, F> {
+    integrator: &'a mut GalerkinIntegrator<L, N, F>,
+    mode: Mode,
+    t: f64,
+    p: SVector<f64, N>,
+}
+
+impl Mode {
+    /// First equation block `ν` and number of unknown blocks (columns
+    /// `μ = 1..=unknowns`) with `m` intervals.
+    fn layout(self, m: usize) -> (usize, usize) {
+        match self {
+            Mode::Step => (0, m),
+            Mode::BoundaryValue => (1, m - 1),
+        }
+    }
+}
+
+impl<L, const N: usize, F> ControlPointEquations<'_, L, N, F> {
+    fn unknowns(&self) -> usize {
+        self.mode.layout(self.integrator.scheme.intervals()).1
+    }
+}
+
+impl<L: Lagrangian<N>, const N: usize, F: Force<N>> NewtonSystem for ControlPointEquations<'_, L, N, F> {
+    const LINEARISATION: &'static str = EULER_LAGRANGE_NEWTON_STEP;
+
+    fn evaluate(&mut self) -> f64 {
+        self.integrator.eval_hessians(self.t);
+        self.integrator.residual_norm(self.mode, &self.p)
+    }
+
+    /// Right-hand side −R and Jacobian rows ν = row0.., columns μ = 1..=col_end.
+    fn assemble(&mut self) {
+        let (row0, unknowns) = self.mode.layout(self.integrator.scheme.intervals());
+        let col_end = unknowns;
+        let dim = N * unknowns;
+        let s = &mut *self.integrator;
+        for (rb, nu) in (row0..row0 + unknowns).enumerate() {
+            let mut g = s.gradient[nu];
+            if self.mode == Mode::Step && nu == 0 {
+                g += self.p;
+            }
+            for a in 0..N {
+                s.delta[rb * N + a] = -g[a];
+            }
+            for (cb, mu) in (1..=col_end).enumerate() {
+                let blk = s.action_hessian_block(nu, mu);
+                for a in 0..N {
+                    for b in 0..N {
+                        let idx = (rb * N + a) * dim + cb * N + b;
+                        match self.mode {
+                            Mode::Step => s.lu.matrix[idx] = blk[(a, b)],
+                            Mode::BoundaryValue => s.lu_bvp.matrix[idx] = blk[(a, b)],
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn linear_system(&mut self) -> (&mut DenseLu, &mut [f64]) {
+        let dim = N * self.unknowns();
+        let s = &mut *self.integrator;
+        let lu = match self.mode {
+            Mode::Step => &mut s.lu,
+            Mode::BoundaryValue => &mut s.lu_bvp,
+        };
+        (lu, &mut s.delta[..dim])
+    }
+
+    fn scale(&self) -> f64 {
+        let s = &*self.integrator;
+        s.controls
+            .iter()
+            .fold(1.0_f64.max(s.base.amax()), |acc, z| acc.max(z.amax()))
+    }
+
+    fn trial_residual(&mut self, lambda: f64) -> f64 {
+        let unknowns = self.unknowns();
+        let s = &mut *self.integrator;
+        s.trial.copy_from_slice(&s.controls);
+        for cb in 0..unknowns {
+            for a in 0..N {
+                s.trial[cb + 1][a] += lambda * s.delta[cb * N + a];
+            }
+        }
+        s.eval_gradient(self.t, true);
+        s.residual_norm(self.mode, &self.p)
+    }
+
+    fn update(&mut self, lambda: f64) {
+        let unknowns = self.unknowns();
+        let s = &mut *self.integrator;
+        for cb in 0..unknowns {
+            for a in 0..N {
+                s.controls[cb + 1][a] += lambda * s.delta[cb * N + a];
+            }
+        }
+    }
+
+    fn accept(&mut self) -> f64 {
+        self.integrator.eval_gradient(self.t, false);
+        self.integrator.residual_norm(self.mode, &self.p)
+    }
 }
 
 impl<L: Lagrangian<N>, const N: usize> GalerkinIntegrator<L, N, NoForce> {
@@ -264,13 +377,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
 
     /// Newton's method on the control points for `mode`; `p` is `p_k` in step mode.
     fn newton(&mut self, mode: Mode, t: f64, p: &SVector<f64, N>, step: usize) -> Result<NewtonReport> {
-        let m = self.scheme.intervals();
-        let (row0, col_end) = match mode {
-            Mode::Step => (0, m),
-            Mode::BoundaryValue => (1, m - 1),
-        };
-        let unknowns = col_end; // columns μ = 1..=col_end
-        if unknowns == 0 {
+        if mode.layout(self.scheme.intervals()).1 == 0 {
             self.eval_gradient(t, false);
             return Ok(NewtonReport {
                 iterations: 0,
@@ -279,104 +386,14 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
                 stop: NewtonStop::Converged,
             });
         }
-        let dim = N * unknowns;
-        let opts = self.options;
-        let mut last_update = f64::INFINITY;
-        let mut residual = f64::INFINITY;
-        for it in 1..=opts.max_iterations {
-            self.eval_hessians(t);
-            residual = self.residual_norm(mode, p);
-            if !residual.is_finite() {
-                break;
-            }
-            // Right-hand side −R and Jacobian rows ν = row0.., columns μ = 1..=col_end.
-            for (rb, nu) in (row0..row0 + unknowns).enumerate() {
-                let mut g = self.gradient[nu];
-                if mode == Mode::Step && nu == 0 {
-                    g += p;
-                }
-                for a in 0..N {
-                    self.delta[rb * N + a] = -g[a];
-                }
-                for (cb, mu) in (1..=col_end).enumerate() {
-                    let blk = self.action_hessian_block(nu, mu);
-                    for a in 0..N {
-                        for b in 0..N {
-                            let idx = (rb * N + a) * dim + cb * N + b;
-                            match mode {
-                                Mode::Step => self.lu.matrix[idx] = blk[(a, b)],
-                                Mode::BoundaryValue => self.lu_bvp.matrix[idx] = blk[(a, b)],
-                            }
-                        }
-                    }
-                }
-            }
-            let lu = match mode {
-                Mode::Step => &mut self.lu,
-                Mode::BoundaryValue => &mut self.lu_bvp,
-            };
-            lu.factor("Newton step of the discrete Euler–Lagrange equations")?;
-            lu.solve(&mut self.delta[..dim]);
-            if self.delta[..dim].iter().any(|d| !d.is_finite()) {
-                break;
-            }
-            let scale = self
-                .controls
-                .iter()
-                .fold(1.0_f64.max(self.base.amax()), |s, z| s.max(z.amax()));
-            let full = self.delta[..dim].iter().fold(0.0_f64, |s, d| s.max(d.abs())) / scale;
-            // Backtracking line search while far from the solution.
-            let mut lambda = 1.0;
-            if full > 1e-6 {
-                for _ in 0..opts.max_backtracks {
-                    self.trial.copy_from_slice(&self.controls);
-                    for cb in 0..unknowns {
-                        for a in 0..N {
-                            self.trial[cb + 1][a] += lambda * self.delta[cb * N + a];
-                        }
-                    }
-                    self.eval_gradient(t, true);
-                    let rt = self.residual_norm(mode, p);
-                    if rt.is_finite() && rt <= (1.0 - 1e-4 * lambda) * residual {
-                        break;
-                    }
-                    lambda *= 0.5;
-                }
-            }
-            for cb in 0..unknowns {
-                for a in 0..N {
-                    self.controls[cb + 1][a] += lambda * self.delta[cb * N + a];
-                }
-            }
-            let update = lambda * full;
-            let converged = update <= opts.tol;
-            let stalled = it > 1 && update >= last_update && update <= opts.stall_threshold;
-            if converged || stalled {
-                self.eval_gradient(t, false);
-                return Ok(NewtonReport {
-                    iterations: it,
-                    last_update: update,
-                    residual: self.residual_norm(mode, p),
-                    stop: if converged {
-                        NewtonStop::Converged
-                    } else {
-                        NewtonStop::RoundOff
-                    },
-                });
-            }
-            last_update = update;
-        }
-        Err(Error::NewtonFailure {
-            step,
+        let options = self.options;
+        let mut equations = ControlPointEquations {
+            integrator: self,
+            mode,
             t,
-            residual,
-            iterations: opts.max_iterations,
-            reason: if residual.is_finite() {
-                "no convergence within the iteration limit".into()
-            } else {
-                "non-finite residual".into()
-            },
-        })
+            p: *p,
+        };
+        solve_newton(&mut equations, &options, LineSearch::Backtracking, step, t)
     }
 
     /// Initial guess for a step from `(t, q, p)`: extrapolate the previous

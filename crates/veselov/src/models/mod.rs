@@ -1,5 +1,10 @@
 //! The problem zoo: one file per physical model, with exact solutions and
 //! invariants where known. Models know nothing about integrators or solvers.
+//!
+//! The field models (sine-Gordon, wave, φ⁴, complex Klein–Gordon) are not
+//! here: each is just a potential of the field core's Lagrangian density and
+//! implements that core's traits, so they live with it in
+//! [`crate::field::potential`] (re-exported as `veselov::field::{SineGordon, …}`).
 
 pub mod damped_kepler;
 pub mod damped_oscillator;

@@ -1,4 +1,4 @@
-//! Solvers: dense LU factorisation in place and Newton's method options and reports.
+//! Solvers: dense LU factorisation in place, block-tridiagonal systems and Newton's method.
 
 pub mod block_tridiagonal;
 pub mod dense;
@@ -7,4 +7,4 @@ pub mod scalar;
 
 pub use block_tridiagonal::{BlockTridiagonal, BlockTridiagonalLu};
 pub use dense::{DenseLu, lu_factor_in_place, lu_solve_in_place, solve_small};
-pub use newton::{NewtonOptions, NewtonReport, NewtonStop};
+pub use newton::{LineSearch, NewtonOptions, NewtonReport, NewtonStop, NewtonSystem, solve_newton};
