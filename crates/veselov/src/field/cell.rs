@@ -25,6 +25,16 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// L_β at the ordered vertex values `y` of `cell` (`y.len()` = the cell's
     /// vertex count).
     fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[F::Point<D>]) -> D;
+
+    /// Whether ∂L_β/∂y_l can depend on the value at position `k` of `cell`
+    /// (default: always). A cell Lagrangian that splits as
+    /// L(y₀, y₁, y₂) = f(y₀, y₁) + h(y₀, y₂) (seed 000's triangles) answers
+    /// `false` for (l, k) = (1, 2) and (2, 1); the flow marcher then solves
+    /// the constraint at a slaved vertex while the other vertex of its cell
+    /// is still unknown (note 000 §1 "Degeneracy").
+    fn depends(&self, _cell: &TopCell, _l: usize, _k: usize) -> bool {
+        true
+    }
 }
 
 /// The seeds e_i (i = 0..M) of M-direction dual numbers over `D`.

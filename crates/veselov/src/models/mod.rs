@@ -1,6 +1,7 @@
 //! The problem zoo: one file per physical model, with exact solutions and
 //! invariants where known. Models know nothing about integrators or solvers.
 
+pub mod beam;
 pub mod damped_kepler;
 pub mod damped_oscillator;
 pub mod double_pendulum;
