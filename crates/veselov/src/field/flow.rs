@@ -175,7 +175,7 @@ where
                 mu_scale += g.amax();
             }
         }
-        solve_legendre::<F, M>(&mu, mu_scale, guess, &self.options, |z, with_jacobian| {
+        let legendre = |z: &F::Point<f64>, with_jacobian: bool| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();
             let mut scale = 0.0;
@@ -193,7 +193,8 @@ where
                 }
             }
             (leg, with_jacobian.then_some(jac), scale)
-        })
+        };
+        solve_legendre::<F, M>(&mu, mu_scale, guess, &self.options, legendre)
     }
 
     /// Solves the pair (v, Δv), starting Newton from the current value at Δv,

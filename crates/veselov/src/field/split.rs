@@ -222,7 +222,7 @@ impl<const M: usize> DiagonalQuadratic<M> {
         let mut sum = D::zero();
         for k in 0..M {
             let d = x[k] - r[k];
-            sum = sum + d * d * (0.5 * w[k]);
+            sum += d * d * (0.5 * w[k]);
         }
         sum
     }
