@@ -13,6 +13,7 @@
 //! marchers or solvers.
 
 pub mod density;
+pub mod paper;
 pub mod section;
 
 pub use density::{BeamDensity, BeamLagrangian, CayleyBeam, E6, ExpBeam, beam_lagrangian, left_generators, straight};
