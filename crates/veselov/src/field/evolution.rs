@@ -170,7 +170,36 @@ where
 
     fn solve_slaved(&mut self) -> Result<VertexOutcome> {
         let v = self.vertex(1, self.cross);
-        self.marcher.solve(v, v)
+        let solved = self.marcher.solve(v, v);
+        solved.map_err(|e| self.name_node(e, self.level, self.cross))
+    }
+
+    /// Renames a vertex-solve failure after the lattice node (j, a) whose
+    /// equation failed (the marcher knows only window vertices).
+    fn name_node(&self, e: Error, level: usize, c: usize) -> Error {
+        let (j, a) = match self.direction {
+            Direction::Time => (level, c),
+            Direction::Space => (c, level),
+        };
+        let role = if c == self.cross && self.far.is_natural() {
+            "slaved node"
+        } else {
+            "node"
+        };
+        match e {
+            Error::VertexSolveFailure {
+                residual,
+                iterations,
+                reason,
+                ..
+            } => Error::VertexSolveFailure {
+                vertex: format!("{role} (j, a) = ({j}, {a}) of the {:?} evolution", self.direction).to_lowercase(),
+                residual,
+                iterations,
+                reason,
+            },
+            other => other,
+        }
     }
 
     /// The marching direction.
@@ -245,7 +274,8 @@ where
         }
         let start = usize::from(!self.near.is_natural());
         for c in start..cross {
-            add(self.marcher.solve(self.vertex(1, c), self.vertex(2, c))?);
+            let solved = self.marcher.solve(self.vertex(1, c), self.vertex(2, c));
+            add(solved.map_err(|e| self.name_node(e, self.level, c))?);
         }
         // Roll the window: levels ℓ, ℓ + 1 become the previous and current ones.
         let slaved = self.far.is_natural();
