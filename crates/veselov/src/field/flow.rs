@@ -19,7 +19,7 @@
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, mixed_block, vertex_gradient};
+use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, force_block, mixed_block, vertex_force, vertex_gradient};
 use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre};
@@ -170,9 +170,15 @@ where
             let k = self.complex.cell_vertices(e.cell, &mut verts);
             if contains(&verts[..k]).is_none() {
                 let y: [F::Point<f64>; MAX_CELL_VERTICES] = std::array::from_fn(|l| self.values[verts[l.min(k - 1)]]);
-                let g = vertex_gradient::<F, L, M>(&self.lag, &self.complex.cell(e.cell), &y[..k], e.position).1;
+                let cell = self.complex.cell(e.cell);
+                let g = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position).1;
                 mu -= g;
                 mu_scale += g.amax();
+                if self.lag.has_forces() {
+                    let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..k], e.position);
+                    mu -= f;
+                    mu_scale += f.amax();
+                }
             }
         }
         let legendre = |z: &F::Point<f64>, with_jacobian: bool| {
@@ -185,11 +191,23 @@ where
                 if let Some(pos) = contains(&verts[..k]) {
                     let y: [F::Point<f64>; MAX_CELL_VERTICES] =
                         std::array::from_fn(|l| if l == pos { *z } else { self.values[verts[l.min(k - 1)]] });
-                    let (g, block) =
-                        mixed_block::<F, L, M>(&self.lag, &self.complex.cell(e.cell), &y[..k], e.position, pos);
+                    let cell = self.complex.cell(e.cell);
+                    // The Jacobian (nested duals) only when Newton asks for it.
+                    let g = if with_jacobian {
+                        let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..k], e.position, pos);
+                        jac += block;
+                        g
+                    } else {
+                        vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position).1
+                    };
                     leg += g;
-                    jac += block;
                     scale += g.amax();
+                    if self.lag.has_forces() {
+                        let (f, block) = force_block::<F, L, M>(&self.lag, &cell, &y[..k], e.position, pos);
+                        leg += f;
+                        jac += block;
+                        scale += f.amax();
+                    }
                 }
             }
             (leg, with_jacobian.then_some(jac), scale)

@@ -21,6 +21,9 @@ pub struct BeamDensity {
     pub properties: BeamProperties,
     /// Gravitational acceleration 𝐠 (zero: no potential).
     pub gravity: [f64; 3],
+    /// Viscous damping per unit length, diag(c) ≥ 0: force density −cₖξₖ in
+    /// the body frame (angular first).
+    pub damping: [f64; 6],
 }
 
 impl BeamDensity {
@@ -29,7 +32,25 @@ impl BeamDensity {
         Self {
             properties,
             gravity: [0.0; 3],
+            damping: [0.0; 6],
         }
+    }
+    /// The same beam with viscous damping diag(c).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidParameter`] naming `damping[k]` when an entry
+    /// is negative or not finite (damping must not inject energy).
+    pub fn with_damping(self, c: [f64; 6]) -> Result<Self> {
+        for (k, &x) in c.iter().enumerate() {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(crate::Error::InvalidParameter {
+                    name: format!("damping[{k}]"),
+                    value: x.to_string(),
+                    reason: "must be finite and >= 0".into(),
+                });
+            }
+        }
+        Ok(Self { damping: c, ..self })
     }
     /// The same beam under gravity `g` (m/s²).
     pub fn with_gravity(self, g: [f64; 3]) -> Self {
@@ -59,6 +80,12 @@ impl SplitDensity<RigidMotions, 6> for BeamDensity {
         let r = g.translation();
         let m = self.mass_per_length();
         -(r[0] * self.gravity[0] + r[1] * self.gravity[1] + r[2] * self.gravity[2]) * m
+    }
+    fn is_damped(&self) -> bool {
+        self.damping.iter().any(|&c| c > 0.0)
+    }
+    fn damping<D: Scalar>(&self, xi: &SVector<D, 6>) -> SVector<D, 6> {
+        SVector::from_fn(|k, _| xi[k] * (-self.damping[k]))
     }
 }
 
