@@ -316,3 +316,44 @@ fn time_evolution_energy_is_bounded_over_ten_thousand_levels() {
     assert!(late <= 1.5 * early, "energy deviation early {early:e}, late {late:e}");
     assert!(drift <= 0.02 * early, "energy drift {drift:e} (oscillation {early:e})");
 }
+
+/// Bad initial data are typed errors naming the node: a neighbour rotated
+/// by π (the cut locus of the chart) and a non-finite value.
+#[test]
+fn bad_initial_data_are_named() {
+    let (mut g0, g1) = initial_rows(4);
+    let flip = SE3::new(
+        veselov::lie::so3::exp(&nalgebra::Vector3::new(0.0, std::f64::consts::PI, 0.0)),
+        nalgebra::Vector3::zeros(),
+    );
+    g0[3] = g0[2].compose(&flip);
+    let err = Beam::new(
+        Direction::Time,
+        lagrangian(DT, DS),
+        &g0,
+        &g1,
+        EndCondition::Natural,
+        EndCondition::Natural,
+        CauchyOptions::default(),
+    )
+    .err()
+    .expect("a rotation by π between neighbours");
+    assert!(
+        err.to_string().contains("cross index 2") && err.to_string().contains("cut locus"),
+        "{err}"
+    );
+    let (g0, mut g1) = initial_rows(4);
+    g1[1] = SE3::from_translation(nalgebra::Vector3::new(f64::NAN, 0.0, 0.0));
+    let err = Beam::new(
+        Direction::Time,
+        lagrangian(DT, DS),
+        &g0,
+        &g1,
+        EndCondition::Natural,
+        EndCondition::Natural,
+        CauchyOptions::default(),
+    )
+    .err()
+    .expect("non-finite data");
+    assert!(err.to_string().contains("initial level 1"), "{err}");
+}

@@ -107,6 +107,9 @@ where
     /// # Errors
     /// [`Error::DimensionMismatch`] for levels of different or too small
     /// sizes, [`Error::NonFinite`] for non-finite data,
+    /// [`Error::InvalidParameter`] naming the node when two neighbouring
+    /// values are not joined by a chart step (a relative rotation at the cut
+    /// locus, angle π),
     /// [`Error::VertexSolveFailure`] when the slaved node cannot be solved.
     pub fn new(
         direction: Direction,
@@ -125,6 +128,33 @@ where
             });
         }
         let cross = first.len() - 1;
+        // Neighbouring values must be joined by a chart step: a rotation at
+        // the cut locus is refused here, naming the node, rather than
+        // failing later as a non-finite residual.
+        for (l, level) in [first, second].into_iter().enumerate() {
+            for c in 0..=cross {
+                let pairs = [
+                    (c + 1 <= cross).then(|| (level[c], level[c + 1], "its cross neighbour")),
+                    (l == 0).then(|| (first[c], second[c], "the next level")),
+                ];
+                for (a, b, what) in pairs.into_iter().flatten() {
+                    if !F::is_finite(&a) || !F::is_finite(&b) {
+                        return Err(Error::NonFinite {
+                            what: format!("initial level {l}, cross index {c} or {what}"),
+                            index: c,
+                            value: f64::NAN,
+                        });
+                    }
+                    if let Err(e) = F::log(&a, &b) {
+                        return Err(Error::InvalidParameter {
+                            name: format!("initial level {l}, cross index {c}"),
+                            value: format!("{:?} direction", direction).to_lowercase(),
+                            reason: format!("no chart step to {what}: {e}"),
+                        });
+                    }
+                }
+            }
+        }
         let window = match direction {
             Direction::Time => SpacetimeLattice::seed000(2, cross)?,
             Direction::Space => SpacetimeLattice::seed000(cross, 2)?,
