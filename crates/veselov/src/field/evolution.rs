@@ -132,19 +132,21 @@ where
         // the cut locus is refused here, naming the node, rather than
         // failing later as a non-finite residual.
         for (l, level) in [first, second].into_iter().enumerate() {
+            if let Some(c) = level.iter().position(|y| !F::is_finite(y)) {
+                return Err(Error::NonFinite {
+                    what: format!("initial level {l}, cross index {c}"),
+                    index: c,
+                    value: f64::NAN,
+                });
+            }
+        }
+        for (l, level) in [first, second].into_iter().enumerate() {
             for c in 0..=cross {
                 let pairs = [
-                    (c + 1 <= cross).then(|| (level[c], level[c + 1], "its cross neighbour")),
+                    (c < cross).then(|| (level[c], level[c + 1], "its cross neighbour")),
                     (l == 0).then(|| (first[c], second[c], "the next level")),
                 ];
                 for (a, b, what) in pairs.into_iter().flatten() {
-                    if !F::is_finite(&a) || !F::is_finite(&b) {
-                        return Err(Error::NonFinite {
-                            what: format!("initial level {l}, cross index {c} or {what}"),
-                            index: c,
-                            value: f64::NAN,
-                        });
-                    }
                     if let Err(e) = F::log(&a, &b) {
                         return Err(Error::InvalidParameter {
                             name: format!("initial level {l}, cross index {c}"),
