@@ -15,7 +15,9 @@
 //! (bending and torsion about E1, E2, E3, shear along E1, E2, axial along
 //! E3). The marching step limits of note 000 §14 (von Neumann for the
 //! five-point scheme the DCEL reduces to): time evolution needs
-//! c_max Δt ≤ Δs, space evolution Δs ≤ c_min Δt.
+//! c_max Δt ≤ Δs and, because shear couples to the bending rotations like a
+//! Klein–Gordon mass, Δt²(4c²/Δs² + kGA/ρI) ≤ 4 ([`BeamProperties::max_time_step`]);
+//! space evolution Δs ≤ c_min Δt.
 
 use crate::error::{Error, Result};
 use crate::models::positive;
@@ -163,9 +165,27 @@ impl BeamProperties {
         std::array::from_fn(|k| (self.stiffness[k] / self.inertia[k]).sqrt())
     }
 
+    /// The largest stable time step of time evolution for space step `ds`
+    /// (derived, von Neumann for the linearised five-point scheme with a
+    /// mass term, like Klein–Gordon): Δt ≤ Δs/c_max, and for the bending
+    /// rotations, coupled to shear by kGA(w' − ψ), whose "mass" is
+    /// m_k² = ℂ_shear/𝕁_k (rotation about E1 with shear along E2, about E2
+    /// with shear along E1): Δt²(4c_k²/Δs² + m_k²) ≤ 4. The second bound is
+    /// the one that matters for slender beams (m ≈ √(kG/ρ)/r, r the radius
+    /// of gyration of the section).
+    pub fn max_time_step(&self, ds: f64) -> f64 {
+        let c = self.wave_speeds();
+        let mut dt = ds / c.iter().fold(0.0_f64, |m, &x| m.max(x));
+        for (k, shear) in [(0, 4), (1, 3)] {
+            let m2 = self.stiffness[shear] / self.inertia[k];
+            dt = dt.min(2.0 / (4.0 * c[k] * c[k] / (ds * ds) + m2).sqrt());
+        }
+        dt
+    }
+
     /// Checks the marching step limit (module documentation) for steps
     /// `dt`, `ds`; `allow` turns a violation into `Ok` (the caller warns).
-    /// Returns the Courant number: c_max Δt/Δs (time) or Δs/(c_min Δt) (space).
+    /// Returns the Courant number: Δt/[`max_time_step`](Self::max_time_step) (time) or Δs/(c_min Δt) (space).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming `dt` when the limit is violated and
@@ -176,8 +196,9 @@ impl BeamProperties {
         let c = self.wave_speeds();
         let (courant, what) = match limit {
             StepLimit::Time => (
-                c.iter().fold(0.0_f64, |m, &x| m.max(x)) * dt / ds,
-                "time evolution needs (largest wave speed)·dt ≤ ds",
+                dt / self.max_time_step(ds),
+                "time evolution needs (largest wave speed)·dt ≤ ds and, for the bending rotations, \
+                 dt²(4c²/ds² + kGA/ρI) ≤ 4",
             ),
             StepLimit::Space => (
                 ds / (c.iter().fold(f64::INFINITY, |m, &x| m.min(x)) * dt),
