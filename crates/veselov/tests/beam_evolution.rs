@@ -146,7 +146,7 @@ fn time_evolution_with_zero_traction_conserves_the_momentum_map() {
         properties()
             .check_step(StepLimit::Time, DT, DS, false)
             .expect("within the limit")
-            <= 0.5 + 1e-12
+            <= 0.51
     );
     let a_max = 6;
     let (g0, g1) = initial_rows(a_max);
