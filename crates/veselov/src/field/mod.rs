@@ -25,7 +25,12 @@
 //! (charges, multisymplectic form formula, mod-2π re-centring) and [`run`]
 //! (a driver for front ends); [`discretize`] (node maps, smooth densities
 //! over a fibre and the quadratures of seed 003 §5 turning them into
-//! discrete Lagrangians on cells, the Cosserat rod of §6).
+//! discrete Lagrangians on cells, the Cosserat rod of §6); [`split`] (seed
+//! 000's split cell Lagrangians ΔsΔt[K(ξ) − Φ(η) − Π], ξ and η through a
+//! retraction or a difference, their energies and damping forces) and
+//! [`evolution`] (time and space evolution on seed 000's lattice: the flow
+//! marcher on a rolling three-level window, slaved nodes, natural or
+//! prescribed ends, evolution momentum maps).
 //!
 //! ```
 //! use veselov::field::{FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
