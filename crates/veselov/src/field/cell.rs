@@ -25,6 +25,66 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// L_β at the ordered vertex values `y` of `cell` (`y.len()` = the cell's
     /// vertex count).
     fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[F::Point<D>]) -> D;
+
+    /// Whether ∂L_β/∂y_l can depend on the value at position `k` of `cell`
+    /// (default: always). A cell Lagrangian that splits as
+    /// L(y₀, y₁, y₂) = f(y₀, y₁) + h(y₀, y₂) (seed 000's triangles) answers
+    /// `false` for (l, k) = (1, 2) and (2, 1); the flow marcher then solves
+    /// the constraint at a slaved vertex while the other vertex of its cell
+    /// is still unknown (note 000 §1 "Degeneracy").
+    fn depends(&self, _cell: &TopCell, _l: usize, _k: usize) -> bool {
+        true
+    }
+
+    /// Whether the cells carry discrete forces (default `false`; then
+    /// [`cell_force`](Self::cell_force) is never called).
+    fn has_forces(&self) -> bool {
+        false
+    }
+
+    /// The discrete Lagrange–d'Alembert force F^l_β at position `l` of
+    /// `cell` (seed 000 §3.1.4, note 000 §8): a covector in the fibre's chart
+    /// at y_l, added to ∂L_β/∂y_l in the forced Euler–Lagrange equations
+    /// Σ_β (∂L_β/∂y_v + F^{l(v)}_β) = 0. Written over the AD scalar so that
+    /// the vertex solves get its exact derivative. Default zero.
+    fn cell_force<D: Scalar>(&self, _cell: &TopCell, _y: &[F::Point<D>], _l: usize) -> SVector<D, M> {
+        SVector::from_element(D::zero())
+    }
+}
+
+/// F^l_β at the vertex values `y` and its derivative with respect to the
+/// value at position `b`: `J[(i, j)] = ∂/∂ζ_j F^l_i` at y_b·τ(ζ), ζ = 0.
+pub fn force_block<F, L, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+    l: usize,
+    b: usize,
+) -> (SVector<f64, M>, SMatrix<f64, M, M>)
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    let k = y.len();
+    debug_assert!(k <= MAX_CELL_VERTICES && l < k && b < k);
+    let seeded = F::retract(&F::lift::<DualSVec64<M>>(&y[b]), &seeds::<f64, M>());
+    let values: [F::Point<DualSVec64<M>>; MAX_CELL_VERTICES] =
+        std::array::from_fn(|i| if i == b { seeded } else { F::lift(&y[i.min(k - 1)]) });
+    let f = lag.cell_force(cell, &values[..k], l);
+    let mut block = SMatrix::<f64, M, M>::zeros();
+    for i in 0..M {
+        block.set_row(i, &f[i].eps.unwrap_generic(Const::<M>, U1).transpose());
+    }
+    (f.map(|x| x.re), block)
+}
+
+/// F^l_β at `f64` vertex values.
+pub fn vertex_force<F, L, const M: usize>(lag: &L, cell: &TopCell, y: &[F::Point<f64>], l: usize) -> SVector<f64, M>
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    lag.cell_force(cell, y, l)
 }
 
 /// The seeds e_i (i = 0..M) of M-direction dual numbers over `D`.

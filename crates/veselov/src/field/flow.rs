@@ -19,19 +19,23 @@
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, mixed_block, vertex_gradient};
+use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, force_block, mixed_block, vertex_force, vertex_gradient};
 use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre};
 use crate::{Error, Result};
 
 /// The Cauchy integrator on a finite complex with a caller-given schedule.
-pub struct FlowMarcher<'c, C: TopCells, F: Fibre<M>, L, const M: usize> {
-    complex: &'c C,
+/// The complex is held by value (`&C` is a complex too, so a borrowed one
+/// works as well).
+pub struct FlowMarcher<C: TopCells, F: Fibre<M>, L, const M: usize> {
+    complex: C,
     lag: L,
     values: Vec<F::Point<f64>>,
     known: Vec<bool>,
     options: CauchyOptions,
+    /// Star buffer of single solves (no allocation once grown).
+    scratch: Vec<StarEntry>,
 }
 
 fn flow_error(v: usize, reason: String) -> Error {
@@ -42,7 +46,7 @@ fn flow_error(v: usize, reason: String) -> Error {
     }
 }
 
-impl<'c, C, F, L, const M: usize> FlowMarcher<'c, C, F, L, M>
+impl<C, F, L, const M: usize> FlowMarcher<C, F, L, M>
 where
     C: TopCells,
     F: Fibre<M>,
@@ -53,7 +57,7 @@ where
     /// where `known[v]`; the others are starting guesses, replaced as they
     /// are solved).
     pub fn new(
-        complex: &'c C,
+        complex: C,
         lag: L,
         values: Vec<F::Point<f64>>,
         known: Vec<bool>,
@@ -81,7 +85,26 @@ where
             values,
             known,
             options,
+            scratch: Vec::with_capacity(MAX_CELL_VERTICES),
         })
+    }
+
+    /// The complex.
+    pub fn complex(&self) -> &C {
+        &self.complex
+    }
+
+    /// The cell Lagrangian.
+    pub fn lagrangian(&self) -> &L {
+        &self.lag
+    }
+
+    /// Sets the value at `v`, as data (`known`) or as the starting guess of
+    /// a later solve. Lets a driver recycle a small window of the complex
+    /// (rolling levels) without allocating.
+    pub fn set(&mut self, v: usize, value: F::Point<f64>, known: bool) {
+        self.values[v] = value;
+        self.known[v] = known;
     }
 
     /// The field (meaningful where [`is_known`](Self::is_known)).
@@ -120,7 +143,14 @@ where
         }
         for e in star.iter() {
             let k = self.complex.cell_vertices(e.cell, &mut verts);
-            if let Some(&u) = verts[..k].iter().find(|&&u| u != dv && !self.known[u]) {
+            let cell = self.complex.cell(e.cell);
+            // An unknown vertex is harmless when ∂L_β/∂y_v does not depend on it.
+            if let Some(&u) = verts[..k]
+                .iter()
+                .enumerate()
+                .find(|&(pos, &u)| u != dv && !self.known[u] && self.lag.depends(&cell, e.position, pos))
+                .map(|(_, u)| u)
+            {
                 return Err(flow_error(
                     v,
                     format!("its star holds vertex {u}, not yet known (the Cauchy band is too narrow)"),
@@ -140,12 +170,18 @@ where
             let k = self.complex.cell_vertices(e.cell, &mut verts);
             if contains(&verts[..k]).is_none() {
                 let y: [F::Point<f64>; MAX_CELL_VERTICES] = std::array::from_fn(|l| self.values[verts[l.min(k - 1)]]);
-                let g = vertex_gradient::<F, L, M>(&self.lag, &self.complex.cell(e.cell), &y[..k], e.position).1;
+                let cell = self.complex.cell(e.cell);
+                let g = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position).1;
                 mu -= g;
                 mu_scale += g.amax();
+                if self.lag.has_forces() {
+                    let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..k], e.position);
+                    mu -= f;
+                    mu_scale += f.amax();
+                }
             }
         }
-        solve_legendre::<F, M>(&mu, mu_scale, guess, &self.options, |z, with_jacobian| {
+        let legendre = |z: &F::Point<f64>, with_jacobian: bool| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();
             let mut scale = 0.0;
@@ -155,20 +191,51 @@ where
                 if let Some(pos) = contains(&verts[..k]) {
                     let y: [F::Point<f64>; MAX_CELL_VERTICES] =
                         std::array::from_fn(|l| if l == pos { *z } else { self.values[verts[l.min(k - 1)]] });
-                    let (g, block) =
-                        mixed_block::<F, L, M>(&self.lag, &self.complex.cell(e.cell), &y[..k], e.position, pos);
+                    let cell = self.complex.cell(e.cell);
+                    // The Jacobian (nested duals) only when Newton asks for it.
+                    let g = if with_jacobian {
+                        let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..k], e.position, pos);
+                        jac += block;
+                        g
+                    } else {
+                        vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position).1
+                    };
                     leg += g;
-                    jac += block;
                     scale += g.amax();
+                    if self.lag.has_forces() {
+                        let (f, block) = force_block::<F, L, M>(&self.lag, &cell, &y[..k], e.position, pos);
+                        leg += f;
+                        jac += block;
+                        scale += f.amax();
+                    }
                 }
             }
             (leg, with_jacobian.then_some(jac), scale)
-        })
+        };
+        solve_legendre::<F, M>(&mu, mu_scale, guess, &self.options, legendre)
     }
 
-    /// Solves the pair (v, Δv), starting Newton from the current value at Δv.
+    /// Solves the pair (v, Δv), starting Newton from the current value at Δv,
+    /// without allocating. Δv = v is the constraint EL_v = 0 solved for y_v
+    /// itself (a slaved vertex, whose star's other unknowns its gradient
+    /// does not depend on: [`DiscreteLagrangian::depends`]).
     pub fn solve(&mut self, v: usize, dv: usize) -> Result<VertexOutcome> {
-        self.solve_batch(&[(v, dv)]).map(|o| o[0])
+        let mut star = std::mem::take(&mut self.scratch);
+        let checked = self.check_pair(v, dv, &mut star);
+        let solved = checked.map(|()| self.solve_pair(dv, &star, self.values[dv]));
+        self.scratch = star;
+        let (z, o) = solved?;
+        if o.failure.is_some() {
+            return Err(Error::VertexSolveFailure {
+                vertex: format!("vertex {v} (Δv = {dv})"),
+                residual: o.relative_residual,
+                iterations: o.iterations,
+                reason: o.failure.map_or("", |f| f.reason()).into(),
+            });
+        }
+        self.values[dv] = z;
+        self.known[dv] = true;
+        Ok(o)
     }
 
     /// Solves independent pairs (v, Δv) in parallel. Every pair is checked

@@ -16,7 +16,11 @@ pub struct CauchyOptions {
     /// Relative tolerance: a vertex is solved when
     /// max|Leg_v(z) − μ_v| ≤ `tolerance` × (the size of the terms summed),
     /// or when Newton stalls at round-off (the residual stops halving) within
-    /// 100 × `tolerance`. Default 1e-14.
+    /// 100 × `tolerance` × (that size + |∂Leg/∂ζ|·(1 + |z|)). The Jacobian
+    /// term is the residual change a relative perturbation of the point
+    /// makes (a step-size test, note 000 §14): it recognises round-off when
+    /// the terms cancel (a stiff strain near its reference, or the single
+    /// gradient of a slaved vertex's constraint). Default 1e-14.
     pub tolerance: f64,
     /// Newton iteration limit per vertex. Default 30.
     pub max_iterations: usize,
@@ -88,7 +92,8 @@ impl Failure {
 /// again only when an iteration fails to reduce the residual fourfold, so
 /// most iterations cost one gradient pass. Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
-/// stalls at round-off within 100 × tolerance (the residual stops halving).
+/// stalls at round-off within 100 × tolerance × (that size +
+/// |∂Leg/∂ζ|·(1 + |z|) from the latest Jacobian) (the residual stops halving).
 pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     mu: &SVector<f64, M>,
     mu_scale: f64,
@@ -100,6 +105,7 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     let mut previous = f64::INFINITY;
     let mut jacobian: Option<SMatrix<f64, M, M>> = None;
     let mut fresh = false;
+    let mut point_scale = 0.0;
     for it in 0..=options.max_iterations {
         let (mut leg, mut jac, mut leg_scale) = legendre(&z, jacobian.is_none());
         let mut residual = leg - mu;
@@ -111,6 +117,10 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
             r = residual.amax();
         }
         if let Some(j) = jac {
+            let mut c = [0.0; 16];
+            let n = if F::COORDINATES <= c.len() { F::COORDINATES } else { 0 };
+            F::write(&z, &mut c[..n]);
+            point_scale = j.amax() * (1.0 + c[..n].iter().fold(0.0_f64, |m, x| m.max(x.abs())));
             jacobian = Some(j);
             fresh = true;
             outcome.jacobians += 1;
@@ -124,7 +134,13 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
             outcome.failure = Some(Failure::NonFinite);
             return (z, outcome);
         }
-        if r <= options.tolerance * scale || (r <= 100.0 * options.tolerance * scale && r > 0.5 * previous) {
+        let stalled = r > 0.5 * previous && r <= 100.0 * options.tolerance * (scale + point_scale);
+        if stalled && r > options.tolerance * scale {
+            // Accepted at round-off: report the residual relative to the
+            // scale that accepted it.
+            outcome.relative_residual = r / (scale + point_scale).max(f64::MIN_POSITIVE);
+        }
+        if r <= options.tolerance * scale || stalled {
             return (F::renormalize(&z), outcome);
         }
         previous = r;

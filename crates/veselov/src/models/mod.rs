@@ -6,6 +6,7 @@
 //! implements that core's traits, so they live with it in
 //! [`crate::field::potential`] (re-exported as `veselov::field::{SineGordon, …}`).
 
+pub mod beam;
 pub mod damped_kepler;
 pub mod damped_oscillator;
 pub mod double_pendulum;

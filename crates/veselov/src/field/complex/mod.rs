@@ -107,3 +107,28 @@ pub trait TopCells: Sync {
     /// every top cell containing `v`, in increasing cell index.
     fn star(&self, v: usize, out: &mut Vec<StarEntry>);
 }
+
+/// A borrowed complex is a complex (marchers may hold theirs by value or by reference).
+impl<T: TopCells + ?Sized> TopCells for &T {
+    fn dimension(&self) -> usize {
+        (**self).dimension()
+    }
+    fn vertex_count(&self) -> usize {
+        (**self).vertex_count()
+    }
+    fn cell_count(&self) -> usize {
+        (**self).cell_count()
+    }
+    fn max_cell_vertices(&self) -> usize {
+        (**self).max_cell_vertices()
+    }
+    fn cell(&self, index: usize) -> TopCell {
+        (**self).cell(index)
+    }
+    fn cell_vertices(&self, index: usize, out: &mut [usize]) -> usize {
+        (**self).cell_vertices(index, out)
+    }
+    fn star(&self, v: usize, out: &mut Vec<StarEntry>) {
+        (**self).star(v, out)
+    }
+}

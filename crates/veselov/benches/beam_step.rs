@@ -1,0 +1,121 @@
+//! The SE(3) beam on seed 000's lattice: nanoseconds per node update (one
+//! 6-D Newton solve of the core's flow marcher, nested-dual Jacobians
+//! through the Cayley map) for time evolution (a free–free beam, A = 16
+//! space cells: 16 updates per level, the slaved node included) and space
+//! evolution (zero momentum, N = 16 time cells: 16 updates per column).
+//! One sample steps 4 levels: divide its time by 64. Newton iterations per node are printed
+//! once before the timings (a machine-independent count).
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use nalgebra::SVector;
+use veselov::field::cauchy::CauchyOptions;
+use veselov::field::evolution::{Direction, EndCondition, Evolution000};
+use veselov::field::fibre::RigidMotions;
+use veselov::lie::{CayleyMap, Retraction, SE3, se3};
+use veselov::models::beam::{BeamDensity, BeamProperties, CayleyBeam, beam_lagrangian, straight};
+
+const CELLS: usize = 16;
+
+fn beam(dt: f64, ds: f64) -> CayleyBeam {
+    let p = BeamProperties::from_diagonals([0.5, 0.5, 1.0, 1.0, 1.0, 1.0], [0.5, 0.5, 0.6, 1.0, 1.0, 1.0])
+        .expect("positive");
+    beam_lagrangian(BeamDensity::new(p), dt, ds).expect("lagrangian")
+}
+
+fn wave(k: usize) -> SVector<f64, 6> {
+    let s = k as f64;
+    SVector::from([
+        0.03 * (0.3 * s).sin(),
+        -0.02,
+        0.01 * (0.2 * s).cos(),
+        0.01,
+        -0.01 * (0.4 * s).sin(),
+        0.0,
+    ])
+}
+
+fn time_evolution() -> Beam {
+    let (dt, ds) = (0.05, 0.1);
+    let g0: Vec<SE3<f64>> = (0..=CELLS)
+        .map(|a| straight(ds, a).compose(&se3::exp(&wave(a))))
+        .collect();
+    let g1: Vec<SE3<f64>> = g0
+        .iter()
+        .enumerate()
+        .map(|(a, g)| g.compose(&CayleyMap::tau(&(wave(a + 3) * dt))))
+        .collect();
+    Evolution000::new(
+        Direction::Time,
+        beam(dt, ds),
+        &g0,
+        &g1,
+        EndCondition::Natural,
+        EndCondition::Natural,
+        CauchyOptions::default(),
+    )
+    .expect("evolution")
+}
+
+fn space_evolution() -> Beam {
+    let (dt, ds) = (0.1, 0.05);
+    let c0: Vec<SE3<f64>> = (0..=CELLS).map(|j| se3::exp(&(wave(0) * (j as f64 * dt)))).collect();
+    let e6 = SVector::<f64, 6>::from([0.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
+    let c1: Vec<SE3<f64>> = c0
+        .iter()
+        .enumerate()
+        .map(|(j, g)| g.compose(&CayleyMap::tau(&((e6 + wave(j) * 0.1) * ds))))
+        .collect();
+    Evolution000::new(
+        Direction::Space,
+        beam(dt, ds),
+        &c0,
+        &c1,
+        EndCondition::Natural,
+        EndCondition::Natural,
+        CauchyOptions::default(),
+    )
+    .expect("evolution")
+}
+
+type Beam = Evolution000<RigidMotions, CayleyBeam, 6>;
+/// (name, constructor, levels for the iteration count).
+type Run = (&'static str, fn() -> Beam, usize);
+
+fn bench(c: &mut Criterion) {
+    let runs: [Run; 2] = [("time", time_evolution, 200), ("space", space_evolution, 8)];
+    for (name, make, levels) in runs {
+        // Machine-independent counts over a short run.
+        let mut evo = make();
+        let (mut iterations, mut jacobians) = (0, 0);
+        for _ in 0..levels {
+            let r = evo.step().expect("step");
+            iterations += r.iterations;
+            jacobians += r.jacobians;
+        }
+        let updates = (levels * CELLS) as f64;
+        println!(
+            "beam {name} evolution: {:.2} Newton iterations and {:.2} Jacobians per node update",
+            iterations as f64 / updates,
+            jacobians as f64 / updates
+        );
+        let mut group = c.benchmark_group(format!("beam_{name}_level_{CELLS}_nodes"));
+        group.sample_size(10);
+        group.bench_function("step", |b| {
+            b.iter_batched_ref(
+                make,
+                |evo| {
+                    for _ in 0..4 {
+                        black_box(evo.step().expect("step"));
+                    }
+                },
+                criterion::BatchSize::LargeInput,
+            )
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,374 @@
+//! Time and space evolution on seed 000's 1+1 triangle lattice (note 000
+//! §9–§10, §14): the core's [`FlowMarcher`] on a rolling window of three
+//! levels, so that memory does not grow with the number of levels and
+//! nothing is allocated inside a level.
+//!
+//! Both evolutions are one algorithm in the coordinates (level ℓ, cross
+//! index c = 0..=C):
+//!
+//! * **time**: ℓ = j, c = a, C = A; Δ(j, a) = (j + 1, a); the triangle's
+//!   forward vertex is vertex 2 (position 1), its cross vertex vertex 3;
+//! * **space**: ℓ = a, c = j, C = N; Δ(j, a) = (j, a + 1); forward vertex 3
+//!   (position 2), cross vertex 2.
+//!
+//! A step solves, in increasing c, the equation EL = 0 at every node (ℓ, c)
+//! of the current level for its image (ℓ + 1, c): one local Newton solve of
+//! size dim M per node ([`solve_legendre`](super::legendre::solve_legendre),
+//! to round-off). The cross ends:
+//!
+//! * near end c = 0, [`EndCondition::Natural`]: the node's equation is the
+//!   natural boundary condition — zero traction (69) in time, zero momentum
+//!   (70) in space; [`EndCondition::Prescribed`]: Dirichlet data g(ℓ) for
+//!   every level (time-dependent allowed);
+//! * far end c = C, natural: the **slaved** node of note 000 §1 — it lies only
+//!   in the cell (ℓ, C − 1) (as vertex 3 in time, vertex 2 in space), and its
+//!   constraint D₃ℒ = 0 (zero traction; λ = 0 for the beam) or D₂ℒ = 0 (zero
+//!   momentum; μ = 0) fixes it from (ℓ, C − 1) alone; it is solved as soon as
+//!   its level is complete. Prescribed: Dirichlet data.
+//!
+//! The evolution momentum maps (note 000 §11, eqs. (56)–(57), (94)) of the
+//! cell level between the previous and the current level are
+//! 𝖩⁺ = Σ_c J^fwd and 𝖩⁻ = −Σ_c (J¹ + J^cross), J^k = X(y_k)ᵀ ∂ℒ/∂y_k for
+//! the infinitesimal generators X(y): 𝔤 → T_yM in the fibre's chart
+//! (left translations of SE(3): X(g) = Ad_{g⁻¹}, giving (77)).
+//!
+//! Window-local cells carry window coordinates in [`TopCell::origin`]; cell
+//! Lagrangians that depend on the cell's position are not supported here.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::cell::{DiscreteLagrangian, vertex_gradient};
+use super::complex::{SpacetimeLattice, TopCell, TopCells};
+use super::fibre::Fibre;
+use super::flow::FlowMarcher;
+use super::legendre::{CauchyOptions, LevelReport, VertexOutcome};
+use crate::{Error, Result};
+
+/// The marching direction on seed 000's lattice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// Row by row, Δ(j, a) = (j + 1, a) (𝖫_d, §3.2.1).
+    Time,
+    /// Column by column, Δ(j, a) = (j, a + 1) (𝖭_d, §3.2.2).
+    Space,
+}
+
+/// Prescribed values at one cross end, as a function of the level index.
+pub type EndData<P> = Box<dyn Fn(usize) -> P + Send + Sync>;
+
+/// The condition at one cross end (c = 0 or c = C).
+pub enum EndCondition<P> {
+    /// The natural boundary condition of the discrete principle (zero
+    /// traction in time evolution, zero momentum in space evolution).
+    Natural,
+    /// Dirichlet data: the value at every level ℓ ≥ 2 (the first two levels
+    /// are the initial data).
+    Prescribed(EndData<P>),
+}
+
+impl<P> EndCondition<P> {
+    fn is_natural(&self) -> bool {
+        matches!(self, EndCondition::Natural)
+    }
+}
+
+/// 𝖩⁺ and 𝖩⁻ of one cell level (equal when the generators are symmetries).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EvolutionMomentum<const K: usize> {
+    /// 𝖩⁺ = Σ_c J^fwd.
+    pub plus: SVector<f64, K>,
+    /// 𝖩⁻ = −Σ_c (J¹ + J^cross).
+    pub minus: SVector<f64, K>,
+    /// Σ_c Σ_k |J^k|: the size to compare differences with.
+    pub scale: f64,
+}
+
+/// Time or space evolution on seed 000's lattice in a three-level window.
+pub struct Evolution000<F: Fibre<M>, L, const M: usize> {
+    direction: Direction,
+    cross: usize,
+    near: EndCondition<F::Point<f64>>,
+    far: EndCondition<F::Point<f64>>,
+    marcher: FlowMarcher<SpacetimeLattice, F, L, M>,
+    level: usize,
+}
+
+impl<F, L, const M: usize> Evolution000<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    /// An evolution from the first two levels `first` (ℓ = 0) and `second`
+    /// (ℓ = 1), each with C + 1 values (c = 0..=C). With a natural far end the
+    /// value at c = C of `second` is only the starting guess of its
+    /// constraint, which is solved here.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] for levels of different or too small
+    /// sizes, [`Error::NonFinite`] for non-finite data,
+    /// [`Error::InvalidParameter`] naming the node when two neighbouring
+    /// values are not joined by a chart step (a relative rotation at the cut
+    /// locus, angle π),
+    /// [`Error::VertexSolveFailure`] when the slaved node cannot be solved.
+    pub fn new(
+        direction: Direction,
+        lag: L,
+        first: &[F::Point<f64>],
+        second: &[F::Point<f64>],
+        near: EndCondition<F::Point<f64>>,
+        far: EndCondition<F::Point<f64>>,
+        options: CauchyOptions,
+    ) -> Result<Self> {
+        if first.len() < 2 || second.len() != first.len() {
+            return Err(Error::DimensionMismatch {
+                what: "second initial level (as many nodes as the first, at least 2)".into(),
+                expected: first.len().max(2),
+                got: second.len(),
+            });
+        }
+        let cross = first.len() - 1;
+        // Neighbouring values must be joined by a chart step: a rotation at
+        // the cut locus is refused here, naming the node, rather than
+        // failing later as a non-finite residual.
+        for (l, level) in [first, second].into_iter().enumerate() {
+            if let Some(c) = level.iter().position(|y| !F::is_finite(y)) {
+                return Err(Error::NonFinite {
+                    what: format!("initial level {l}, cross index {c}"),
+                    index: c,
+                    value: f64::NAN,
+                });
+            }
+        }
+        for (l, level) in [first, second].into_iter().enumerate() {
+            for c in 0..=cross {
+                let pairs = [
+                    (c < cross).then(|| (level[c], level[c + 1], "its cross neighbour")),
+                    (l == 0).then(|| (first[c], second[c], "the next level")),
+                ];
+                for (a, b, what) in pairs.into_iter().flatten() {
+                    if let Err(e) = F::log(&a, &b) {
+                        return Err(Error::InvalidParameter {
+                            name: format!("initial level {l}, cross index {c}"),
+                            value: format!("{:?} direction", direction).to_lowercase(),
+                            reason: format!("no chart step to {what}: {e}"),
+                        });
+                    }
+                }
+            }
+        }
+        let window = match direction {
+            Direction::Time => SpacetimeLattice::seed000(2, cross)?,
+            Direction::Space => SpacetimeLattice::seed000(cross, 2)?,
+        };
+        let mut values = vec![first[0]; window.vertex_count()];
+        let mut known = vec![false; window.vertex_count()];
+        for c in 0..=cross {
+            for (w, level) in [(0, first), (1, second), (2, second)] {
+                let v = Self::index(direction, cross, w, c);
+                values[v] = level[c];
+                known[v] = w < 2;
+            }
+        }
+        if far.is_natural() {
+            known[Self::index(direction, cross, 1, cross)] = false;
+        }
+        let marcher = FlowMarcher::new(window, lag, values, known, options)?;
+        let mut evolution = Self {
+            direction,
+            cross,
+            near,
+            far,
+            marcher,
+            level: 1,
+        };
+        if evolution.far.is_natural() {
+            evolution.solve_slaved()?;
+        }
+        Ok(evolution)
+    }
+
+    /// Window vertex of (window level w, cross index c).
+    fn index(direction: Direction, cross: usize, w: usize, c: usize) -> usize {
+        match direction {
+            Direction::Time => w * (cross + 1) + c,
+            Direction::Space => c * 3 + w,
+        }
+    }
+
+    fn vertex(&self, w: usize, c: usize) -> usize {
+        Self::index(self.direction, self.cross, w, c)
+    }
+
+    fn solve_slaved(&mut self) -> Result<VertexOutcome> {
+        let v = self.vertex(1, self.cross);
+        let solved = self.marcher.solve(v, v);
+        solved.map_err(|e| self.name_node(e, self.level, self.cross))
+    }
+
+    /// Renames a vertex-solve failure after the lattice node (j, a) whose
+    /// equation failed (the marcher knows only window vertices).
+    fn name_node(&self, e: Error, level: usize, c: usize) -> Error {
+        let (j, a) = match self.direction {
+            Direction::Time => (level, c),
+            Direction::Space => (c, level),
+        };
+        let role = if c == self.cross && self.far.is_natural() {
+            "slaved node"
+        } else {
+            "node"
+        };
+        match e {
+            Error::VertexSolveFailure {
+                residual,
+                iterations,
+                reason,
+                ..
+            } => Error::VertexSolveFailure {
+                vertex: format!("{role} (j, a) = ({j}, {a}) of the {:?} evolution", self.direction).to_lowercase(),
+                residual,
+                iterations,
+                reason,
+            },
+            other => other,
+        }
+    }
+
+    /// The marching direction.
+    pub fn direction(&self) -> Direction {
+        self.direction
+    }
+
+    /// The last cross index C (A in time evolution, N in space evolution).
+    pub fn cross(&self) -> usize {
+        self.cross
+    }
+
+    /// The index ℓ of the current (latest complete) level.
+    pub fn level(&self) -> usize {
+        self.level
+    }
+
+    /// The cell Lagrangian.
+    pub fn lagrangian(&self) -> &L {
+        self.marcher.lagrangian()
+    }
+
+    /// The value at cross index `c` of the current level (`back` = 0) or of
+    /// the previous one (`back` = 1).
+    pub fn value(&self, back: usize, c: usize) -> F::Point<f64> {
+        self.marcher.values()[self.vertex(1 - back.min(1), c)]
+    }
+
+    /// Copies the current (`back` = 0) or previous (`back` = 1) level into `out` (C + 1 values).
+    pub fn copy_level(&self, back: usize, out: &mut [F::Point<f64>]) {
+        for (c, slot) in out.iter_mut().enumerate().take(self.cross + 1) {
+            *slot = self.value(back, c);
+        }
+    }
+
+    /// Computes level ℓ + 1 from levels ℓ − 1 and ℓ. On failure the window
+    /// keeps levels ℓ − 1 and ℓ and the error names the failing node (window
+    /// vertex; its cross index is the failing c).
+    pub fn step(&mut self) -> Result<LevelReport> {
+        let cross = self.cross;
+        let next = self.level + 1;
+        let mut report = LevelReport {
+            level: self.level as i64,
+            ..LevelReport::default()
+        };
+        let mut add = |o: VertexOutcome| {
+            report.iterations += o.iterations;
+            report.jacobians += o.jacobians;
+            report.max_relative_residual = report.max_relative_residual.max(o.relative_residual);
+        };
+        // Starting guesses: the linear extrapolation y_ℓ·τ(log(y_{ℓ−1}, y_ℓ)).
+        for c in 0..=cross {
+            let (y0, y1) = (self.value(1, c), self.value(0, c));
+            let guess = F::log(&y0, &y1).map_or(y1, |x| F::retract(&y1, &x));
+            let v = self.vertex(2, c);
+            self.marcher.set(v, guess, false);
+        }
+        for c in [0, cross] {
+            let end = if c == 0 { &self.near } else { &self.far };
+            if let EndCondition::Prescribed(data) = end {
+                let y = data(next);
+                if !F::is_finite(&y) {
+                    return Err(Error::NonFinite {
+                        what: format!("prescribed end value at cross index {c}, level {next}"),
+                        index: c,
+                        value: f64::NAN,
+                    });
+                }
+                let v = self.vertex(2, c);
+                self.marcher.set(v, y, true);
+            }
+        }
+        let start = usize::from(!self.near.is_natural());
+        for c in start..cross {
+            let solved = self.marcher.solve(self.vertex(1, c), self.vertex(2, c));
+            add(solved.map_err(|e| self.name_node(e, self.level, c))?);
+        }
+        // Roll the window: levels ℓ, ℓ + 1 become the previous and current ones.
+        let slaved = self.far.is_natural();
+        for c in 0..=cross {
+            let (y1, y2) = (self.value(0, c), self.marcher.values()[self.vertex(2, c)]);
+            let (v0, v1, v2) = (self.vertex(0, c), self.vertex(1, c), self.vertex(2, c));
+            self.marcher.set(v0, y1, true);
+            self.marcher.set(v1, y2, !(slaved && c == cross));
+            self.marcher.set(v2, y2, false);
+        }
+        self.level = next;
+        if slaved {
+            add(self.solve_slaved()?);
+        }
+        Ok(report)
+    }
+
+    /// Calls `f(c, cell, y)` for the cells c = 0..C − 1 between the previous
+    /// and the current level, with their vertex values in seed 000's order
+    /// (vertex 1 = (j, a), 2 = (j + 1, a), 3 = (j, a + 1)).
+    pub fn for_each_cell(&self, mut f: impl FnMut(usize, &TopCell, &[F::Point<f64>; 3])) {
+        let lattice = self.marcher.complex();
+        for c in 0..self.cross {
+            let (base, fwd, side) = (self.value(1, c), self.value(0, c), self.value(1, c + 1));
+            let (index, y) = match self.direction {
+                Direction::Time => (c, [base, fwd, side]),
+                Direction::Space => (2 * c, [base, side, fwd]),
+            };
+            f(c, &lattice.cell(index), &y);
+        }
+    }
+
+    /// Position of the forward vertex in a cell (1 in time, 2 in space).
+    pub fn forward_position(&self) -> usize {
+        match self.direction {
+            Direction::Time => 1,
+            Direction::Space => 2,
+        }
+    }
+
+    /// 𝖩⁺ and 𝖩⁻ of the cell level between the previous and the current
+    /// level, for the generators `generator(y)` = X(y) (M × K).
+    pub fn evolution_momentum<const K: usize>(
+        &self,
+        generator: impl Fn(&F::Point<f64>) -> SMatrix<f64, M, K>,
+    ) -> EvolutionMomentum<K> {
+        let fwd = self.forward_position();
+        let side = 3 - fwd;
+        let lag = self.marcher.lagrangian();
+        let mut out = EvolutionMomentum {
+            plus: SVector::zeros(),
+            minus: SVector::zeros(),
+            scale: 0.0,
+        };
+        self.for_each_cell(|_, cell, y| {
+            let j: [SVector<f64, K>; 3] =
+                std::array::from_fn(|l| generator(&y[l]).transpose() * vertex_gradient::<F, L, M>(lag, cell, y, l).1);
+            out.plus += j[fwd];
+            out.minus -= j[0] + j[side];
+            out.scale += j.iter().map(|v| v.amax()).sum::<f64>();
+        });
+        out
+    }
+}

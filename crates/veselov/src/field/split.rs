@@ -1,0 +1,268 @@
+//! Split cell Lagrangians on seed 000's triangles △_a^j = ((j,a), (j+1,a),
+//! (j,a+1)) (note 000 §12, §15.2):
+//!
+//! ℒ_d(y₁, y₂, y₃) = ΔsΔt [K(ξ) − Φ(η) − Π(y₁)],
+//! ξ = τ⁻¹(y₁⁻¹y₂)/Δt, η = τ⁻¹(y₁⁻¹y₃)/Δs (seed 000 eq. (63)),
+//!
+//! written once over the AD scalar and generic over the way two vertex values
+//! give an increment ([`Increment`]): the difference y₂ − y₁ on ℝ^m (the
+//! vector-space case; with quadratic K and Φ the DCEL is the five-point wave
+//! scheme), or τ⁻¹(g₁⁻¹g₂) on SE(3) with τ the Cayley map or the exponential
+//! ([`GroupIncrement`]). The density ([`SplitDensity`]: K, Φ, Π) is the
+//! model's; the increment is the integrator's choice.
+//!
+//! ℒ_d splits as f(y₁, y₂) + h(y₁, y₃), so ∂ℒ_d/∂y₂ does not depend on y₃
+//! nor ∂ℒ_d/∂y₃ on y₂ ([`DiscreteLagrangian::depends`]): the slaved row and
+//! column of note 000 §1 are solved node by node.
+//!
+//! Energies (note 000 §15.1, eqs. (98)–(99); discrete forms defined here):
+//! the time-evolution energy density e_𝖫 = ⟨∂K/∂ξ, ξ⟩ − K + Φ + Π and the
+//! space-evolution "energy" density e_𝖭 = −⟨∂Φ/∂η, η⟩ − K + Φ + Π, both
+//! evaluated at a triangle's (ξ, η, y₁). E_𝖫(j) = Δs Σ_a e_𝖫(△_a^j) and
+//! E_𝖭(a) = Δt Σ_j e_𝖭(△_a^j). For the beam (K = ½⟨𝕁ξ, ξ⟩,
+//! Φ = ½⟨ℂ(η − E6), η − E6⟩) e_𝖫 = K + Φ + Π and
+//! e_𝖭 = −K − ⟨ℂ(η − E6), E6⟩ − Φ + Π, the note's natural choice.
+
+use std::marker::PhantomData;
+
+use nalgebra::{Const, SVector, U1};
+use num_dual::DualSVec64;
+
+use super::cell::DiscreteLagrangian;
+use super::complex::TopCell;
+use super::fibre::{Euclidean, Fibre, RigidMotions};
+use crate::ad::Scalar;
+use crate::lie::{LieError, Retraction, SE3};
+use crate::{Error, Result};
+
+/// How two vertex values give a (dimensionless) increment x with y₂ = y₁·τ(x).
+pub trait Increment<F: Fibre<M>, const M: usize>: Send + Sync + 'static {
+    /// Short name for messages and outputs (`"difference"`, `"cayley"`, `"exp"`).
+    const NAME: &'static str;
+    /// x = τ⁻¹(y₁⁻¹y₂) (errors at the cut locus of a rotation part).
+    fn increment<D: Scalar>(y1: &F::Point<D>, y2: &F::Point<D>) -> std::result::Result<SVector<D, M>, LieError>;
+    /// y₁·τ(x).
+    fn advance<D: Scalar>(y1: &F::Point<D>, x: &SVector<D, M>) -> F::Point<D>;
+}
+
+/// The vector-space increment y₂ − y₁ on ℝ^M.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Difference;
+
+impl<const M: usize> Increment<Euclidean<M>, M> for Difference {
+    const NAME: &'static str = "difference";
+    fn increment<D: Scalar>(y1: &SVector<D, M>, y2: &SVector<D, M>) -> std::result::Result<SVector<D, M>, LieError> {
+        Ok(y2 - y1)
+    }
+    fn advance<D: Scalar>(y1: &SVector<D, M>, x: &SVector<D, M>) -> SVector<D, M> {
+        y1 + x
+    }
+}
+
+/// The group increment τ⁻¹(g₁⁻¹g₂) on SE(3) through the retraction `R`
+/// ([`crate::lie::CayleyMap`] or [`crate::lie::ExpMap`]).
+pub struct GroupIncrement<R>(PhantomData<fn() -> R>);
+
+impl<R> Increment<RigidMotions, 6> for GroupIncrement<R>
+where
+    R: Retraction<6, Family = crate::lie::RigidMotions> + 'static,
+{
+    const NAME: &'static str = "group";
+    fn increment<D: Scalar>(g1: &SE3<D>, g2: &SE3<D>) -> std::result::Result<SVector<D, 6>, LieError> {
+        R::tau_inv(&g1.inverse().compose(g2))
+    }
+    fn advance<D: Scalar>(g1: &SE3<D>, x: &SVector<D, 6>) -> SE3<D> {
+        g1.compose(&R::tau(x))
+    }
+}
+
+/// The density of a split Lagrangian: kinetic energy K(ξ), stored energy
+/// Φ(η) and potential Π(y), each written once over the AD scalar.
+pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
+    /// K(ξ).
+    fn kinetic<D: Scalar>(&self, xi: &SVector<D, M>) -> D;
+    /// Φ(η).
+    fn stored<D: Scalar>(&self, eta: &SVector<D, M>) -> D;
+    /// Π(y) (default 0).
+    fn potential<D: Scalar>(&self, _y: &F::Point<D>) -> D {
+        D::zero()
+    }
+    /// Whether [`damping`](Self::damping) is non-zero (default `false`).
+    fn is_damped(&self) -> bool {
+        false
+    }
+    /// A velocity-dependent force density f(ξ) per unit length, in the
+    /// frame of ξ (for example −diag(c)ξ); default 0.
+    fn damping<D: Scalar>(&self, _xi: &SVector<D, M>) -> SVector<D, M> {
+        SVector::from_element(D::zero())
+    }
+}
+
+/// ℒ_d = ΔsΔt [K(ξ) − Φ(η) − Π(y₁)] on seed 000's triangles.
+pub struct SplitLagrangian<I, S> {
+    density: S,
+    dt: f64,
+    ds: f64,
+    increment: PhantomData<fn() -> I>,
+}
+
+impl<I, S> SplitLagrangian<I, S> {
+    /// The discrete Lagrangian of `density` with time step `dt` and space step `ds`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `dt` or `ds` when not finite and positive.
+    pub fn new(density: S, dt: f64, ds: f64) -> Result<Self> {
+        for (name, h) in [("dt", dt), ("ds", ds)] {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(Error::InvalidParameter {
+                    name: name.into(),
+                    value: h.to_string(),
+                    reason: "a step must be finite and > 0".into(),
+                });
+            }
+        }
+        Ok(Self {
+            density,
+            dt,
+            ds,
+            increment: PhantomData,
+        })
+    }
+    /// The density.
+    pub fn density(&self) -> &S {
+        &self.density
+    }
+    /// Δt.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+    /// Δs.
+    pub fn ds(&self) -> f64 {
+        self.ds
+    }
+}
+
+/// The triangle's jet (ξ, η) = (τ⁻¹(y₁⁻¹y₂)/Δt, τ⁻¹(y₁⁻¹y₃)/Δs).
+pub type Jet<D, const M: usize> = (SVector<D, M>, SVector<D, M>);
+
+impl<I, S> SplitLagrangian<I, S> {
+    /// ξ and η of the triangle with vertex values `y` = (y₁, y₂, y₃).
+    ///
+    /// # Errors
+    /// [`LieError::NearCutLocus`] when y₁⁻¹y₂ or y₁⁻¹y₃ rotates by (nearly) π.
+    pub fn jet<F: Fibre<M>, D: Scalar, const M: usize>(
+        &self,
+        y: &[F::Point<D>],
+    ) -> std::result::Result<Jet<D, M>, LieError>
+    where
+        I: Increment<F, M>,
+    {
+        let (rdt, rds) = (1.0 / self.dt, 1.0 / self.ds);
+        let xi = I::increment(&y[0], &y[1])?.map(|x| x * rdt);
+        let eta = I::increment(&y[0], &y[2])?.map(|x| x * rds);
+        Ok((xi, eta))
+    }
+
+    /// The energy densities (e_𝖫, e_𝖭) of the triangle with vertex values `y`
+    /// (module documentation); NaN at the cut locus.
+    pub fn energy_densities<F: Fibre<M>, const M: usize>(&self, y: &[F::Point<f64>]) -> (f64, f64)
+    where
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        let Ok((xi, eta)) = self.jet::<F, f64, M>(y) else {
+            return (f64::NAN, f64::NAN);
+        };
+        let (k, dk) = gradient(|x| self.density.kinetic(x), &xi);
+        let (phi, dphi) = gradient(|x| self.density.stored(x), &eta);
+        let pi = self.density.potential(&y[0]);
+        (dk.dot(&xi) - k + phi + pi, -dphi.dot(&eta) - k + phi + pi)
+    }
+}
+
+/// f(x) and ∇f(x) by one dual pass.
+fn gradient<const M: usize>(
+    f: impl Fn(&SVector<DualSVec64<M>, M>) -> DualSVec64<M>,
+    x: &SVector<f64, M>,
+) -> (f64, SVector<f64, M>) {
+    let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
+    let v = f(&seeded);
+    (v.re, v.eps.unwrap_generic(Const::<M>, U1))
+}
+
+impl<F, I, S, const M: usize> DiscreteLagrangian<F, M> for SplitLagrangian<I, S>
+where
+    F: Fibre<M>,
+    I: Increment<F, M>,
+    S: SplitDensity<F, M>,
+{
+    /// ΔsΔt [K(ξ) − Φ(η) − Π(y₁)]; NaN at the cut locus (the vertex solves
+    /// report it as a non-finite residual).
+    fn cell_lagrangian<D: Scalar>(&self, _cell: &TopCell, y: &[F::Point<D>]) -> D {
+        match self.jet::<F, D, M>(y) {
+            Ok((xi, eta)) => {
+                (self.density.kinetic(&xi) - self.density.stored(&eta) - self.density.potential(&y[0]))
+                    * (self.ds * self.dt)
+            }
+            Err(_) => D::from(f64::NAN),
+        }
+    }
+    fn depends(&self, _cell: &TopCell, l: usize, k: usize) -> bool {
+        !matches!((l, k), (1, 2) | (2, 1))
+    }
+    fn has_forces(&self) -> bool {
+        self.density.is_damped()
+    }
+    /// The Lagrange–d'Alembert discretisation of the force density f(ξ)
+    /// over the cell's rectangle, split between the two ends of its time
+    /// edge: F¹ = F² = ½ΔsΔt f(ξ), F³ = 0 (the discrete forces f⁻ = f⁺ =
+    /// (h/2) f of discrete mechanics; on SE(3) both in the body frame of ξ,
+    /// an O(Δt) choice of transport at vertex 2). With f = −Cξ, C ≥ 0, it
+    /// dissipates E_𝖫 (tested).
+    fn cell_force<D: Scalar>(&self, _cell: &TopCell, y: &[F::Point<D>], l: usize) -> SVector<D, M> {
+        if l == 2 {
+            return SVector::from_element(D::zero());
+        }
+        match I::increment(&y[0], &y[1]) {
+            Ok(x) => {
+                let xi = x.map(|v| v * (1.0 / self.dt));
+                self.density.damping(&xi).map(|f| f * (0.5 * self.ds * self.dt))
+            }
+            Err(_) => SVector::from_element(D::from(f64::NAN)),
+        }
+    }
+}
+
+/// K = ½ Σ mₖξₖ², Φ = ½ Σ cₖ(ηₖ − rₖ)² with diagonal weights and a reference
+/// strain r: the wave equation on ℝ^M (r = 0) and the beam's quadratic
+/// energies on SE(3) (r = E6), with no potential.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiagonalQuadratic<const M: usize> {
+    /// Kinetic weights mₖ.
+    pub inertia: [f64; M],
+    /// Stiffness weights cₖ.
+    pub stiffness: [f64; M],
+    /// Reference strain rₖ.
+    pub reference: [f64; M],
+}
+
+impl<const M: usize> DiagonalQuadratic<M> {
+    /// ½ Σ wₖ(xₖ − rₖ)².
+    pub fn quadratic<D: Scalar>(w: &[f64; M], x: &SVector<D, M>, r: &[f64; M]) -> D {
+        let mut sum = D::zero();
+        for k in 0..M {
+            let d = x[k] - r[k];
+            sum += d * d * (0.5 * w[k]);
+        }
+        sum
+    }
+}
+
+impl<F: Fibre<M>, const M: usize> SplitDensity<F, M> for DiagonalQuadratic<M> {
+    fn kinetic<D: Scalar>(&self, xi: &SVector<D, M>) -> D {
+        Self::quadratic(&self.inertia, xi, &[0.0; M])
+    }
+    fn stored<D: Scalar>(&self, eta: &SVector<D, M>) -> D {
+        Self::quadratic(&self.stiffness, eta, &self.reference)
+    }
+}
