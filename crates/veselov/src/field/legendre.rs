@@ -16,7 +16,9 @@ pub struct CauchyOptions {
     /// Relative tolerance: a vertex is solved when
     /// max|Leg_v(z) − μ_v| ≤ `tolerance` × (the size of the terms summed),
     /// or when Newton stalls at round-off (the residual stops halving) within
-    /// 100 × `tolerance`. Default 1e-14.
+    /// 100 × `tolerance`, or stalls with its last correction below the
+    /// resolution of the point's coordinates (see [`solve_legendre`]).
+    /// Default 1e-14.
     pub tolerance: f64,
     /// Newton iteration limit per vertex. Default 30.
     pub max_iterations: usize,
@@ -88,7 +90,12 @@ impl Failure {
 /// again only when an iteration fails to reduce the residual fourfold, so
 /// most iterations cost one gradient pass. Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
-/// stalls at round-off within 100 × tolerance (the residual stops halving).
+/// stalls at round-off within 100 × tolerance (the residual stops halving),
+/// or when it stalls after a correction below the resolution of the point,
+/// max|ζ| ≤ 64 ε_mach (1 + max coordinate of z): then the residual is the
+/// round-off of differences of the inputs (positions far from the origin
+/// moving little in a step, strains small against |∂_s r|), which the size of
+/// Leg's terms does not see, and no iterate can reduce it.
 pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     mu: &SVector<f64, M>,
     mu_scale: f64,
@@ -100,6 +107,7 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     let mut previous = f64::INFINITY;
     let mut jacobian: Option<SMatrix<f64, M, M>> = None;
     let mut fresh = false;
+    let mut last_step = f64::INFINITY;
     for it in 0..=options.max_iterations {
         let (mut leg, mut jac, mut leg_scale) = legendre(&z, jacobian.is_none());
         let mut residual = leg - mu;
@@ -124,7 +132,10 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
             outcome.failure = Some(Failure::NonFinite);
             return (z, outcome);
         }
-        if r <= options.tolerance * scale || (r <= 100.0 * options.tolerance * scale && r > 0.5 * previous) {
+        let stalled = r > 0.5 * previous;
+        if r <= options.tolerance * scale
+            || (stalled && (r <= 100.0 * options.tolerance * scale || last_step <= resolution::<F, M>(&z)))
+        {
             return (F::renormalize(&z), outcome);
         }
         previous = r;
@@ -140,6 +151,7 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
             outcome.failure = Some(Failure::Singular);
             return (z, outcome);
         }
+        last_step = delta.amax();
         let next = F::retract(&z, &delta);
         if !F::is_finite(&next) {
             outcome.failure = Some(Failure::NonFinite);
@@ -153,4 +165,13 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     }
     outcome.failure = Some(Failure::IterationLimit);
     (z, outcome)
+}
+
+/// 64 ε_mach (1 + the largest coordinate of y): a chart correction below it
+/// changes y by round-off only.
+fn resolution<F: Fibre<M>, const M: usize>(y: &F::Point<f64>) -> f64 {
+    let mut c = [0.0; 16];
+    F::write(y, &mut c[..F::COORDINATES]);
+    let size = c[..F::COORDINATES].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    64.0 * f64::EPSILON * (1.0 + size)
 }
