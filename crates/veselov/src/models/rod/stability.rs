@@ -12,7 +12,9 @@
 //! that the march treats explicitly: from the R-equation of note 003 §3.6,
 //! J(θ_{k+1} − 2θ_k + θ_{k−1}) = −Δt²Kθ_k, stable for ωΔt < 2.
 //!
-//! The step number is max(ν, ωΔt/2); above [`COURANT_LIMIT`] the lattice
+//! The two couple (the Timoshenko spectrum's upper branch has
+//! frequency² ≈ ω² + c²k²), so the step number is √(ν² + (ωΔt/2)²);
+//! above [`COURANT_LIMIT`] the lattice
 //! waves grow without bound, the rotations reach the cut locus, the vertex
 //! Newton fails and the march stops with a typed error.
 
@@ -22,7 +24,7 @@ use nalgebra::Matrix3;
 use crate::field::discretize::RodParameters;
 use crate::lie::so3;
 
-/// The largest step number max(cΔt/Δs, ωΔt/2) at which the march is stable.
+/// The largest step number √((cΔt/Δs)² + (ωΔt/2)²) at which the march is stable.
 pub const COURANT_LIMIT: f64 = 1.0;
 
 /// The fastest wave speed c of the rod.
@@ -75,12 +77,12 @@ pub fn rotary_frequency(p: &RodParameters) -> Result<f64> {
         .sqrt())
 }
 
-/// The step number max(cΔt/Δs, ωΔt/2) (stable up to [`COURANT_LIMIT`]).
+/// The step number √((cΔt/Δs)² + (ωΔt/2)²) (stable up to [`COURANT_LIMIT`]).
 ///
 /// # Errors
 /// As [`wave_speed`].
 pub fn courant_number(p: &RodParameters, ds: f64, dt: f64) -> Result<f64> {
-    Ok((wave_speed(p)? * dt / ds).max(0.5 * rotary_frequency(p)? * dt))
+    Ok((wave_speed(p)? * dt / ds).hypot(0.5 * rotary_frequency(p)? * dt))
 }
 
 /// The largest Δt with step number [`COURANT_LIMIT`] for spacing Δs.
@@ -88,7 +90,7 @@ pub fn courant_number(p: &RodParameters, ds: f64, dt: f64) -> Result<f64> {
 /// # Errors
 /// As [`wave_speed`].
 pub fn largest_step(p: &RodParameters, ds: f64) -> Result<f64> {
-    Ok(COURANT_LIMIT * (ds / wave_speed(p)?).min(2.0 / rotary_frequency(p)?))
+    Ok(COURANT_LIMIT / (wave_speed(p)? / ds).hypot(0.5 * rotary_frequency(p)?))
 }
 
 /// Whether a step above the limit is refused.
@@ -114,7 +116,7 @@ impl StepCheck {
                 name: "dt".into(),
                 value: dt.to_string(),
                 reason: format!(
-                    "step number max(c·dt/ds, ω·dt/2) = {nu:.4} above the stability limit {COURANT_LIMIT} \
+                    "step number √((c·dt/ds)² + (ω·dt/2)²) = {nu:.4} above the stability limit {COURANT_LIMIT} \
                      (wave speed c = {:.6e}, rotary frequency ω = {:.6e}, ds = {ds}: largest stable dt = {:.6e}); \
                      override the step check to run anyway",
                     wave_speed(p)?,
