@@ -20,12 +20,17 @@
 //! bit-identical for every thread count. Storage is allocated once: 2n + 1
 //! levels of values and n + 1 levels of cell gradients; nothing is allocated
 //! inside a level.
+//!
+//! On the 2-D lattice the march may be confined to a finite body
+//! ([`MaterialWindow`], [`CauchyMarcher::with_window`]): only the triangles
+//! inside the window enter the action, so the end vertices solve their
+//! truncated stars; vertices outside keep their values and are never read.
 
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, mixed_block, vertex_gradient};
-use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, TopCell, permutation};
+use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
 use super::fibre::{Euclidean, Fibre};
 pub use super::legendre::{CauchyOptions, LevelReport};
 use super::legendre::{VertexOutcome, solve_legendre};
@@ -53,6 +58,8 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     down: Vec<u32>,
     /// Canonical coordinates of each in-level vertex at level 0.
     origins: Vec<[i64; MAX_LATTICE_DIMENSION]>,
+    /// The finite body the march is confined to, if any.
+    window: Option<MaterialWindow>,
 }
 
 impl<F, L, const M: usize> CauchyMarcher<F, L, M>
@@ -69,6 +76,46 @@ where
         first_level: i64,
         data: &[Vec<F::Point<f64>>],
         options: CauchyOptions,
+    ) -> Result<Self> {
+        Self::build(lag, torus, first_level, data, options, None)
+    }
+
+    /// A marcher confined to the finite body `window` (2-D lattice): the
+    /// action keeps only the triangles inside the window (free ends). The
+    /// Cauchy data are as for [`CauchyMarcher::new`]; values at vertices
+    /// outside the window are never read (any finite value will do).
+    ///
+    /// # Errors
+    /// As [`CauchyMarcher::new`], and [`Error::InvalidParameter`] naming
+    /// `period` if the window was made for another lattice period.
+    pub fn with_window(
+        lag: L,
+        torus: CfkTorus,
+        first_level: i64,
+        data: &[Vec<F::Point<f64>>],
+        options: CauchyOptions,
+        window: MaterialWindow,
+    ) -> Result<Self> {
+        if torus.dimension() != 2 || torus.periods()[0] != window.period() {
+            return Err(Error::InvalidParameter {
+                name: "period".into(),
+                value: format!("{:?}", torus.periods()),
+                reason: format!(
+                    "the material window was made for a 2-D lattice of period {}",
+                    window.period()
+                ),
+            });
+        }
+        Self::build(lag, torus, first_level, data, options, Some(window))
+    }
+
+    fn build(
+        lag: L,
+        torus: CfkTorus,
+        first_level: i64,
+        data: &[Vec<F::Point<f64>>],
+        options: CauchyOptions,
+        window: Option<MaterialWindow>,
     ) -> Result<Self> {
         let n = torus.dimension();
         let size = torus.level_size();
@@ -159,6 +206,7 @@ where
             torus,
             options,
             level: first_level + n as i64,
+            window,
         };
         for (l, level) in data.iter().enumerate() {
             let slot = marcher.value_slot(first_level + l as i64);
@@ -188,6 +236,24 @@ where
     /// The periodic lattice.
     pub fn torus(&self) -> &CfkTorus {
         &self.torus
+    }
+
+    /// The finite body the march is confined to, if any.
+    pub fn window(&self) -> Option<&MaterialWindow> {
+        self.window.as_ref()
+    }
+
+    /// Whether vertex (w, i) takes part in the march (always, without a window).
+    pub fn is_active(&self, w: i64, i: usize) -> bool {
+        self.window.as_ref().is_none_or(|m| m.contains(&self.origin(w, i)))
+    }
+
+    /// Whether the simplex (v, σ) based at v = (w, i) enters the action.
+    #[inline]
+    fn cell_active(&self, w: i64, i: usize, sigma: usize) -> bool {
+        self.window
+            .as_ref()
+            .is_none_or(|m| m.contains_cell(&self.origin(w, i), &self.perms[sigma]))
     }
 
     /// The next level whose equations [`step`](Self::step) solves.
@@ -225,12 +291,16 @@ where
         self.down[(i * self.perms.len() + sigma) * (n + 1) + l] as usize
     }
 
-    /// Canonical coordinates of the vertex (w, i).
+    /// Canonical coordinates of the vertex (w, i); with a window, the
+    /// representative whose material point lies in 0 ≤ p < 2N.
     #[inline]
     fn origin(&self, w: i64, i: usize) -> [i64; MAX_LATTICE_DIMENSION] {
         let mut v = self.origins[i];
         v[self.torus.dimension() - 1] += w;
-        v
+        match &self.window {
+            Some(m) => m.unwrap(&v),
+            None => v,
+        }
     }
 
     fn value_slot(&self, w: i64) -> usize {
@@ -278,12 +348,17 @@ where
     /// The vertex gradients of the n! cells based at (w, i) at positions
     /// 1 … n, into `out` (cell σ, then position; position 0 is left zero: only
     /// later vertices' momenta and the level momentum read the stored
-    /// gradients, always at positions ≥ 1).
+    /// gradients, always at positions ≥ 1). Cells outside the window get
+    /// zero gradients: they are not part of the action.
     fn cell_gradients(&self, w: i64, i: usize, top: Option<F::Point<f64>>, out: &mut [SVector<f64, M>]) {
         let n = self.torus.dimension();
         for sigma in 0..self.perms.len() {
-            let (cell, y) = self.cell_values(w, i, sigma, top);
             out[sigma * (n + 1)] = SVector::zeros();
+            if !self.cell_active(w, i, sigma) {
+                out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].fill(SVector::zeros());
+                continue;
+            }
+            let (cell, y) = self.cell_values(w, i, sigma, top);
             for l in 1..=n {
                 out[sigma * (n + 1) + l] = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], l).1;
             }
@@ -311,8 +386,12 @@ where
     }
 
     /// Solves EL_v = 0 for y_{Δv}, v = (w, i); returns y_{Δv} and the solve's outcome.
+    /// Outside the window y_{Δv} = y_v (never read).
     fn solve_vertex(&self, w: i64, i: usize) -> (F::Point<f64>, VertexOutcome) {
         let n = self.torus.dimension();
+        if !self.is_active(w, i) {
+            return (self.value(w, i), VertexOutcome::default());
+        }
         let (mu, mu_scale) = self.momentum(w, i);
         let yv = self.value(w, i);
         let back = self.down(i, 0, n);
@@ -325,6 +404,9 @@ where
             let mut jac = SMatrix::<f64, M, M>::zeros();
             let mut scale = 0.0;
             for sigma in 0..self.perms.len() {
+                if !self.cell_active(w, i, sigma) {
+                    continue;
+                }
                 let (cell, y) = self.cell_values(w, i, sigma, Some(*z));
                 let g = if with_jacobian {
                     let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
@@ -409,13 +491,17 @@ where
     /// c = `level()`: the n!·n·(level size) simplices based at levels
     /// c − n … c − 1, with their vertex values. Together they fill one slab
     /// of duration Δt (one flow step) of the lattice, so the sum of a cell
-    /// energy over them divided by Δt is a level energy.
+    /// energy over them divided by Δt is a level energy. With a window, only
+    /// the cells inside it.
     pub fn for_each_straddling_cell(&self, mut f: impl FnMut(&TopCell, &[F::Point<f64>])) {
         let n = self.torus.dimension();
         for j in 1..=n {
             let base = self.level - j as i64;
             for i in 0..self.torus.level_size() {
                 for sigma in 0..self.perms.len() {
+                    if !self.cell_active(base, i, sigma) {
+                        continue;
+                    }
                     let (cell, y) = self.cell_values(base, i, sigma, None);
                     f(&cell, &y[..=n]);
                 }

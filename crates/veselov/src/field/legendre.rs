@@ -16,11 +16,13 @@ pub struct CauchyOptions {
     /// Relative tolerance: a vertex is solved when
     /// max|Leg_v(z) − μ_v| ≤ `tolerance` × (the size of the terms summed),
     /// or when Newton stalls at round-off (the residual stops halving) within
-    /// 100 × `tolerance` × (that size + |∂Leg/∂ζ|·(1 + |z|)). The Jacobian
-    /// term is the residual change a relative perturbation of the point
-    /// makes (a step-size test, note 000 §14): it recognises round-off when
-    /// the terms cancel (a stiff strain near its reference, or the single
-    /// gradient of a slaved vertex's constraint). Default 1e-14.
+    /// 100 × `tolerance` × (that size + |∂Leg/∂ζ|·(1 + |z|)), or stalls
+    /// with its last correction below the resolution of the point's
+    /// coordinates (see [`solve_legendre`]). The Jacobian term is the
+    /// residual change a relative perturbation of the point makes (a
+    /// step-size test, note 000 §14): it recognises round-off when the terms
+    /// cancel (a stiff strain near its reference, or the single gradient of a
+    /// slaved vertex's constraint). Default 1e-14.
     pub tolerance: f64,
     /// Newton iteration limit per vertex. Default 30.
     pub max_iterations: usize,
@@ -92,8 +94,12 @@ impl Failure {
 /// again only when an iteration fails to reduce the residual fourfold, so
 /// most iterations cost one gradient pass. Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
-/// stalls at round-off within 100 × tolerance × (that size +
-/// |∂Leg/∂ζ|·(1 + |z|) from the latest Jacobian) (the residual stops halving).
+/// stalls at round-off (the residual stops halving) within 100 × tolerance ×
+/// (that size + |∂Leg/∂ζ|·(1 + |z|) from the latest Jacobian), or after a
+/// correction below the resolution of the point, max|ζ| ≤ 64 ε_mach (1 + max
+/// coordinate of z): then the residual is the round-off of differences of
+/// the inputs (positions far from the origin moving little in a step, strains
+/// small against |∂_s r|), which no iterate can reduce.
 pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     mu: &SVector<f64, M>,
     mu_scale: f64,
@@ -106,6 +112,7 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     let mut jacobian: Option<SMatrix<f64, M, M>> = None;
     let mut fresh = false;
     let mut point_scale = 0.0;
+    let mut last_step = f64::INFINITY;
     for it in 0..=options.max_iterations {
         let (mut leg, mut jac, mut leg_scale) = legendre(&z, jacobian.is_none());
         let mut residual = leg - mu;
@@ -134,7 +141,8 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
             outcome.failure = Some(Failure::NonFinite);
             return (z, outcome);
         }
-        let stalled = r > 0.5 * previous && r <= 100.0 * options.tolerance * (scale + point_scale);
+        let stalled = r > 0.5 * previous
+            && (r <= 100.0 * options.tolerance * (scale + point_scale) || last_step <= resolution::<F, M>(&z));
         if stalled && r > options.tolerance * scale {
             // Accepted at round-off: report the residual relative to the
             // scale that accepted it.
@@ -156,6 +164,7 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
             outcome.failure = Some(Failure::Singular);
             return (z, outcome);
         }
+        last_step = delta.amax();
         let next = F::retract(&z, &delta);
         if !F::is_finite(&next) {
             outcome.failure = Some(Failure::NonFinite);
@@ -169,4 +178,14 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     }
     outcome.failure = Some(Failure::IterationLimit);
     (z, outcome)
+}
+
+/// 64 ε_mach (1 + the largest coordinate of y): a chart correction below it
+/// changes y by round-off only.
+fn resolution<F: Fibre<M>, const M: usize>(y: &F::Point<f64>) -> f64 {
+    let mut c = [0.0; 16];
+    let n = if F::COORDINATES <= c.len() { F::COORDINATES } else { 0 };
+    F::write(y, &mut c[..n]);
+    let size = c[..n].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    64.0 * f64::EPSILON * (1.0 + size)
 }

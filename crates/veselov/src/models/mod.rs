@@ -15,6 +15,7 @@ pub mod henon_heiles;
 pub mod kepler;
 pub mod pendulum;
 pub mod rigid_body;
+pub mod rod;
 pub mod van_der_pol;
 
 pub use damped_kepler::LinearDrag;

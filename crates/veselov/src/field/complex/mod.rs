@@ -54,8 +54,10 @@ pub use spacetime::{SpacetimeKind, SpacetimeLattice};
 pub use window::{Axis, Extent, Point, permutation_index, permutation_into};
 
 pub mod cfk_slab;
+pub mod material_window;
 
 pub use cfk_slab::{CfkSlab, CfkTorus, factorial, permutation};
+pub use material_window::MaterialWindow;
 
 /// Largest lattice dimension whose cells carry their coordinates inline in
 /// [`TopCell::origin`].

@@ -1,0 +1,137 @@
+//! The free Cosserat rod on the leapfrog lattice: wall time per step (one Δt
+//! for every material point = two lattice levels) for 100- and 1000-element
+//! rods of PyElastica's Timoshenko example material (length 3, radius 0.25,
+//! density 5000, E = 1e6, shear modulus 1e4), at PyElastica's own limit
+//! Δt = 0.0705·dl; the Newton iterations per vertex; and the largest stable
+//! step at 100 elements (bisection on Δt, printed in units of dl before the
+//! timings).
+//!
+//! `cargo bench -p veselov --bench rod_step -- --quick`
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use nalgebra::Vector3;
+use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
+use veselov::field::discretize::{CosseratCell, CosseratDensity, RodParameters};
+use veselov::field::fibre::{Pose, PositionRotation};
+use veselov::lie::so3;
+use veselov::models::rod::{CrossSection, Material, RodLattice, Shear, largest_step, rod_parameters};
+
+const LENGTH: f64 = 3.0;
+
+fn parameters() -> RodParameters {
+    let material = Material {
+        density: 5000.0,
+        young: 1e6,
+        shear: Shear::Modulus(1e4),
+        shear_coefficient: 1.0,
+    };
+    rod_parameters(&CrossSection::Circle { radius: 0.25 }, &material).expect("valid rod")
+}
+
+type Rod = CauchyMarcher<PositionRotation, CosseratCell, 6>;
+
+/// A straight rod along e₃ with a small bending and twisting perturbation
+/// that excites the short waves (a hash-like pattern in s).
+fn rod(elements: usize, dt: f64) -> (Rod, RodLattice) {
+    let lattice = RodLattice::new(elements + 1, LENGTH, dt).expect("lattice");
+    let cell = CosseratCell::new(CosseratDensity::free(parameters()), lattice.ds(), dt).expect("spacings");
+    let data = lattice.cauchy_data(|s, t| {
+        let noise = (s * 1234.567).sin() * 1e-3;
+        let tilt = Vector3::new(noise, 0.5 * noise, 0.2 * noise);
+        Pose::new(Vector3::new(noise * (1.0 + t), 0.0, s), so3::exp(&tilt))
+    });
+    let m = CauchyMarcher::with_window(
+        cell,
+        lattice.torus().clone(),
+        0,
+        &data,
+        CauchyOptions {
+            tolerance: 1e-13,
+            ..CauchyOptions::default()
+        },
+        lattice.window(),
+    )
+    .expect("marcher");
+    (m, lattice)
+}
+
+/// Whether `levels` levels run without a solve failure and stay near the
+/// straight rod (positions within 0.1 of their start).
+fn stable(elements: usize, dt: f64, levels: usize) -> bool {
+    let (mut m, _) = rod(elements, dt);
+    for _ in 0..levels {
+        if m.step().is_err() {
+            return false;
+        }
+    }
+    let w = m.top_level();
+    m.level_values(w)
+        .expect("level")
+        .iter()
+        .all(|y| y.position[0].abs() < 0.1 && y.position[1].abs() < 0.1)
+}
+
+fn report() {
+    let elements = 100;
+    let dl = LENGTH / elements as f64;
+    let (mut lo, mut hi) = (0.05 * dl, 0.5 * dl);
+    for _ in 0..10 {
+        let mid = 0.5 * (lo + hi);
+        if stable(elements, mid, 2000) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let predicted = largest_step(&parameters(), 2.0 * dl).expect("finite speeds");
+    println!(
+        "largest stable step at {elements} elements (2000 levels): {:.4}·dl (unstable at {:.4}·dl); \
+         predicted limit {:.4}·dl; PyElastica 0.0705·dl",
+        lo / dl,
+        hi / dl,
+        predicted / dl
+    );
+    for elements in [100, 1000] {
+        let dl = LENGTH / elements as f64;
+        let (mut m, lattice) = rod(elements, 0.0705 * dl);
+        let (mut iterations, mut jacobians, mut vertices) = (0, 0, 0);
+        for _ in 0..200 {
+            let r = m.step().expect("stable");
+            iterations += r.iterations;
+            jacobians += r.jacobians;
+            vertices += (0..lattice.torus().level_size())
+                .filter(|&i| m.is_active(r.level, i))
+                .count();
+        }
+        println!(
+            "{elements} elements: Newton iterations per vertex {:.2}, Jacobians per vertex {:.2}",
+            iterations as f64 / vertices as f64,
+            jacobians as f64 / vertices as f64
+        );
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    report();
+    let mut group = c.benchmark_group("rod_step");
+    for elements in [100, 1000] {
+        let dl = LENGTH / elements as f64;
+        group.bench_function(format!("{elements} elements, dt = 0.0705 dl (two levels)"), |b| {
+            let (mut m, _) = rod(elements, 0.0705 * dl);
+            b.iter(|| {
+                black_box(m.step().expect("stable"));
+                black_box(m.step().expect("stable"));
+            });
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10);
+    targets = bench
+}
+criterion_main!(benches);
