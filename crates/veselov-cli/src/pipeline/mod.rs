@@ -7,7 +7,8 @@
 //! * **Preflight** ([`Plan`]): the step count and output size are known
 //!   before integrating; more than [`MAX_STEPS`] steps or [`MAX_OUTPUT_BYTES`]
 //!   bytes is refused with an error naming the key, unless `--force-large`.
-//! * **Interruption**: SIGINT and SIGTERM set a flag the driver polls; the
+//! * **Interruption**: SIGINT and SIGTERM (or the caller, through
+//!   [`RunJob::interrupt`]) set a flag the driver polls; the
 //!   files are closed valid up to their last row and `status = "interrupted"`.
 //!   `--time-limit` sets the same flag after a wall-clock budget.
 //! * **Checkpoints** every `[output] checkpoint_every` steps and at the end
@@ -55,6 +56,10 @@ pub struct RunJob {
     pub resume: Option<PathBuf>,
     /// `--time-limit SECONDS`: end the run as interrupted after this wall time.
     pub time_limit: Option<f64>,
+    /// A cancellation flag set by the caller (a library embedding the
+    /// command); when given, no signal handler is installed and setting the
+    /// flag ends the run as SIGINT would.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// What a run will do, known before it starts.
@@ -157,10 +162,16 @@ impl Session {
             Some(d) => (d.clone(), Some(Saved::read(d, kind)?)),
             None => (prepare_dir(&dir, job.force)?, None),
         };
-        let interrupt = Arc::new(AtomicBool::new(false));
-        for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-            signal_hook::flag::register(signal, interrupt.clone()).map_err(|e| CliError::Setup(e.to_string()))?;
-        }
+        let interrupt = match &job.interrupt {
+            Some(flag) => flag.clone(),
+            None => {
+                let flag = Arc::new(AtomicBool::new(false));
+                for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+                    signal_hook::flag::register(signal, flag.clone()).map_err(|e| CliError::Setup(e.to_string()))?;
+                }
+                flag
+            }
+        };
         if let Some(limit) = job.time_limit {
             if !(limit.is_finite() && limit > 0.0) {
                 return Err(CliError::Setup(format!(
