@@ -1,6 +1,6 @@
 //! The native part of the `veselov` Python package (`veselov._native`).
 //!
-//! It adds no front end of its own: a scenario (TOML text, possibly built
+//! It adds no front end of its own: a scenario (TOML text, possibly written
 //! from a Python dict and overridden key by key) is run by the command's
 //! library ([`veselov_cli::route::run_text`]) into an output directory,
 //! with the same validation, messages, driver, writers and `summary.json`
@@ -192,19 +192,12 @@ fn verify(py: Python<'_>, label: &str, text: &str, dts: Vec<f64>, out: &str, for
     })
 }
 
-/// TOML text of a scenario given as JSON (a Python dict through `json.dumps`).
-#[pyfunction]
-fn to_toml(json: &str) -> PyResult<String> {
-    scenario::to_toml(json).map_err(PyValueError::new_err)
-}
-
-/// The scenario `text` with the keys of `overrides` (JSON object; dotted
-/// keys or nested tables) replaced.
+/// The scenario `text` with the keys of the TOML document `overrides` replaced.
 #[pyfunction]
 fn merge(text: &str, overrides: &str) -> PyResult<Ended> {
     Ok(match scenario::merge(text, overrides) {
         Ok(t) => ("ok".into(), t, None),
-        Err((key, message)) => ("scenario".into(), message, key),
+        Err(message) => ("scenario".into(), message, None),
     })
 }
 
@@ -252,7 +245,6 @@ fn methods() -> Vec<(&'static str, &'static str, &'static str)> {
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_many, m)?)?;
     m.add_function(wrap_pyfunction!(verify, m)?)?;
-    m.add_function(wrap_pyfunction!(to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(models, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;

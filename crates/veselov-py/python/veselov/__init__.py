@@ -146,10 +146,7 @@ def read_dir(dir: Union[str, os.PathLike], status: Optional[str] = None, message
 def _scenario_text(scenario: Scenario) -> "tuple[str, str]":
     """``(label, TOML text)`` of a path, a TOML string or a dict."""
     if isinstance(scenario, Mapping):
-        try:
-            return "<dict>", _native.to_toml(json.dumps(scenario))
-        except (TypeError, ValueError) as e:
-            raise ScenarioError(f"<dict>: {e}") from None
+        return "<dict>", toml_text(scenario)
     if isinstance(scenario, os.PathLike) or (
         isinstance(scenario, str) and "\n" not in scenario and "=" not in scenario
     ):
@@ -163,8 +160,48 @@ def _scenario_text(scenario: Scenario) -> "tuple[str, str]":
     raise TypeError(f"scenario: expected a path, a TOML string or a dict, got {type(scenario).__name__}")
 
 
+def _toml_value(v: Any, key: str) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        x = float(v)
+        if x != x:
+            return "nan"
+        if x in (float("inf"), float("-inf")):
+            return "inf" if x > 0 else "-inf"
+        return float.__repr__(x)  # the shortest string that reads back exactly
+    if isinstance(v, str):
+        return json.dumps(v)  # a TOML basic string
+    if isinstance(v, Mapping):
+        return "{ " + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x, f'{key}.{k}')}" for k, x in v.items()) + " }"
+    if isinstance(v, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(_toml_value(x, f"{key}[{i}]") for i, x in enumerate(v)) + "]"
+    raise ScenarioError(f"`{key}`: {type(v).__name__} has no TOML form", key)
+
+
+def _nested(overrides: Mapping[str, Any]) -> dict:
+    """Dotted keys (``"initial.q"``) as nested dicts."""
+    out: dict = {}
+    for k, v in overrides.items():
+        *path, last = str(k).split(".")
+        d = out
+        for p in path:
+            d = d.setdefault(p, {})
+            if not isinstance(d, dict):
+                raise ScenarioError(f"`{k}`: `{p}` is not a table", str(k))
+        d[last] = v
+    return out
+
+
+def toml_text(scenario: Mapping[str, Any]) -> str:
+    """The TOML document of a scenario dict (dotted keys allowed)."""
+    return "".join(f"{json.dumps(k)} = {_toml_value(v, k)}\n" for k, v in _nested(scenario).items())
+
+
 def _override(label: str, text: str, overrides: Mapping[str, Any], index: Optional[int] = None) -> str:
-    outcome, value, key = _native.merge(text, json.dumps(dict(overrides)))
+    outcome, value, key = _native.merge(text, toml_text(overrides))
     if outcome != "ok":
         where = f"override {index}: " if index is not None else ""
         raise ScenarioError(f"{label}: {where}{value}", key)
