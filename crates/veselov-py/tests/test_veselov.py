@@ -60,6 +60,8 @@ KINDS = [
 def test_arrays_equal_the_commands_files_bit_for_bit(name, keys, tmp_path):
     exe = command()
     if not exe.exists():
+        if os.environ.get("VESELOV_BIN"):
+            pytest.fail(f"VESELOV_BIN={exe} does not exist")
         pytest.skip(f"no command binary at {exe} (set VESELOV_BIN)")
     path = shortened(name, tmp_path, **keys)
     cmd_dir = tmp_path / "command"
@@ -199,3 +201,11 @@ def test_catalogues_and_verify():
     r = veselov.verify(EXAMPLES / "harmonic.toml", dt=[0.1, 0.05, 0.025])
     assert r.status == "ok"
     assert r.tables
+
+
+def test_overrides_merge_dotted_keys_and_tables():
+    text = veselov.toml_text({"method.dt": 0.5, "method": {"name": "midpoint"}, "initial.q": [0.1, 2]})
+    assert text == '"method" = { "dt" = 0.5, "name" = "midpoint" }\n"initial" = { "q" = [0.1, 2] }\n'
+    status, merged, _ = veselov._native.merge((EXAMPLES / "van_der_pol.toml").read_text(), text)
+    assert status == "ok"
+    assert 'name = "midpoint"' in merged and "dt = 0.5" in merged and "stages = 3" in merged

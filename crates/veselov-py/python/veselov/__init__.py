@@ -191,7 +191,10 @@ def _nested(overrides: Mapping[str, Any]) -> dict:
             d = d.setdefault(p, {})
             if not isinstance(d, dict):
                 raise ScenarioError(f"`{k}`: `{p}` is not a table", str(k))
-        d[last] = v
+        if isinstance(v, Mapping) and isinstance(d.get(last), dict):
+            d[last].update(_nested(v))
+        else:
+            d[last] = _nested(v) if isinstance(v, Mapping) else v
     return out
 
 
