@@ -6,9 +6,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use veselov_cli::error::CliError;
-use veselov_cli::route::{ScenarioKind, kind, read};
-use veselov_cli::scenario::LoadedScenario;
-use veselov_cli::{catalog, field, figures, output, rigid, run, systems, verify};
+use veselov_cli::route::{run_scenario, verify_scenario};
+use veselov_cli::{catalog, figures, output, run, verify};
 
 /// Structure-preserving variational integrators.
 #[derive(Parser)]
@@ -113,28 +112,6 @@ fn plot_dir(dir: &std::path::Path, format: &str) -> Result<(), CliError> {
     figures::draw_all(dir, &table, n, format)
 }
 
-fn run_scenario(path: &std::path::Path, job: run::RunJob) -> Result<(), CliError> {
-    let text = read(path)?;
-    match kind(path, &text)? {
-        ScenarioKind::RigidBody => rigid::run(path, &text, job),
-        ScenarioKind::Field => field::run(path, &text, job),
-        ScenarioKind::Mechanics => LoadedScenario::parse(path, &text).and_then(|s| systems::dispatch(&s, job)),
-    }
-}
-
-fn verify_scenario(path: &std::path::Path, job: verify::VerifyJob) -> Result<(), CliError> {
-    let text = read(path)?;
-    match kind(path, &text)? {
-        ScenarioKind::RigidBody => rigid::dispatch(path, &text, job),
-        ScenarioKind::Field => Err(CliError::Setup(format!(
-            "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
-             is measured by the test suite (tests/field_*.rs)",
-            path.display()
-        ))),
-        ScenarioKind::Mechanics => LoadedScenario::parse(path, &text).and_then(|s| systems::dispatch(&s, job)),
-    }
-}
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -157,6 +134,7 @@ fn main() -> ExitCode {
                 resume,
                 time_limit,
                 checkpoint_seconds,
+                interrupt: None,
             },
         ),
         Command::Models => {

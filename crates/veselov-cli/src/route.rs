@@ -5,6 +5,8 @@
 use std::path::Path;
 
 use crate::error::CliError;
+use crate::scenario::LoadedScenario;
+use crate::{field, rigid, run, systems, verify};
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,4 +39,38 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
         Some(n) if crate::field::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
         _ => ScenarioKind::Mechanics,
     })
+}
+
+/// Run the scenario file at `path` (the entry point of `veselov run`).
+pub fn run_scenario(path: &Path, job: run::RunJob) -> Result<(), CliError> {
+    run_text(path, &read(path)?, job)
+}
+
+/// Run the scenario `text` attributed to `path` (for messages and the
+/// default output directory), whatever its kind: parse and validate, build
+/// the kind's job and run it on the pipeline into the job's directory.
+pub fn run_text(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliError> {
+    match kind(path, text)? {
+        ScenarioKind::RigidBody => rigid::run(path, text, job),
+        ScenarioKind::Field => field::run(path, text, job),
+        ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),
+    }
+}
+
+/// Convergence study of the scenario file at `path` (`veselov verify`).
+pub fn verify_scenario(path: &Path, job: verify::VerifyJob) -> Result<(), CliError> {
+    verify_text(path, &read(path)?, job)
+}
+
+/// Convergence study of the scenario `text` attributed to `path`.
+pub fn verify_text(path: &Path, text: &str, job: verify::VerifyJob) -> Result<(), CliError> {
+    match kind(path, text)? {
+        ScenarioKind::RigidBody => rigid::dispatch(path, text, job),
+        ScenarioKind::Field => Err(CliError::Setup(format!(
+            "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
+             is measured by the test suite (tests/field_*.rs)",
+            path.display()
+        ))),
+        ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),
+    }
 }

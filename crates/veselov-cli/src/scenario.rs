@@ -364,3 +364,28 @@ pub fn output_dir(file: &Path, output: &OutputSpec, cli_out: Option<&Path>) -> P
         .unwrap_or_else(|| "run".into());
     PathBuf::from("out").join(stem)
 }
+
+/// The dotted key on the line a TOML parse `message` points at
+/// (`… at line L, column C …`) in `text`: the key left of `=` on that
+/// line, inside the last `[table]` header above it. `None` when the line
+/// holds no key (a header, or the message names no line).
+pub fn key_at(text: &str, message: &str) -> Option<String> {
+    let rest = &message[message.find("line ")? + 5..];
+    let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+    let line: usize = digits.parse().ok()?;
+    let lines: Vec<&str> = text.lines().collect();
+    let here = lines.get(line.checked_sub(1)?)?;
+    let (key, _) = here.split_once('=')?;
+    let key = key.trim().trim_matches('"');
+    if key.is_empty() || key.starts_with('[') {
+        return None;
+    }
+    let table = lines[..line - 1].iter().rev().find_map(|l| {
+        let l = l.trim();
+        (l.starts_with('[') && !l.starts_with("[[")).then(|| l.trim_matches(|c| c == '[' || c == ']').trim())
+    });
+    Some(match table {
+        Some(t) if !t.is_empty() => format!("{t}.{key}"),
+        _ => key.to_string(),
+    })
+}

@@ -7,7 +7,8 @@
 //! * **Preflight** ([`Plan`]): the step count and output size are known
 //!   before integrating; more than [`MAX_STEPS`] steps or [`MAX_OUTPUT_BYTES`]
 //!   bytes is refused with an error naming the key, unless `--force-large`.
-//! * **Interruption**: SIGINT and SIGTERM set a flag the driver polls; the
+//! * **Interruption**: SIGINT and SIGTERM (or the caller, through
+//!   [`RunJob::interrupt`]) set a flag the driver polls; the
 //!   files are closed valid up to their last row and `status = "interrupted"`.
 //!   `--time-limit` sets the same flag after a wall-clock budget.
 //! * **Checkpoints** every `[output] checkpoint_every` steps, every
@@ -59,6 +60,10 @@ pub struct RunJob {
     /// `--checkpoint-seconds SECONDS`: also write a checkpoint whenever this
     /// much wall time has passed since the last one.
     pub checkpoint_seconds: Option<f64>,
+    /// A cancellation flag set by the caller (a library embedding the
+    /// command); when given, no signal handler is installed and setting the
+    /// flag ends the run as SIGINT would.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// What a run will do, known before it starts.
@@ -166,10 +171,16 @@ impl Session {
             Some(d) => (d.clone(), Some(Saved::read(d, kind)?)),
             None => (prepare_dir(&dir, job.force)?, None),
         };
-        let interrupt = Arc::new(AtomicBool::new(false));
-        for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-            signal_hook::flag::register(signal, interrupt.clone()).map_err(|e| CliError::Setup(e.to_string()))?;
-        }
+        let interrupt = match &job.interrupt {
+            Some(flag) => flag.clone(),
+            None => {
+                let flag = Arc::new(AtomicBool::new(false));
+                for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+                    signal_hook::flag::register(signal, flag.clone()).map_err(|e| CliError::Setup(e.to_string()))?;
+                }
+                flag
+            }
+        };
         let checkpoint_seconds = match job.checkpoint_seconds {
             None => None,
             Some(s) if s.is_finite() && s > 0.0 => Some(Duration::from_secs_f64(s.min(1e9))),

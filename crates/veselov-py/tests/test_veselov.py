@@ -1,0 +1,216 @@
+"""The Python package against the command: same arrays bit for bit, same
+errors, ensembles equal to sequential runs, interruption.
+
+The command binary is taken from $VESELOV_BIN, else from
+$CARGO_TARGET_DIR (or target/) /debug/veselov; `.ci/run` sets it.
+"""
+
+import os
+import signal
+import subprocess
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import veselov
+
+ROOT = Path(__file__).resolve().parents[3]
+EXAMPLES = ROOT / "examples"
+
+
+def command():
+    env = os.environ.get("VESELOV_BIN")
+    if env:
+        return Path(env)
+    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    return target / "debug" / "veselov"
+
+
+def shortened(name, tmp_path, **keys):
+    """The example `name` with `keys` overridden, as a file for the command."""
+    text = (EXAMPLES / name).read_text()
+    if keys:
+        status, text, key = veselov._native.merge(text, veselov.toml_text(keys))
+        assert status == "ok", text
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def same_bits(a, b):
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    return a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64))
+
+
+# One scenario of each kind: mechanics (fixed step), SEM (variable step),
+# custom expression system, rigid body, lattice field, CFK field.
+KINDS = [
+    ("kepler.toml", {"time.t_end": 20.0}),
+    ("kepler_sem.toml", {"time.t_end": 10.0}),
+    ("kepler_custom.toml", {"time.t_end": 10.0}),
+    ("rigid_body.toml", {"time.t_end": 10.0}),
+    ("wave.toml", {"time.t_end": 5.0}),
+    ("klein_gordon_complex.toml", {"time.t_end": 2.0}),
+]
+
+
+@pytest.mark.parametrize("name,keys", KINDS)
+def test_arrays_equal_the_commands_files_bit_for_bit(name, keys, tmp_path):
+    exe = command()
+    if not exe.exists():
+        if os.environ.get("VESELOV_BIN"):
+            pytest.fail(f"VESELOV_BIN={exe} does not exist")
+        pytest.skip(f"no command binary at {exe} (set VESELOV_BIN)")
+    path = shortened(name, tmp_path, **keys)
+    cmd_dir = tmp_path / "command"
+    subprocess.run([str(exe), "run", str(path), "--out", str(cmd_dir), "--quiet"], check=True)
+    reference = veselov.read_dir(cmd_dir)
+    assert reference.tables or reference.arrays
+
+    kept = veselov.run(path, out=tmp_path / "python")
+    unkept = veselov.run(path)
+    for r in (kept, unkept):
+        assert r.status == "ok" == r.summary["status"]
+        assert set(r.tables) == set(reference.tables)
+        assert set(r.arrays) == set(reference.arrays)
+        for stem, table in reference.tables.items():
+            assert list(r.tables[stem]) == list(table)
+            for column, values in table.items():
+                assert same_bits(r.tables[stem][column], values), (stem, column)
+        for stem, values in reference.arrays.items():
+            assert same_bits(r.arrays[stem], values), stem
+    # The kept files are the command's, byte for byte (summary aside: wall time).
+    for f in cmd_dir.iterdir():
+        if f.suffix in (".csv", ".npy"):
+            assert (tmp_path / "python" / f.name).read_bytes() == f.read_bytes(), f.name
+
+
+def test_csv_and_npy_read_back_agree_bit_for_bit(tmp_path):
+    # read_dir takes a table from its NPY file when there is one: the CSV
+    # file must hold the same numbers, bit for bit.
+    r = veselov.run(EXAMPLES / "kepler.toml", out=tmp_path / "run")
+    traj = r.arrays["trajectory"]
+    from_csv = veselov._read_csv(tmp_path / "run" / "trajectory.csv")
+    assert list(from_csv) == list(r.tables["trajectory"])
+    for i, column in enumerate(from_csv):
+        assert same_bits(traj[:, i], from_csv[column])
+        assert same_bits(r[column], from_csv[column])
+
+
+def test_bad_scenario_raises_scenario_error_naming_the_key(tmp_path):
+    base = {
+        "model": {"name": "kepler"},
+        "method": {"name": "midpoint", "dt": 0.01},
+        "time": {"t_end": 1.0},
+    }
+    bad_dt = {**base, "method": {"name": "midpoint", "dt": -1.0}}
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.run(bad_dt)
+    assert e.value.key == "method.dt"
+    assert "expected a finite number > 0" in str(e.value)
+
+    bad_type = (EXAMPLES / "kepler.toml").read_text().replace("dt = 0.01", 'dt = "fast"')
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.run(bad_type)
+    assert e.value.key == "method.dt"
+
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.run({**base, "initial": {"q": [1.0], "p": [0.0, 1.0]}})
+    assert e.value.key == "initial.q"
+
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.ensemble(base, [{}, {"method.dt": 0.0}])
+    assert e.value.key == "method.dt" and "member 1" in str(e.value)
+
+
+def test_a_run_failing_mid_way_returns_its_partial_arrays():
+    # q'' = q³ from q = 1, p = 1 blows up at a finite time t* < 2: the run stops there.
+    scenario = {
+        "model": {
+            "name": "custom",
+            "coordinates": ["x"],
+            "lagrangian": "0.5*x_dot^2 + 0.25*x^4",
+        },
+        "method": {"name": "midpoint", "dt": 0.01},
+        "time": {"t_end": 5.0},
+        "initial": {"q": [1.0], "p": [1.0]},
+    }
+    r = veselov.run(scenario)
+    assert r.status == "error" == r.summary["status"]
+    assert r.summary["failure"] is not None and r.message
+    steps = r.summary["steps"]
+    assert 0 < steps < 500
+    assert len(r["t"]) == steps + 1
+    assert np.all(np.isfinite(r["q0"]))
+
+
+def vdp_members(n):
+    rng = np.random.default_rng(4)
+    return [{"initial.q": [float(a), float(b)], "time.t_end": 5.0} for a, b in rng.normal(size=(n, 2))]
+
+
+def test_ensemble_equals_sequential_runs():
+    members = vdp_members(6)
+    together = veselov.ensemble(EXAMPLES / "van_der_pol.toml", members, workers=2)
+    calls = []
+    alone = veselov.ensemble(EXAMPLES / "van_der_pol.toml", members, workers=1, progress=lambda d, n: calls.append(d))
+    assert calls[-1] == len(members)
+    for i, m in enumerate(members):
+        seq = veselov.run(veselov._native.merge((EXAMPLES / "van_der_pol.toml").read_text(), veselov.toml_text(m))[1])
+        for r in (together[i], alone[i]):
+            assert r.status == "ok"
+            assert r["q0"][0] == m["initial.q"][0]
+            for c in seq.tables["trajectory"]:
+                assert same_bits(r[c], seq[c]), (i, c)
+
+
+def test_dask_local_cluster_equals_local_ensemble():
+    distributed = pytest.importorskip("distributed")
+    members = vdp_members(5)
+    local = veselov.ensemble(EXAMPLES / "van_der_pol.toml", members)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            from veselov import dask as vdask
+
+            remote = vdask.ensemble(client, EXAMPLES / "van_der_pol.toml", members, batch=2)
+    assert len(remote) == len(local)
+    for a, b in zip(local, remote):
+        assert a.status == b.status == "ok"
+        for c in a.tables["trajectory"]:
+            assert same_bits(a[c], b[c])
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT])
+def test_a_signal_interrupts_a_run(signum, tmp_path):
+    long = {"time.t_end": 1.0e6, "output.every": 1000}
+    text = veselov._native.merge((EXAMPLES / "kepler.toml").read_text(), veselov.toml_text(long))[1]
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signum))
+    timer.start()
+    try:
+        r = veselov.run(text, out=tmp_path / "run")
+    finally:
+        timer.cancel()
+    assert r.status == "interrupted" == r.summary["status"]
+    steps = r.summary["steps"]
+    assert 0 < steps < 1e8
+    assert len(r["t"]) >= 1
+    assert np.all(np.isfinite(r["energy"]))
+
+
+def test_catalogues_and_verify():
+    names = {m["name"] for m in veselov.models()}
+    assert {"kepler", "van-der-pol", "rigid-body"} <= names
+    assert any(m["name"] == "midpoint" for m in veselov.methods())
+    r = veselov.verify(EXAMPLES / "harmonic.toml", dt=[0.1, 0.05, 0.025])
+    assert r.status == "ok"
+    assert r.tables
+
+
+def test_overrides_merge_dotted_keys_and_tables():
+    text = veselov.toml_text({"method.dt": 0.5, "method": {"name": "midpoint"}, "initial.q": [0.1, 2]})
+    assert text == '"method" = { "dt" = 0.5, "name" = "midpoint" }\n"initial" = { "q" = [0.1, 2] }\n'
+    status, merged, _ = veselov._native.merge((EXAMPLES / "van_der_pol.toml").read_text(), text)
+    assert status == "ok"
+    assert 'name = "midpoint"' in merged and "dt = 0.5" in merged and "stages = 3" in merged
