@@ -519,19 +519,8 @@ where
     }
 }
 
-/// The positions of `energy.csv`, `momentum.csv`, `snapshots.npy` and
-/// `snapshot_times.csv` at a checkpoint (the first words of the observer's record).
-fn read_positions(w: &mut Words<'_>) -> veselov::Result<[Position; 4]> {
-    let mut p = [Position::default(); 4];
-    for q in &mut p {
-        q.bytes = w.one()?.to_bits();
-        q.rows = w.one()?.to_bits();
-    }
-    Ok(p)
-}
-
 impl<P, const M: usize> CfkObserver<P, M> {
-    /// Restore the accumulators after [`read_positions`].
+    /// Restore the accumulators after [`Position::read_all`].
     fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
         [self.energy0, self.energy_error_max, self.charge0, self.charge_error_max] =
             [w.one()?, w.one()?, w.one()?, w.one()?];
@@ -551,7 +540,7 @@ impl<P, const M: usize> Resumable for CfkObserver<P, M> {
             self.snapshots.position()?,
             self.times.position()?,
         ] {
-            out.extend([p.bytes, p.rows].map(f64::from_bits));
+            p.save(out);
         }
         out.extend([self.energy0, self.energy_error_max, self.charge0, self.charge_error_max]);
         out.push(f64::from(u8::from(self.last_snapshot.is_some())));
@@ -622,7 +611,7 @@ where
     let saved = session.resumed.clone();
     let mut words = saved.as_ref().map(|c| Words::new(&c.observer));
     let at = match &mut words {
-        Some(w) => read_positions(w).map_err(|e| words_error(&dir, e))?.map(Some),
+        Some(w) => Position::read_all(w).map_err(|e| words_error(&dir, e))?.map(Some),
         None => [None; 4],
     };
     let mut obs = CfkObserver {

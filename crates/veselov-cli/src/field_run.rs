@@ -116,7 +116,7 @@ impl<S> Observer<S> for FieldObserver<'_, S> {
 
 impl<S> FieldObserver<'_, S> {
     /// Restore the accumulators saved by [`Resumable::save`] (after the
-    /// stream positions, which [`read_positions`] has read).
+    /// stream positions, which [`Position::read_all`] has read).
     fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
         self.energy_rows = w.one()?.to_bits();
         self.last_snapshot_time = w.one()?;
@@ -134,17 +134,6 @@ impl<S> FieldObserver<'_, S> {
     }
 }
 
-/// The positions of `energy.csv`, `snapshots.npy` and `snapshot_times.csv`
-/// at a checkpoint (the first words of the observer's record).
-fn read_positions(w: &mut Words<'_>) -> veselov::Result<[Position; 3]> {
-    let mut p = [Position::default(); 3];
-    for q in &mut p {
-        q.bytes = w.one()?.to_bits();
-        q.rows = w.one()?.to_bits();
-    }
-    Ok(p)
-}
-
 impl<S> Resumable for FieldObserver<'_, S> {
     /// Stream positions first (read before the files are reopened), then the accumulators.
     fn save(&mut self, out: &mut Vec<f64>) -> Result<(), CliError> {
@@ -153,7 +142,7 @@ impl<S> Resumable for FieldObserver<'_, S> {
             self.snapshots.position()?,
             self.times.position()?,
         ] {
-            out.extend([p.bytes, p.rows].map(f64::from_bits));
+            p.save(out);
         }
         out.push(f64::from_bits(self.energy_rows));
         out.push(self.last_snapshot_time);
@@ -232,7 +221,7 @@ where
     let saved = session.resumed.clone();
     let mut words = saved.as_ref().map(|c| Words::new(&c.observer));
     let at = match &mut words {
-        Some(w) => read_positions(w).map_err(|e| words_error(&dir, e))?.map(Some),
+        Some(w) => Position::read_all(w).map_err(|e| words_error(&dir, e))?.map(Some),
         None => [None; 3],
     };
     let mut obs = FieldObserver {

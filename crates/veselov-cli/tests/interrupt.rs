@@ -132,11 +132,8 @@ fn interrupt_and_resume(name: &str, text: &str, files: &Files) {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-#[test]
-fn mechanics_run_survives_sigterm_and_resumes_bit_for_bit() {
-    interrupt_and_resume(
-        "mechanics",
-        r#"
+/// A mechanics run long enough to be interrupted (a few seconds).
+const DOUBLE_PENDULUM: &str = r#"
 [model]
 name = "double-pendulum"
 [method]
@@ -152,8 +149,13 @@ v = [0.0, 0.0]
 every = 7
 formats = ["csv", "npy"]
 plots = false
-checkpoint_every = 5000
-"#,
+"#;
+
+#[test]
+fn mechanics_run_survives_sigterm_and_resumes_bit_for_bit() {
+    interrupt_and_resume(
+        "mechanics",
+        &format!("{DOUBLE_PENDULUM}checkpoint_every = 5000\n"),
         &TRAJECTORY,
     );
 }
@@ -288,23 +290,7 @@ fn checkpoints_by_wall_time_resume_bit_for_bit() {
     // No `checkpoint_every`: only the clock writes checkpoints before the end.
     interrupt_and_resume(
         "clock",
-        r#"
-[model]
-name = "double-pendulum"
-[method]
-name = "galerkin-lobatto"
-stages = 3
-dt = 0.001
-[time]
-steps = 400000
-[initial]
-q = [1.5, -0.5]
-v = [0.0, 0.0]
-[output]
-every = 7
-formats = ["csv", "npy"]
-plots = false
-"#,
+        DOUBLE_PENDULUM,
         &Files {
             args: &["--checkpoint-seconds", "0.2"],
             ..TRAJECTORY

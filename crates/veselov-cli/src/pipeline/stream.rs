@@ -33,6 +33,26 @@ pub struct Position {
     pub rows: u64,
 }
 
+impl Position {
+    /// Append this position to checkpoint words (its two counts, exactly).
+    pub fn save(&self, out: &mut Vec<f64>) {
+        out.extend([self.bytes, self.rows].map(f64::from_bits));
+    }
+
+    /// Read `K` positions written by [`Position::save`].
+    ///
+    /// # Errors
+    /// If the words run out.
+    pub fn read_all<const K: usize>(w: &mut veselov::run::Words<'_>) -> veselov::Result<[Position; K]> {
+        let mut p = [Position::default(); K];
+        for q in &mut p {
+            q.bytes = w.one()?.to_bits();
+            q.rows = w.one()?.to_bits();
+        }
+        Ok(p)
+    }
+}
+
 /// Open `path` for writing: created fresh, or (resuming) truncated to `at`
 /// and positioned at its end.
 fn open(path: &Path, at: Option<Position>) -> Result<(BufWriter<File>, Position), CliError> {
