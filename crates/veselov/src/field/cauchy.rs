@@ -359,6 +359,11 @@ where
                 continue;
             }
             let (cell, y) = self.cell_values(w, i, sigma, top);
+            let mut exact = [SVector::zeros(); MAX_CELL_VERTICES];
+            if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n]) {
+                out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].copy_from_slice(&exact[1..=n]);
+                continue;
+            }
             for l in 1..=n {
                 out[sigma * (n + 1) + l] = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], l).1;
             }
@@ -413,7 +418,12 @@ where
                     jac += block;
                     g
                 } else {
-                    vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], 0).1
+                    let mut exact = [SVector::zeros(); MAX_CELL_VERTICES];
+                    if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n]) {
+                        exact[0]
+                    } else {
+                        vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], 0).1
+                    }
                 };
                 leg += g;
                 scale += g.amax();

@@ -36,6 +36,14 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         true
     }
 
+    /// The exact vertex gradients ∂L_β/∂y_l (l = 0 … k, in the chart
+    /// y_l·τ(ξ), as [`vertex_gradient`]) of `cell` at `y` into `out[..=k]`,
+    /// when the Lagrangian supplies them; returns `false` (default) to use
+    /// the dual-number pass, which stays the reference.
+    fn analytic_gradients(&self, _cell: &TopCell, _y: &[F::Point<f64>], _out: &mut [SVector<f64, M>]) -> bool {
+        false
+    }
+
     /// Whether the cells carry discrete forces (default `false`; then
     /// [`cell_force`](Self::cell_force) is never called).
     fn has_forces(&self) -> bool {

@@ -190,6 +190,7 @@ pub struct CosseratCell<P = NoPotential> {
     pub density: CosseratDensity<P>,
     ds: f64,
     dt: f64,
+    analytic: bool,
 }
 
 /// The quantities of Prop. 6.5 on one triangle.
@@ -216,7 +217,21 @@ impl<P: RodPotential> CosseratCell<P> {
                 return Err(invalid(name, v, "must be positive and finite"));
             }
         }
-        Ok(Self { density, ds, dt })
+        Ok(Self {
+            density,
+            ds,
+            dt,
+            analytic: true,
+        })
+    }
+
+    /// Whether the core uses [`CosseratCell::gradients`] for the vertex
+    /// gradients ∂L_β/∂y_l (`true`, the default) or the dual-number pass
+    /// over [`CosseratCell::try_cell_lagrangian`] (`false`, the reference).
+    #[must_use]
+    pub fn with_analytic_gradients(mut self, on: bool) -> Self {
+        self.analytic = on;
+        self
     }
 
     /// Δs.
@@ -344,6 +359,19 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
     /// Prop. 6.5; NaN on an unsuitable cell (see [`CellCheck::check_cell`]).
     fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>]) -> D {
         self.try_cell_lagrangian(cell, y).unwrap_or(D::from(f64::NAN))
+    }
+
+    /// The exact gradients of Prop. 6.5 ([`CosseratCell::gradients`]) when
+    /// enabled; NaN on an unsuitable cell, as the AD path.
+    fn analytic_gradients(&self, cell: &TopCell, y: &[Pose<f64>], out: &mut [SVector<f64, 6>]) -> bool {
+        if !self.analytic {
+            return false;
+        }
+        match self.gradients(cell, y) {
+            Ok(g) => out[..3].copy_from_slice(&g),
+            Err(_) => out[..3].fill(SVector::from_element(f64::NAN)),
+        }
+        true
     }
 }
 

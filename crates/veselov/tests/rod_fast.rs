@@ -1,0 +1,108 @@
+//! The rod's analytic vertex gradients in the core's hot path (issue 14):
+//! [`CosseratCell::gradients`] (note 003 §3.5) replaces the dual-number pass
+//! over L_β in the stored cell gradients and the residual passes of the
+//! vertex solve; the AD path stays selectable and is the reference.
+
+use nalgebra::{SVector, Vector3};
+use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
+use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
+use veselov::field::discretize::{CosseratCell, CosseratDensity, RodParameters};
+use veselov::field::fibre::{Fibre, Pose, PositionRotation};
+use veselov::lie::so3;
+use veselov::models::rod::{CrossSection, Material, RodLattice, Shear, rod_parameters};
+
+fn parameters() -> RodParameters {
+    let material = Material {
+        density: 1.0,
+        young: 1.0,
+        shear: Shear::Poisson(0.3),
+        shear_coefficient: 0.9,
+    };
+    rod_parameters(&CrossSection::Circle { radius: 0.1 }, &material).expect("valid rod")
+}
+
+/// A tumbling, translating rod with a bending wave.
+fn motion(length: f64) -> impl Fn(f64, f64) -> Pose<f64> {
+    move |s, t| {
+        let k = std::f64::consts::PI / length;
+        let spin = so3::exp(&(Vector3::new(0.3, -0.2, 0.5) * t));
+        let bend = 0.05 * (k * s).sin() * (1.0 + 0.5 * (3.0 * t).cos());
+        let slope = 0.05 * k * (k * s).cos() * (1.0 + 0.5 * (3.0 * t).cos());
+        let local = Vector3::new(bend, 0.02 * (2.0 * k * s).sin() * t, s * (1.0 + 0.01 * t));
+        let frame = spin.compose(&so3::exp(&Vector3::new(0.0, slope, 0.1 * s * t)));
+        Pose::new(spin.act(&local) + Vector3::new(0.1, 0.2, -0.3) * t, frame)
+    }
+}
+
+fn cell(lattice: &RodLattice, analytic: bool) -> CosseratCell {
+    CosseratCell::new(CosseratDensity::free(parameters()), lattice.ds(), lattice.dt())
+        .expect("spacings")
+        .with_analytic_gradients(analytic)
+}
+
+fn march(lag: CosseratCell, lattice: &RodLattice) -> CauchyMarcher<PositionRotation, CosseratCell, 6> {
+    let data = lattice.cauchy_data(motion(lattice.length()));
+    CauchyMarcher::with_window(
+        lag,
+        lattice.torus().clone(),
+        0,
+        &data,
+        CauchyOptions::default(),
+        lattice.window(),
+    )
+    .expect("marcher")
+}
+
+#[test]
+fn analytic_gradients_are_offered_only_when_enabled_and_match_the_ad_pass() {
+    let lattice = RodLattice::new(21, 1.0, 0.05).expect("lattice");
+    let (on, off) = (cell(&lattice, true), cell(&lattice, false));
+    let m = march(on, &lattice);
+    let mut checked = 0;
+    m.for_each_straddling_cell(|c, y| {
+        let mut out = [SVector::<f64, 6>::zeros(); 3];
+        assert!(!off.analytic_gradients(c, y, &mut out));
+        assert!(on.analytic_gradients(c, y, &mut out));
+        for (l, g) in out.iter().enumerate() {
+            let ad = vertex_gradient::<PositionRotation, _, 6>(&off, c, y, l).1;
+            assert!(
+                (g - ad).amax() <= 1e-12 * ad.amax().max(1e-300),
+                "cell {c:?} position {l}: {g} vs {ad}"
+            );
+        }
+        checked += 1;
+    });
+    assert!(checked > 0);
+}
+
+#[test]
+fn analytic_and_ad_marches_agree_over_sixty_levels() {
+    let lattice = RodLattice::new(21, 1.0, 0.05).expect("lattice");
+    let (mut fast, mut reference) = (
+        march(cell(&lattice, true), &lattice),
+        march(cell(&lattice, false), &lattice),
+    );
+    let (mut worst, mut iterations) = (0.0_f64, [0, 0]);
+    for _ in 0..60 {
+        iterations[0] += fast.step().expect("stable step").iterations;
+        iterations[1] += reference.step().expect("stable step").iterations;
+        let w = fast.top_level();
+        assert_eq!(w, reference.top_level());
+        for (a, b) in fast
+            .level_values(w)
+            .expect("level")
+            .iter()
+            .zip(reference.level_values(w).expect("level"))
+        {
+            let (mut ca, mut cb) = ([0.0; 12], [0.0; 12]);
+            PositionRotation::write(a, &mut ca);
+            PositionRotation::write(b, &mut cb);
+            let scale = cb.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
+            for (x, y) in ca.iter().zip(&cb) {
+                worst = worst.max((x - y).abs() / scale);
+            }
+        }
+    }
+    assert!(worst <= 1e-12, "analytic vs AD march differ by {worst:.1e}");
+    assert_eq!(iterations[0], iterations[1], "Newton iteration counts differ");
+}
