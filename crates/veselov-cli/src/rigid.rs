@@ -32,14 +32,14 @@ use veselov::lgvi::{
 };
 use veselov::lie::{CayleyMap, ExpMap, GroupFamily, Retraction, RigidMotions, Rotations, SE3, SO3, so3};
 use veselov::models::{FreeRigidBody, FreeRigidBodySE3, HeavyTop};
-use veselov::run::{GroupStepper, Status, StopWhen, Words};
+use veselov::run::GroupStepper;
 
 use crate::error::CliError;
 use crate::output::prepare_dir;
-use crate::pipeline::finish::{empty_outcome, finish, open_table_session, t_of, totals};
+use crate::pipeline::finish::{finish, open_table_session, start_or_resume, t_of, totals};
 use crate::pipeline::stream::TableSink;
+use crate::pipeline::summary;
 use crate::pipeline::table::{Acc, TableObserver};
-use crate::pipeline::{restore, summary, words_error};
 use crate::run::RunJob;
 use crate::scenario::{
     OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, output_dir, parse_toml, planned_steps,
@@ -583,23 +583,7 @@ where
     table.track("orthogonality_defect", Acc::Max);
     let mut stepper = GroupStepper::new(&mut map, x0.t);
     let mut x = x0;
-    let mut first = 0;
-    let mut start_failure = None;
-    match session.resumed.clone() {
-        Some(saved) => {
-            restore(&session.dir, &mut x, &mut Words::new(&saved.state))?;
-            restore(&session.dir, &mut stepper, &mut Words::new(&saved.stepper))?;
-            table
-                .resume(saved.step, &x, &mut Words::new(&words))
-                .map_err(|e| words_error(&session.dir, e))?;
-            first = saved.step;
-        }
-        None => start_failure = table.start(0, &x0).err(),
-    }
-    let outcome = match start_failure {
-        Some(e) => empty_outcome(Status::Failed(e)),
-        None => session.execute(&mut stepper, &mut x, first, StopWhen::steps(steps), &mut table)?,
-    };
+    let outcome = start_or_resume(&mut session, &mut stepper, &mut x, &mut table, &words, steps)?;
     let (iterations, _) = totals(&session, &outcome);
     let wall = session.wall_seconds();
     let t_final = t_of(outcome.last_step, x0.t, s.method.dt);

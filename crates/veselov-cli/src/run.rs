@@ -12,7 +12,7 @@ use crate::catalog::{self, Choice};
 use crate::error::CliError;
 use crate::output::Table;
 pub use crate::pipeline::RunJob;
-use crate::pipeline::finish::{empty_outcome, finish, open_table_session, t_of, totals};
+use crate::pipeline::finish::{empty_outcome, finish, open_table_session, start_or_resume, t_of, totals};
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, TableObserver, Tracker};
 use crate::pipeline::{restore, summary, words_error};
@@ -178,23 +178,7 @@ fn run_fixed<const N: usize>(
     }
     let mut stepper = PhaseStepper::new(map.as_mut(), x0.t);
     let mut x = x0;
-    let mut first = 0;
-    let mut start_failure = None;
-    match session.resumed.clone() {
-        Some(saved) => {
-            restore(&session.dir, &mut x, &mut Words::new(&saved.state))?;
-            restore(&session.dir, &mut stepper, &mut Words::new(&saved.stepper))?;
-            table
-                .resume(saved.step, &x, &mut Words::new(&words))
-                .map_err(|e| words_error(&session.dir, e))?;
-            first = saved.step;
-        }
-        None => start_failure = table.start(0, &x0).err(),
-    }
-    let outcome = match start_failure {
-        Some(e) => empty_outcome(Status::Failed(e)),
-        None => session.execute(&mut stepper, &mut x, first, StopWhen::steps(steps), &mut table)?,
-    };
+    let outcome = start_or_resume(&mut session, &mut stepper, &mut x, &mut table, &words, steps)?;
     let (iterations, fallback) = totals(&session, &outcome);
     let wall = session.wall_seconds();
     let t_final = t_of(outcome.last_step, x0.t, dt);

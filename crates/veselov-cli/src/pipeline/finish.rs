@@ -3,16 +3,51 @@
 
 use std::path::Path;
 
-use veselov::run::{Outcome, Status, Words};
+use veselov::run::{Checkpoint, Outcome, Status, Stepper, StopWhen, Words};
 
 use super::readback::table_for_plots;
 use super::stream::Position;
 use super::table::{TableObserver, restore_positions};
-use super::{Plan, Resumable, RunJob, Session, table_bytes, words_error};
+use super::{Plan, Resumable, RunJob, Session, restore, table_bytes, words_error};
 use crate::error::CliError;
 use crate::figures;
 use crate::output::write_json;
 use crate::scenario::{OutputSpec, TimeSpec, output_dir};
+
+/// Run a fixed-step table run from `x0` (state 0) to state `steps`, or,
+/// resuming, from the checkpoint: `x` and `stepper` restored from its words,
+/// `table` from `words` (the observer words after the file positions). A
+/// failure of the first row ends the run before any step.
+pub fn start_or_resume<S>(
+    session: &mut Session,
+    stepper: &mut S,
+    x: &mut S::State,
+    table: &mut TableObserver<'_, S::State>,
+    words: &[f64],
+    steps: u64,
+) -> Result<Outcome, CliError>
+where
+    S: Stepper + Checkpoint,
+    S::State: Checkpoint + Clone,
+{
+    let first = match session.resumed.clone() {
+        Some(saved) => {
+            restore(&session.dir, x, &mut Words::new(&saved.state))?;
+            restore(&session.dir, stepper, &mut Words::new(&saved.stepper))?;
+            table
+                .resume(saved.step, x, &mut Words::new(words))
+                .map_err(|e| words_error(&session.dir, e))?;
+            saved.step
+        }
+        None => {
+            if let Err(e) = table.start(0, x) {
+                return Ok(empty_outcome(Status::Failed(e)));
+            }
+            0
+        }
+    };
+    session.execute(stepper, x, first, StopWhen::steps(steps), table)
+}
 
 /// A session, the positions of its table's files and the rest of the
 /// observer words (when resuming).
