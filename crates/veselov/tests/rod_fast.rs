@@ -1,7 +1,8 @@
-//! The rod's analytic vertex gradients in the core's hot path (issue 14):
-//! [`CosseratCell::gradients`] (note 003 §3.5) replaces the dual-number pass
-//! over L_β in the stored cell gradients and the residual passes of the
-//! vertex solve; the AD path stays selectable and is the reference.
+//! The rod's closed forms in the core's hot path: [`CosseratCell::gradients`]
+//! (note 003 §3.5) replaces the dual-number pass over L_β in the stored cell
+//! gradients, and the split step of note 003 §3.6 (linear position solve,
+//! then a 3-D rotation Newton) replaces the generic 6-D Newton; the AD path
+//! with the generic Newton stays selectable and is the reference.
 
 use nalgebra::{SVector, Vector3};
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
@@ -40,17 +41,18 @@ fn cell(lattice: &RodLattice, analytic: bool) -> CosseratCell {
         .with_analytic_gradients(analytic)
 }
 
+/// Every vertex solved to round-off: with a tolerance below it every solve
+/// ends at the stall test, so two solvers' roots differ only by round-off
+/// (with the default 10⁻¹⁴ they differ by up to that tolerance per vertex,
+/// which accumulates to ~10⁻¹² over 60 levels).
+const ROUND_OFF: CauchyOptions = CauchyOptions {
+    tolerance: 1e-16,
+    max_iterations: 30,
+};
+
 fn march(lag: CosseratCell, lattice: &RodLattice) -> CauchyMarcher<PositionRotation, CosseratCell, 6> {
     let data = lattice.cauchy_data(motion(lattice.length()));
-    CauchyMarcher::with_window(
-        lag,
-        lattice.torus().clone(),
-        0,
-        &data,
-        CauchyOptions::default(),
-        lattice.window(),
-    )
-    .expect("marcher")
+    CauchyMarcher::with_window(lag, lattice.torus().clone(), 0, &data, ROUND_OFF, lattice.window()).expect("marcher")
 }
 
 #[test]
@@ -103,6 +105,10 @@ fn analytic_and_ad_marches_agree_over_sixty_levels() {
             }
         }
     }
-    assert!(worst <= 1e-12, "analytic vs AD march differ by {worst:.1e}");
-    assert_eq!(iterations[0], iterations[1], "Newton iteration counts differ");
+    println!("split step vs generic AD Newton over 60 levels: {worst:.1e}; iterations {iterations:?}");
+    assert!(worst <= 1e-13, "split-step vs AD march differ by {worst:.1e}");
+    // The split step (a linear position solve, then a quadratically
+    // convergent 3-D Newton) needs no more iterations than the generic
+    // simplified 6-D Newton.
+    assert!(iterations[0] <= iterations[1], "iterations {iterations:?}");
 }

@@ -26,10 +26,12 @@
 //! inside the window enter the action, so the end vertices solve their
 //! truncated stars; vertices outside keep their values and are never read.
 
+use std::sync::Arc;
+
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, mixed_block, vertex_gradient};
+use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, force_block, mixed_block, vertex_force, vertex_gradient};
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
 use super::fibre::{Euclidean, Fibre};
 pub use super::legendre::{CauchyOptions, LevelReport};
@@ -60,7 +62,13 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     origins: Vec<[i64; MAX_LATTICE_DIMENSION]>,
     /// The finite body the march is confined to, if any.
     window: Option<MaterialWindow>,
+    /// Prescribed values (Dirichlet data), by the canonical coordinates of the vertex.
+    dirichlet: Option<Dirichlet<F::Point<f64>>>,
 }
+
+/// Dirichlet data of a march: the prescribed value at the vertex with the
+/// given canonical lattice coordinates, or `None` where the field is free.
+pub type Dirichlet<P> = Arc<dyn Fn(&[i64]) -> Option<P> + Send + Sync>;
 
 impl<F, L, const M: usize> CauchyMarcher<F, L, M>
 where
@@ -207,6 +215,7 @@ where
             options,
             level: first_level + n as i64,
             window,
+            dirichlet: None,
         };
         for (l, level) in data.iter().enumerate() {
             let slot = marcher.value_slot(first_level + l as i64);
@@ -231,6 +240,19 @@ where
                 self.grads[(slot * size + i) * per_vertex..(slot * size + i + 1) * per_vertex].copy_from_slice(&out);
             }
         }
+    }
+
+    /// Prescribes the field at some vertices (Dirichlet data, e.g. a clamped
+    /// or driven end of a rod): whenever the march reaches a vertex Δv for
+    /// which `data` returns a value (given the canonical coordinates of Δv,
+    /// with a window the representative of its material point), that value
+    /// is taken instead of solving EL_v = 0; the equation at v then holds
+    /// with the reaction of the constraint, which is not computed. The
+    /// Cauchy data must agree with `data` (they are not overwritten).
+    #[must_use]
+    pub fn with_dirichlet(mut self, data: Dirichlet<F::Point<f64>>) -> Self {
+        self.dirichlet = Some(data);
+        self
     }
 
     /// The periodic lattice.
@@ -370,8 +392,9 @@ where
         }
     }
 
-    /// μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} ∂L_β/∂y_v for v = (w, i), with the size of
-    /// the terms.
+    /// μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} (∂L_β/∂y_v + F^{l(v)}_β) for v = (w, i),
+    /// with the size of the terms (the forces F of the discrete
+    /// Lagrange–d'Alembert principle when the Lagrangian has them).
     fn momentum(&self, w: i64, i: usize) -> (SVector<f64, M>, f64) {
         let n = self.torus.dimension();
         let size = self.torus.level_size();
@@ -385,6 +408,12 @@ where
                 let g = &self.grads[(slot * size + base) * per_vertex + sigma * (n + 1) + j];
                 mu -= g;
                 scale += g.amax();
+                if self.lag.has_forces() && self.cell_active(w - j as i64, base, sigma) {
+                    let (cell, y) = self.cell_values(w - j as i64, base, sigma, None);
+                    let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
+                    mu -= f;
+                    scale += f.amax();
+                }
             }
         }
         (mu, scale)
@@ -397,6 +426,12 @@ where
         if !self.is_active(w, i) {
             return (self.value(w, i), VertexOutcome::default());
         }
+        if let Some(data) = &self.dirichlet {
+            let target = self.up(i, 0, n);
+            if let Some(z) = data(&self.origin(w + n as i64, target)) {
+                return (z, VertexOutcome::default());
+            }
+        }
         let (mu, mu_scale) = self.momentum(w, i);
         let yv = self.value(w, i);
         let back = self.down(i, 0, n);
@@ -404,6 +439,17 @@ where
             Ok(xi) => F::retract(&yv, &xi),
             Err(_) => yv,
         };
+        let star = |sigma: usize, out: &mut [F::Point<f64>]| {
+            if sigma >= self.perms.len() || !self.cell_active(w, i, sigma) {
+                return None;
+            }
+            let (cell, y) = self.cell_values(w, i, sigma, None);
+            out[..=n].copy_from_slice(&y[..=n]);
+            Some(cell)
+        };
+        if let Some(solved) = self.lag.solve_last_vertex(&star, &mu, mu_scale, &z, &self.options) {
+            return solved;
+        }
         solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, with_jacobian| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();
@@ -427,6 +473,17 @@ where
                 };
                 leg += g;
                 scale += g.amax();
+                if self.lag.has_forces() {
+                    let f = if with_jacobian {
+                        let (f, block) = force_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
+                        jac += block;
+                        f
+                    } else {
+                        vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], 0)
+                    };
+                    leg += f;
+                    scale += f.amax();
+                }
             }
             (leg, with_jacobian.then_some(jac), scale)
         })
@@ -542,6 +599,48 @@ where
                         let y = self.value(base_level + l as i64, self.up(i, sigma, l));
                         sum += gl.dot(&generator(&y));
                     }
+                }
+            }
+        }
+        sum
+    }
+}
+
+impl<F, L, const M: usize> CauchyMarcher<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    /// The discrete impulse of the forces on the last solved level
+    /// c = `level()` − 1 along a vertical vector field D:
+    /// I(c) = Σ_{w(v) = c} Σ_{β ∋ v} ⟨F^{l(v)}_β, D(y_v)⟩ over the vertices
+    /// of the window. Where EL_v + F_v = 0 holds (every solved vertex) it is
+    /// the change of the level momentum:
+    /// [`level_momentum`](Self::level_momentum) after the step minus before
+    /// equals I(c) when D is a symmetry of the Lagrangian, the discrete
+    /// momentum balance of the Lagrange–d'Alembert principle. Zero without
+    /// forces.
+    pub fn level_impulse(&self, generator: impl Fn(&F::Point<f64>) -> SVector<f64, M>) -> f64 {
+        if !self.lag.has_forces() {
+            return 0.0;
+        }
+        let n = self.torus.dimension();
+        let c = self.level - 1;
+        let mut sum = 0.0;
+        for i in 0..self.torus.level_size() {
+            if !self.is_active(c, i) {
+                continue;
+            }
+            let d = generator(&self.value(c, i));
+            for j in 0..=n {
+                for sigma in 0..self.perms.len() {
+                    let base = if j == 0 { i } else { self.down(i, sigma, j) };
+                    if !self.cell_active(c - j as i64, base, sigma) {
+                        continue;
+                    }
+                    let (cell, y) = self.cell_values(c - j as i64, base, sigma, None);
+                    sum += vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j).dot(&d);
                 }
             }
         }

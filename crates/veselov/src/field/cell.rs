@@ -13,6 +13,7 @@ use num_dual::{Derivative, DualSVec, DualSVec64};
 
 use super::complex::TopCell;
 use super::fibre::Fibre;
+use super::legendre::{CauchyOptions, VertexOutcome};
 use crate::ad::Scalar;
 
 /// Largest number of vertices of a top cell the derivative routines accept
@@ -57,6 +58,28 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// the vertex solves get its exact derivative. Default zero.
     fn cell_force<D: Scalar>(&self, _cell: &TopCell, _y: &[F::Point<D>], _l: usize) -> SVector<D, M> {
         SVector::from_element(D::zero())
+    }
+
+    /// A model's own solve of one vertex equation of the Cauchy integrator
+    /// (note 003 §2.4): find z with
+    /// Σ_σ (∂L_{(v,σ)}/∂y_v + F⁰_{(v,σ)})(y_v, …, z) = μ over the cells
+    /// (v, σ) based at v, whose last vertex is z. `star(σ, out)` writes the
+    /// values of cell σ (the last one a placeholder) into `out` and returns
+    /// the cell, or `None` when the cell is not part of the action; `start`
+    /// is the extrapolated first guess, `mu_scale` the size of μ's terms.
+    /// Returns `None` (default) to use the generic Newton in the fibre's
+    /// chart ([`solve_legendre`](super::legendre::solve_legendre)), which
+    /// stays the reference; an implementation must solve the same equations
+    /// to round-off and report its outcome the same way.
+    fn solve_last_vertex(
+        &self,
+        _star: &dyn Fn(usize, &mut [F::Point<f64>]) -> Option<TopCell>,
+        _mu: &SVector<f64, M>,
+        _mu_scale: f64,
+        _start: &F::Point<f64>,
+        _options: &CauchyOptions,
+    ) -> Option<(F::Point<f64>, VertexOutcome)> {
+        None
     }
 }
 

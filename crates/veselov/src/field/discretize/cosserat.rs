@@ -19,6 +19,7 @@ use crate::field::cell::DiscreteLagrangian;
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::lattice::invalid;
+use crate::field::legendre::{CauchyOptions, VertexOutcome};
 use crate::lie::so3;
 
 /// External potential P(s, r) of the rod (enters (6.1) as −½P).
@@ -191,6 +192,7 @@ pub struct CosseratCell<P = NoPotential> {
     ds: f64,
     dt: f64,
     analytic: bool,
+    loads: Option<RodLoads>,
 }
 
 /// The quantities of Prop. 6.5 on one triangle.
@@ -222,12 +224,33 @@ impl<P: RodPotential> CosseratCell<P> {
             ds,
             dt,
             analytic: true,
+            loads: None,
         })
     }
 
-    /// Whether the core uses [`CosseratCell::gradients`] for the vertex
-    /// gradients ∂L_β/∂y_l (`true`, the default) or the dual-number pass
-    /// over [`CosseratCell::try_cell_lagrangian`] (`false`, the reference).
+    /// The rod with damping and an end load ([`RodLoads`]) as discrete
+    /// Lagrange–d'Alembert forces.
+    ///
+    /// # Errors
+    /// [`crate::error::Error::InvalidParameter`] naming the field of
+    /// [`RodLoads`] at fault.
+    pub fn with_loads(mut self, loads: RodLoads) -> Result<Self> {
+        loads.validate()?;
+        self.loads = Some(loads);
+        Ok(self)
+    }
+
+    /// The loads, if any.
+    pub fn loads(&self) -> Option<&RodLoads> {
+        self.loads.as_ref()
+    }
+
+    /// Whether the core uses the closed forms — [`CosseratCell::gradients`]
+    /// for the vertex gradients ∂L_β/∂y_l and the split vertex solve of note
+    /// 003 §3.6 (a linear solve for the position, then a 3-D Newton for the
+    /// rotation; [`super::cosserat_step`]) — (`true`, the default) or the
+    /// dual-number passes over [`CosseratCell::try_cell_lagrangian`] and the
+    /// generic 6-D Newton (`false`, the reference).
     #[must_use]
     pub fn with_analytic_gradients(mut self, on: bool) -> Self {
         self.analytic = on;
@@ -343,15 +366,177 @@ impl<P: RodPotential> CosseratCell<P> {
             c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0),
         ];
         let gq = [
-            -db * jw * (ds / 4.0)
-                + so3::hat(&(r0.transpose() * c.g)) * p.c1 * c.eps * self.area()
-                + (da * 2.0 - db) * c2u * (st / 4.0),
+            self.rotation_terms(c.sigma, &c.a, &da, &c.b) + self.strain_torque(r0, &c.g, &c.eps),
             -da.transpose() * c2u * (st / 2.0),
             db.transpose() * jw * (ds / 4.0) + db.transpose() * c2u * (st / 4.0),
         ];
         Ok(std::array::from_fn(|k| {
             SVector::<f64, 6>::new(gr[k][0], gr[k][1], gr[k][2], gq[k][0], gq[k][1], gq[k][2])
         }))
+    }
+}
+
+impl<P: RodPotential> CosseratCell<P> {
+    /// The terms of ∇_{R₀}L_β that depend on b = log(R₀ᵀR₂) (note 003 §3.5):
+    /// −(Δs/4)D_bJω_d + (σΔt/4)(2D_a − D_b)C₂u with D_b = dlog b,
+    /// ω_d = b/Δt, u = (2a − b)/(σΔs), over any scalar (the rotation Newton
+    /// of the split step differentiates them in b). `da` = D_a.
+    pub(crate) fn rotation_terms<D: Scalar>(
+        &self,
+        sigma: f64,
+        a: &Vector3<f64>,
+        da: &Matrix3<f64>,
+        b: &Vector3<D>,
+    ) -> Vector3<D> {
+        let p = &self.density.parameters;
+        let db = so3::dexp_inv(&(-b));
+        let omega = b / D::from(self.dt);
+        let u = (a.map(D::from) * D::from(2.0) - b) / D::from(sigma * self.ds);
+        let c2u = p.c2.map(D::from) * u;
+        let jw = p.inertia.map(D::from) * omega;
+        -(db * jw) * D::from(self.ds / 4.0)
+            + (da.map(D::from) * D::from(2.0) - db) * c2u * D::from(sigma * self.dt / 4.0)
+    }
+
+    /// The strain term of ∇_{R₀}L_β: A_β (R₀ᵀg)^ C₁ε (note 003 §3.5).
+    pub(crate) fn strain_torque(&self, r0: &Matrix3<f64>, g: &Vector3<f64>, eps: &Vector3<f64>) -> Vector3<f64> {
+        so3::hat(&(r0.transpose() * g)) * self.density.parameters.c1 * eps * self.area()
+    }
+
+    /// g = (2r₁ − r₀ − r₂)/(σΔs) and ε = R₀ᵀg − e of Prop. 6.5.
+    pub(crate) fn linear_strain(
+        &self,
+        sigma: f64,
+        y0: &Pose<f64>,
+        r1: &Vector3<f64>,
+        r2: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let g = (r1 * 2.0 - y0.position - r2) / (sigma * self.ds);
+        (g, y0.rotation.matrix().transpose() * g - self.density.parameters.strain)
+    }
+
+    /// The discrete energy of one cell, A_β[½ρ|v_d|² + ½ω_dᵀJω_d + ½εᵀC₁ε
+    /// + ½uᵀC₂u + ½P(s₀, r₀)] (kinetic plus elastic plus potential, the
+    /// terms of Prop. 6.5 with the potential ones' sign reversed). Summed
+    /// over the cells of one slab of duration Δt and divided by Δt it is the
+    /// rod's energy at that time; not exactly conserved (the march conserves
+    /// the discrete momenta exactly and keeps this energy bounded).
+    ///
+    /// # Errors
+    /// As [`CosseratCell::try_cell_lagrangian`].
+    pub fn cell_energy(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<f64, CellError> {
+        let c = self.cell(cell, y)?;
+        let p = &self.density.parameters;
+        let e = c.v.dot(&c.v) * (0.5 * p.rho)
+            + quad(&p.inertia, &c.omega)
+            + quad(&p.c1, &c.eps)
+            + quad(&p.c2, &c.u)
+            + self.density.potential.potential(c.s0, &y[0].position) * 0.5;
+        Ok(e * self.area())
+    }
+
+    /// The force F^l_β of the loads at position `l` of `cell` (zero without loads).
+    fn force<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>], l: usize) -> SVector<D, 6> {
+        let zero = SVector::from_element(D::zero());
+        let Some(loads) = &self.loads else {
+            return zero;
+        };
+        if y.len() != 3 || l > 2 {
+            return zero;
+        }
+        let mut f = zero;
+        if l != 1 && (loads.damping_linear > 0.0 || loads.damping_angular > 0.0) {
+            // F⁰ = F² = −(A_β/2)(c_r v_d; c_R ω_d): the damping work
+            // ∫∫ −(c_r ∂_t r·δr + c_R ω·η) ds dt by the trapezoidal rule on
+            // the time edge v₀v₂ of the cell.
+            let Ok(b) = Rotations::log(&y[0].rotation, &y[2].rotation) else {
+                return SVector::from_element(D::from(f64::NAN));
+            };
+            let w = -0.5 * self.area() / self.dt;
+            let v = (y[2].position - y[0].position) * D::from(w * loads.damping_linear);
+            let o = b * D::from(w * loads.damping_angular);
+            f += SVector::<D, 6>::new(v[0], v[1], v[2], o[0], o[1], o[2]);
+        }
+        if l == 0 {
+            let p = cell.origin[0] - cell.origin[1];
+            let inside = if loads.tip == 0 { 0 } else { 1 };
+            if p == loads.tip && cell.shape == inside {
+                // Δt·(F; R₀ᵀτ) at the loaded end: each of its vertices stands
+                // for the time Δt between its level and the one two above.
+                let t = (cell.origin[0] + cell.origin[1]) as f64 * 0.5 * self.dt;
+                let k = self.dt * loads.ramp_factor(t);
+                let torque = y[0].rotation.matrix().transpose() * loads.end_torque.map(D::from);
+                let force = loads.end_force * k;
+                f += SVector::<D, 6>::new(
+                    D::from(force[0]),
+                    D::from(force[1]),
+                    D::from(force[2]),
+                    torque[0] * D::from(k),
+                    torque[1] * D::from(k),
+                    torque[2] * D::from(k),
+                );
+            }
+        }
+        f
+    }
+}
+
+/// Damping and an end load of the rod, as the discrete Lagrange–d'Alembert
+/// forces of [`CosseratCell::with_loads`] (seed 004's formalism):
+///
+/// * damping forces −c_r∂_t r and body torques −c_Rω per unit length, by
+///   the trapezoidal rule on each cell's time edge:
+///   F⁰_β = F²_β = −(A_β/2)(c_r v_d; c_R ω_d), F¹_β = 0;
+/// * a force F and a torque τ (spatial frame) at the end material point
+///   `tip` (0 or the last), ramped linearly from zero over `ramp` (time
+///   t = wΔt/2 of level w): each vertex of that end receives the impulse
+///   Δt·min(t/ramp, 1)·(F; R_vᵀτ) (left-trivialised), on the cell based at
+///   it that lies in the body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RodLoads {
+    /// Linear damping coefficient c_r per unit length (≥ 0).
+    pub damping_linear: f64,
+    /// Angular damping coefficient c_R per unit length (≥ 0).
+    pub damping_angular: f64,
+    /// Force at the loaded end (spatial frame).
+    pub end_force: Vector3<f64>,
+    /// Torque at the loaded end (spatial frame).
+    pub end_torque: Vector3<f64>,
+    /// Material point of the loaded end (0 or the last point of the rod).
+    pub tip: i64,
+    /// Ramp duration (0: applied at full strength from the start).
+    pub ramp: f64,
+}
+
+impl RodLoads {
+    fn validate(&self) -> Result<()> {
+        for (name, v) in [
+            ("damping_linear", self.damping_linear),
+            ("damping_angular", self.damping_angular),
+            ("ramp", self.ramp),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(invalid(name, v, "must be finite and non-negative"));
+            }
+        }
+        for (name, v) in [("end_force", self.end_force), ("end_torque", self.end_torque)] {
+            if !v.iter().all(|x| x.is_finite()) {
+                return Err(invalid(name, format!("{v}"), "must be finite"));
+            }
+        }
+        if self.tip < 0 {
+            return Err(invalid("tip", self.tip, "must be a material point (0 or the last)"));
+        }
+        Ok(())
+    }
+
+    /// min(t/ramp, 1) (1 without a ramp).
+    pub fn ramp_factor(&self, t: f64) -> f64 {
+        if self.ramp > 0.0 {
+            (t / self.ramp).clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
     }
 }
 
@@ -372,6 +557,28 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
             Err(_) => out[..3].fill(SVector::from_element(f64::NAN)),
         }
         true
+    }
+
+    fn has_forces(&self) -> bool {
+        self.loads.is_some()
+    }
+
+    fn cell_force<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>], l: usize) -> SVector<D, 6> {
+        self.force(cell, y, l)
+    }
+
+    /// The split step of note 003 §3.6 ([`super::cosserat_step`]) when the
+    /// closed forms are enabled.
+    fn solve_last_vertex(
+        &self,
+        star: &dyn Fn(usize, &mut [Pose<f64>]) -> Option<TopCell>,
+        mu: &SVector<f64, 6>,
+        mu_scale: f64,
+        start: &Pose<f64>,
+        options: &CauchyOptions,
+    ) -> Option<(Pose<f64>, VertexOutcome)> {
+        self.analytic
+            .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, start, options))
     }
 }
 

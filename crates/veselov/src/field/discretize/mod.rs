@@ -64,6 +64,7 @@
 
 pub mod affine;
 pub mod cosserat;
+pub mod cosserat_step;
 pub mod error;
 pub mod nodes;
 pub mod rules;
@@ -71,7 +72,9 @@ pub mod smooth;
 pub mod suitability;
 
 pub use affine::{AffineJet, CubeCentreRule, MidpointRule, affine_jet, cube_centre_jet};
-pub use cosserat::{CosseratCell, CosseratDensity, LinearPotential, NoPotential, RodParameters, RodPotential};
+pub use cosserat::{
+    CosseratCell, CosseratDensity, LinearPotential, NoPotential, RodLoads, RodParameters, RodPotential,
+};
 pub use error::CellError;
 pub use nodes::{CfkNodes, CubeNodes, NodeMap, cube_corner, factorial, permutation};
 pub use rules::{SINGULAR_NODES, VertexQuadrature, VertexRule, invert, vertex_jet};
