@@ -345,13 +345,13 @@ where
         i: usize,
         sigma: usize,
         top: Option<F::Point<f64>>,
-    ) -> (TopCell, [F::Point<f64>; MAX_CELL_VERTICES]) {
+    ) -> (TopCell, [F::Point<f64>; MAX_LATTICE_DIMENSION + 1]) {
         let n = self.torus.dimension();
         let size = self.torus.level_size();
         let ring = 2 * n + 1;
         let first = self.value_slot(w);
         let base = self.values[first * size + i];
-        let mut y = [base; MAX_CELL_VERTICES];
+        let mut y = [base; MAX_LATTICE_DIMENSION + 1];
         for (l, slot) in y.iter_mut().enumerate().take(n + 1).skip(1) {
             let level_slot = if first + l >= ring { first + l - ring } else { first + l };
             *slot = self.values[level_slot * size + self.up(i, sigma, l)];
@@ -381,7 +381,7 @@ where
                 continue;
             }
             let (cell, y) = self.cell_values(w, i, sigma, top);
-            let mut exact = [SVector::zeros(); MAX_CELL_VERTICES];
+            let mut exact = [SVector::zeros(); MAX_LATTICE_DIMENSION + 1];
             if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n]) {
                 out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].copy_from_slice(&exact[1..=n]);
                 continue;
@@ -464,7 +464,7 @@ where
                     jac += block;
                     g
                 } else {
-                    let mut exact = [SVector::zeros(); MAX_CELL_VERTICES];
+                    let mut exact = [SVector::zeros(); MAX_LATTICE_DIMENSION + 1];
                     if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n]) {
                         exact[0]
                     } else {

@@ -349,24 +349,20 @@ impl<P: RodPotential> CosseratCell<P> {
     pub fn gradients(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<[SVector<f64, 6>; 3], CellError> {
         let c = self.cell(cell, y)?;
         let p = &self.density.parameters;
-        let (ds, dt, st) = (self.ds, self.dt, c.sigma * self.dt);
+        let (ds, st) = (self.ds, c.sigma * self.dt);
         let r0 = y[0].rotation.matrix();
-        let (_, grad_p) = gradient(
-            |r: SVector<DualSVec64<3>, 3>| self.density.potential.potential(c.s0, &r),
-            &y[0].position,
-        );
         let da = so3::dexp_inv(&(-c.a));
         let db = so3::dexp_inv(&(-c.b));
         let c1e = r0 * p.c1 * c.eps;
         let jw = p.inertia * c.omega;
         let c2u = p.c2 * c.u;
         let gr = [
-            -c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0) - grad_p * (ds * dt / 8.0),
+            self.position_gradient(c.sigma, c.s0, &y[0], &c.v, &c.eps),
             -c1e * (st / 2.0),
             c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0),
         ];
         let gq = [
-            self.rotation_terms(c.sigma, &c.a, &da, &c.b) + self.strain_torque(r0, &c.g, &c.eps),
+            self.rotation_terms_with(c.sigma, &c.a, &da, &c.b, &db) + self.strain_torque(r0, &c.g, &c.eps),
             -da.transpose() * c2u * (st / 2.0),
             db.transpose() * jw * (ds / 4.0) + db.transpose() * c2u * (st / 4.0),
         ];
@@ -388,14 +384,44 @@ impl<P: RodPotential> CosseratCell<P> {
         da: &Matrix3<f64>,
         b: &Vector3<D>,
     ) -> Vector3<D> {
+        self.rotation_terms_with(sigma, a, da, b, &so3::dexp_inv(&(-b)))
+    }
+
+    /// [`rotation_terms`](Self::rotation_terms) with D_b given.
+    fn rotation_terms_with<D: Scalar>(
+        &self,
+        sigma: f64,
+        a: &Vector3<f64>,
+        da: &Matrix3<f64>,
+        b: &Vector3<D>,
+        db: &Matrix3<D>,
+    ) -> Vector3<D> {
         let p = &self.density.parameters;
-        let db = so3::dexp_inv(&(-b));
         let omega = b / D::from(self.dt);
         let u = (a.map(D::from) * D::from(2.0) - b) / D::from(sigma * self.ds);
         let c2u = p.c2.map(D::from) * u;
         let jw = p.inertia.map(D::from) * omega;
         -(db * jw) * D::from(self.ds / 4.0)
             + (da.map(D::from) * D::from(2.0) - db) * c2u * D::from(sigma * self.dt / 4.0)
+    }
+
+    /// ∇_{r₀}L_β = −(ρΔs/4)v_d + (σΔt/4)R₀C₁ε − (ΔsΔt/8)∇_rP(s₀, r₀)
+    /// (note 003 §3.5, kinetic sign corrected; ∇_rP by forward-mode AD).
+    pub(crate) fn position_gradient(
+        &self,
+        sigma: f64,
+        s0: f64,
+        y0: &Pose<f64>,
+        v: &Vector3<f64>,
+        eps: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        let p = &self.density.parameters;
+        let (_, grad_p) = gradient(
+            |r: SVector<DualSVec64<3>, 3>| self.density.potential.potential(s0, &r),
+            &y0.position,
+        );
+        -v * (p.rho * self.ds / 4.0) + y0.rotation.matrix() * p.c1 * eps * (sigma * self.dt / 4.0)
+            - grad_p * (self.ds * self.dt / 8.0)
     }
 
     /// The strain term of ∇_{R₀}L_β: A_β (R₀ᵀg)^ C₁ε (note 003 §3.5).

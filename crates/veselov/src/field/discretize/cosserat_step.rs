@@ -87,16 +87,20 @@ pub(crate) fn split_solve<P: RodPotential>(
         da: Matrix3::zeros(),
     }; 2];
     for (k, (cell, y)) in cells.iter().enumerate() {
-        let Ok(g) = lag.gradients(cell, y) else {
-            return fail(Failure::CutLocus, outcome);
+        let sigma = if cell.shape == 0 { 1.0 } else { -1.0 };
+        let s0 = (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * ds;
+        let (_, eps) = lag.linear_strain(sigma, &y0, &y[1].position, &start.position);
+        let v = (start.position - y0.position) / dt;
+        let g = lag.position_gradient(sigma, s0, &y0, &v, &eps);
+        let f = if damp_r > 0.0 || lag.loads().is_some() {
+            lag.cell_force(cell, y, 0).fixed_rows::<3>(0).into_owned()
+        } else {
+            Vector3::zeros()
         };
-        let f = lag.cell_force(cell, y, 0);
-        let total = g[0] + f;
-        leg_r += total.fixed_rows::<3>(0);
-        scale += g[0].fixed_rows::<3>(0).amax() + f.fixed_rows::<3>(0).amax();
+        leg_r += g + f;
+        scale += g.amax() + f.amax();
         matrix -= Matrix3::identity() * (p.rho() * ds / (4.0 * dt) + lag.area() * damp_r / (2.0 * dt))
             + stiff * (dt / (4.0 * ds));
-        let sigma = if cell.shape == 0 { 1.0 } else { -1.0 };
         let Ok(a) = Rotations::log(&y[0].rotation, &y[1].rotation) else {
             return fail(Failure::CutLocus, outcome);
         };
@@ -132,29 +136,48 @@ pub(crate) fn split_solve<P: RodPotential>(
     }
     let target = mu.fixed_rows::<3>(3) - fixed;
     let arms = &arms[..count];
-    let rotation_residual = |b: &Vector3<DualSVec64<3>>| {
+    let damping = lag.area() * damp_q / (2.0 * dt);
+    let with_jacobian = |b: &Vector3<f64>| {
+        let seeded = Vector3::from_fn(|i, _| DualSVec64::<3>::from_re(b[i]).derivative(i));
         let mut sum = Vector3::from_element(DualSVec64::<3>::from_re(0.0));
         for arm in arms {
-            sum += lag.rotation_terms(arm.sigma, &arm.a, &arm.da, b)
-                - b * DualSVec64::<3>::from_re(lag.area() * damp_q / (2.0 * dt));
+            sum += lag.rotation_terms(arm.sigma, &arm.a, &arm.da, &seeded) - seeded * DualSVec64::<3>::from_re(damping);
         }
-        sum
+        let jacobian = Matrix3::from_fn(|i, j| sum[i].eps.unwrap_generic(Const::<3>, U1)[j]);
+        (sum.map(|x| x.re), Some(jacobian))
+    };
+    let value_only = |b: &Vector3<f64>| {
+        let mut sum = Vector3::zeros();
+        for arm in arms {
+            sum += lag.rotation_terms(arm.sigma, &arm.a, &arm.da, b) - b * damping;
+        }
+        (sum, None)
     };
     let mut b = match Rotations::log(&y0.rotation, &start.rotation) {
         Ok(b) => b,
         Err(_) => Vector3::zeros(),
     };
+    // Simplified Newton: the exact Jacobian at the start, refreshed when an
+    // iteration fails to reduce the residual fourfold.
     let mut previous = f64::INFINITY;
     let mut last_step = f64::INFINITY;
+    let mut jacobian = Matrix3::zeros();
+    let mut fresh = false;
     for it in 0..=options.max_iterations {
-        let seeded = Vector3::from_fn(|i, _| DualSVec64::<3>::from_re(b[i]).derivative(i));
-        let value = rotation_residual(&seeded);
-        let residual = value.map(|x| x.re) - target;
-        let jacobian = Matrix3::from_fn(|i, j| value[i].eps.unwrap_generic(Const::<3>, U1)[j]);
-        outcome.jacobians += 1;
+        let (mut value, mut jac) = if it == 0 { with_jacobian(&b) } else { value_only(&b) };
+        let mut r = (value - target).amax();
+        if jac.is_none() && !fresh && r > 0.25 * previous && r.is_finite() {
+            (value, jac) = with_jacobian(&b);
+            r = (value - target).amax();
+        }
+        fresh = jac.is_some();
+        if let Some(j) = jac {
+            jacobian = j;
+            outcome.jacobians += 1;
+        }
+        let residual = value - target;
         outcome.iterations = it;
-        let r = residual.amax();
-        let terms = scale + fixed_scale + value.iter().fold(0.0_f64, |m, x| m.max(x.re.abs()));
+        let terms = scale + fixed_scale + value.amax();
         outcome.relative_residual = r.max(residual_r) / terms.max(f64::MIN_POSITIVE);
         if !r.is_finite() {
             return fail(Failure::NonFinite, outcome);

@@ -1,17 +1,20 @@
 //! The Cosserat rod (seed 003 §6, note 003 §3) as a model: material
 //! parameters from physical inputs ([`material`]), the leapfrog lattice of a
 //! finite rod with free ends and its Cauchy data ([`lattice`]), the step
-//! limit ([`stability`]) and the discrete momenta ([`momentum`]). The
+//! limit ([`stability`]), the discrete momenta and energy ([`momentum`]) and
+//! clamped or driven ends ([`ends`]). The
 //! discrete Lagrangian is the core's [`CosseratCell`](crate::field::discretize::CosseratCell)
 //! (Prop. 6.5) and the march the core's
 //! [`CauchyMarcher::with_window`](crate::field::cauchy::CauchyMarcher::with_window).
 
+pub mod ends;
 pub mod lattice;
 pub mod material;
 pub mod momentum;
 pub mod stability;
 
+pub use ends::{EndCondition, RodEnds};
 pub use lattice::RodLattice;
 pub use material::{CrossSection, Material, Shear, rod_parameters};
-pub use momentum::{angular_momentum, linear_momentum};
+pub use momentum::{angular_momentum, energy, linear_momentum, load_impulse};
 pub use stability::{COURANT_LIMIT, StepCheck, courant_number, largest_step, rotary_frequency, wave_speed};

@@ -9,6 +9,7 @@ use nalgebra::{SVector, Vector3};
 
 use crate::field::cauchy::CauchyMarcher;
 use crate::field::cell::DiscreteLagrangian;
+use crate::field::discretize::{CosseratCell, RodPotential};
 use crate::field::fibre::{Pose, PositionRotation};
 
 /// Linear momentum at the cut below the marcher's current level
@@ -39,4 +40,59 @@ pub fn angular_momentum<L: DiscreteLagrangian<PositionRotation, 6>>(
             SVector::<f64, 6>::new(a[0], a[1], a[2], b[0], b[1], b[2])
         })
     })
+}
+
+/// The generators of the translations (k = 0, 1, 2) and rotations (k = 3,
+/// 4, 5) about the origin, left-trivialised: (e_k, 0) and (ξ × r, Rᵀξ).
+fn generator(k: usize, y: &Pose<f64>) -> SVector<f64, 6> {
+    let mut d = SVector::<f64, 6>::zeros();
+    if k < 3 {
+        d[k] = 1.0;
+    } else {
+        let xi = Vector3::ith(k - 3, 1.0);
+        let a = xi.cross(&y.position);
+        let b = y.rotation.matrix().transpose() * xi;
+        d.copy_from_slice(&[a[0], a[1], a[2], b[0], b[1], b[2]]);
+    }
+    d
+}
+
+/// The discrete impulse of the loads (damping, end force and torque) on the
+/// last solved level, as force and torque about the origin
+/// ([`CauchyMarcher::level_impulse`]): with free ends and no potential,
+/// [`linear_momentum`] and [`angular_momentum`] change across a step by
+/// exactly these (the discrete Lagrange–d'Alembert momentum balance).
+pub fn load_impulse<L: DiscreteLagrangian<PositionRotation, 6>>(
+    m: &CauchyMarcher<PositionRotation, L, 6>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    (
+        Vector3::from_fn(|k, _| m.level_impulse(|y: &Pose<f64>| generator(k, y))),
+        Vector3::from_fn(|k, _| m.level_impulse(|y: &Pose<f64>| generator(k + 3, y))),
+    )
+}
+
+/// The rod's energy at the cut: Σ over the cells of the slab below the
+/// current level of [`CosseratCell::cell_energy`], divided by Δt
+/// (kinetic + elastic + potential; bounded, not exactly conserved).
+///
+/// # Errors
+/// [`crate::Error::NonFinite`] if a cell of the slab is unsuitable.
+pub fn energy<P: RodPotential>(
+    m: &CauchyMarcher<PositionRotation, CosseratCell<P>, 6>,
+    lag: &CosseratCell<P>,
+) -> crate::Result<f64> {
+    let mut sum = 0.0;
+    let mut bad = None;
+    m.for_each_straddling_cell(|cell, y| match lag.cell_energy(cell, y) {
+        Ok(e) => sum += e,
+        Err(_) => bad = Some(cell.index),
+    });
+    if let Some(index) = bad {
+        return Err(crate::Error::NonFinite {
+            what: "rod cell energy".into(),
+            index,
+            value: f64::NAN,
+        });
+    }
+    Ok(sum / lag.dt())
 }
