@@ -1,4 +1,5 @@
-//! The free Cosserat rod on the leapfrog lattice: wall time per step (one Δt
+//! The free Cosserat rod on the leapfrog lattice (split vertex step of note
+//! 003 §3.6): wall time per step (one Δt
 //! for every material point = two lattice levels) for 100- and 1000-element
 //! rods of PyElastica's Timoshenko example material (length 3, radius 0.25,
 //! density 5000, E = 1e6, shear modulus 1e4), at PyElastica's own limit

@@ -39,6 +39,11 @@ use super::legendre::{VertexOutcome, solve_legendre};
 use crate::run::{Checkpoint, Words};
 use crate::{Error, Result};
 
+/// The fewest vertices one thread takes in a level: below about this many
+/// vertices the cost of waking a second thread exceeds the work it takes
+/// over (measured on the rod, a few µs per vertex).
+const PARALLEL_CHUNK: usize = 128;
+
 /// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
 pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     lag: L,
@@ -507,7 +512,7 @@ where
                 .par_iter_mut()
                 .zip(next_grads.par_chunks_mut(per_vertex))
                 .zip(outcomes.par_iter_mut())
-                .with_min_len(32)
+                .with_min_len(PARALLEL_CHUNK)
                 .enumerate()
                 .for_each(|(i, ((value, grads), outcome))| {
                     let (z, o) = this.solve_vertex(w, i);

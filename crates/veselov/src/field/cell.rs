@@ -20,6 +20,11 @@ use crate::ad::Scalar;
 /// (simplices up to dimension 15, cubes up to dimension 4).
 pub const MAX_CELL_VERTICES: usize = 16;
 
+/// The cells based at a vertex, for [`DiscreteLagrangian::solve_last_vertex`]:
+/// `star(σ, out)` writes the vertex values of cell σ into `out` and returns
+/// the cell, or `None` when that cell is not part of the action.
+pub type VertexStar<'a, P> = dyn Fn(usize, &mut [P]) -> Option<TopCell> + 'a;
+
 /// A discrete Lagrangian density on a complex: L_β(y_{v₀}, …, y_{v_k}) for
 /// every top cell β, with values in the fibre `F` (Def. 3.6).
 pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
@@ -73,7 +78,7 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// to round-off and report its outcome the same way.
     fn solve_last_vertex(
         &self,
-        _star: &dyn Fn(usize, &mut [F::Point<f64>]) -> Option<TopCell>,
+        _star: &VertexStar<'_, F::Point<f64>>,
         _mu: &SVector<f64, M>,
         _mu_scale: f64,
         _start: &F::Point<f64>,

@@ -15,7 +15,7 @@ use super::smooth::SmoothDensity;
 use super::suitability::{CellCheck, check_rotations};
 use crate::ad::Scalar;
 use crate::error::Result;
-use crate::field::cell::DiscreteLagrangian;
+use crate::field::cell::{DiscreteLagrangian, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::lattice::invalid;
@@ -26,6 +26,12 @@ use crate::lie::so3;
 pub trait RodPotential: Send + Sync {
     /// P(s, r).
     fn potential<D: Scalar>(&self, s: f64, r: &Vector3<D>) -> D;
+
+    /// ∇_rP(s, r); by default exact through forward-mode AD of
+    /// [`potential`](Self::potential).
+    fn gradient(&self, s: f64, r: &Vector3<f64>) -> Vector3<f64> {
+        gradient(|r: SVector<DualSVec64<3>, 3>| self.potential(s, &r), r).1
+    }
 }
 
 /// P ≡ 0: the density is then invariant under the left SE(3) action
@@ -36,6 +42,9 @@ pub struct NoPotential;
 impl RodPotential for NoPotential {
     fn potential<D: Scalar>(&self, _s: f64, _r: &Vector3<D>) -> D {
         D::zero()
+    }
+    fn gradient(&self, _s: f64, _r: &Vector3<f64>) -> Vector3<f64> {
+        Vector3::zeros()
     }
 }
 
@@ -51,6 +60,9 @@ pub struct LinearPotential {
 impl RodPotential for LinearPotential {
     fn potential<D: Scalar>(&self, _s: f64, r: &Vector3<D>) -> D {
         r.dot(&self.gradient.map(D::from))
+    }
+    fn gradient(&self, _s: f64, _r: &Vector3<f64>) -> Vector3<f64> {
+        self.gradient
     }
 }
 
@@ -416,10 +428,7 @@ impl<P: RodPotential> CosseratCell<P> {
         eps: &Vector3<f64>,
     ) -> Vector3<f64> {
         let p = &self.density.parameters;
-        let (_, grad_p) = gradient(
-            |r: SVector<DualSVec64<3>, 3>| self.density.potential.potential(s0, &r),
-            &y0.position,
-        );
+        let grad_p = self.density.potential.gradient(s0, &y0.position);
         -v * (p.rho * self.ds / 4.0) + y0.rotation.matrix() * p.c1 * eps * (sigma * self.dt / 4.0)
             - grad_p * (self.ds * self.dt / 8.0)
     }
@@ -441,12 +450,13 @@ impl<P: RodPotential> CosseratCell<P> {
         (g, y0.rotation.matrix().transpose() * g - self.density.parameters.strain)
     }
 
-    /// The discrete energy of one cell, A_β[½ρ|v_d|² + ½ω_dᵀJω_d + ½εᵀC₁ε
-    /// + ½uᵀC₂u + ½P(s₀, r₀)] (kinetic plus elastic plus potential, the
-    /// terms of Prop. 6.5 with the potential ones' sign reversed). Summed
-    /// over the cells of one slab of duration Δt and divided by Δt it is the
-    /// rod's energy at that time; not exactly conserved (the march conserves
-    /// the discrete momenta exactly and keeps this energy bounded).
+    /// The discrete energy of one cell: A_β times the sum of ½ρ|v_d|²,
+    /// ½ω_dᵀJω_d, ½εᵀC₁ε, ½uᵀC₂u and ½P(s₀, r₀) (kinetic plus elastic plus
+    /// potential: the terms of Prop. 6.5 with the potential ones' sign
+    /// reversed). Summed over the cells of one slab of duration Δt and
+    /// divided by Δt it is the rod's energy at that time; not exactly
+    /// conserved (the march conserves the discrete momenta exactly and keeps
+    /// this energy bounded).
     ///
     /// # Errors
     /// As [`CosseratCell::try_cell_lagrangian`].
@@ -597,7 +607,7 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
     /// closed forms are enabled.
     fn solve_last_vertex(
         &self,
-        star: &dyn Fn(usize, &mut [Pose<f64>]) -> Option<TopCell>,
+        star: &VertexStar<'_, Pose<f64>>,
         mu: &SVector<f64, 6>,
         mu_scale: f64,
         start: &Pose<f64>,

@@ -19,7 +19,7 @@ use nalgebra::{Const, Matrix3, SVector, U1, Vector3};
 use num_dual::DualSVec64;
 
 use super::cosserat::{CosseratCell, RodPotential};
-use crate::field::cell::DiscreteLagrangian;
+use crate::field::cell::{DiscreteLagrangian, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome};
@@ -37,7 +37,7 @@ struct Arm {
 /// documentation), from `start`; reports like the generic solve.
 pub(crate) fn split_solve<P: RodPotential>(
     lag: &CosseratCell<P>,
-    star: &dyn Fn(usize, &mut [Pose<f64>]) -> Option<TopCell>,
+    star: &VertexStar<'_, Pose<f64>>,
     mu: &SVector<f64, 6>,
     mu_scale: f64,
     start: &Pose<f64>,
@@ -190,10 +190,10 @@ pub(crate) fn split_solve<P: RodPotential>(
             // One last correction with the Jacobian at hand (no further
             // evaluation): from a converged iterate Newton's step only
             // removes the remaining residual (quadratic convergence).
-            if let Some(delta) = jacobian.lu().solve(&(-residual)) {
-                if delta.amax() < 1e-3 {
-                    b += delta;
-                }
+            if let Some(delta) = jacobian.lu().solve(&(-residual))
+                && delta.amax() < 1e-3
+            {
+                b += delta;
             }
             let rotation = y0.rotation.compose(&so3::exp(&b));
             return (PositionRotation::renormalize(&Pose::new(r2, rotation)), outcome);
@@ -207,7 +207,8 @@ pub(crate) fn split_solve<P: RodPotential>(
         };
         last_step = delta.amax();
         b += delta;
-        if !(b.norm() < std::f64::consts::PI) {
+        let angle = b.norm();
+        if angle.is_nan() || angle >= std::f64::consts::PI {
             return fail(Failure::CutLocus, outcome);
         }
     }

@@ -90,10 +90,8 @@ impl RodEnds {
         for (l, level) in data.iter_mut().enumerate() {
             let w = first_level + l as i64;
             for (i, y) in level.iter_mut().enumerate() {
-                if let Some(p) = lattice.node(w, i) {
-                    if let Some(value) = self.value(lattice, p as i64, w) {
-                        *y = value;
-                    }
+                if let Some(value) = lattice.node(w, i).and_then(|p| self.value(lattice, p as i64, w)) {
+                    *y = value;
                 }
             }
         }
