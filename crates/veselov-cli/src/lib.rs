@@ -15,6 +15,8 @@ pub mod pipeline;
 pub mod plot;
 pub mod progress;
 pub mod rigid;
+pub mod rod;
+pub mod rod_run;
 pub mod route;
 pub mod run;
 pub mod scenario;

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use crate::error::CliError;
 use crate::scenario::LoadedScenario;
-use crate::{field, rigid, run, systems, verify};
+use crate::{field, rigid, rod_run, run, systems, verify};
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -17,6 +17,8 @@ pub enum ScenarioKind {
     RigidBody,
     /// Fields on a 1+1 spacetime lattice.
     Field,
+    /// The Cosserat rod on the leapfrog CFK lattice.
+    Rod,
 }
 
 /// Read a scenario file.
@@ -37,6 +39,7 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
     Ok(match name {
         Some(n) if crate::rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
         Some(n) if crate::field::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
+        Some(crate::rod::ROD_MODEL) => ScenarioKind::Rod,
         _ => ScenarioKind::Mechanics,
     })
 }
@@ -53,6 +56,7 @@ pub fn run_text(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliErro
     match kind(path, text)? {
         ScenarioKind::RigidBody => rigid::run(path, text, job),
         ScenarioKind::Field => field::run(path, text, job),
+        ScenarioKind::Rod => rod_run::run(path, text, job),
         ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),
     }
 }
@@ -69,6 +73,11 @@ pub fn verify_text(path: &Path, text: &str, job: verify::VerifyJob) -> Result<()
         ScenarioKind::Field => Err(CliError::Setup(format!(
             "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
              is measured by the test suite (tests/field_*.rs)",
+            path.display()
+        ))),
+        ScenarioKind::Rod => Err(CliError::Setup(format!(
+            "{}: `veselov verify` does not take rod scenarios; the rod's convergence (Timoshenko's \
+             cantilever deflection at second order) is measured by the test suite (tests/rod_ends.rs)",
             path.display()
         ))),
         ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),

@@ -97,6 +97,45 @@ fn check_field_example(name: &str, original: &str, dir: &Path) {
     }
 }
 
+/// A rod example, run for 20 steps: status ok and every output present.
+fn check_rod_example(name: &str, original: &str, dir: &Path) {
+    let mut text = String::new();
+    let mut skip = false;
+    for line in original.lines() {
+        if line.starts_with('[') {
+            skip = line.trim() == "[time]";
+            if skip {
+                text.push_str("[time]\nt_end = 0.02\ndt = 0.001\n");
+                continue;
+            }
+        }
+        if !skip {
+            text.push_str(line);
+            text.push('\n');
+        }
+    }
+    let file = scenario(dir, &text);
+    let out = dir.join("out");
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .success();
+    let s = summary(&out);
+    assert_eq!(s["status"], "ok", "{name}: {s}");
+    assert_eq!(s["time_steps"], 20, "{name}");
+    for file in [
+        "centerline.npy",
+        "frames.npy",
+        "momentum.csv",
+        "energy.csv",
+        "momentum.svg",
+    ] {
+        assert!(out.join(file).exists(), "{name}: no {file}");
+    }
+}
+
 #[test]
 fn every_example_runs() {
     let examples = std::fs::read_dir(workspace_root().join("examples")).expect("examples dir");
@@ -115,6 +154,11 @@ fn every_example_runs() {
         let original = std::fs::read_to_string(&path).expect("read example");
         if original.contains("[lattice]") {
             check_field_example(&name, &original, &dir);
+            count += 1;
+            continue;
+        }
+        if original.contains("\"cosserat-rod\"") {
+            check_rod_example(&name, &original, &dir);
             count += 1;
             continue;
         }

@@ -62,6 +62,7 @@ fn loads(tip: i64) -> RodLoads {
         end_torque: Vector3::new(0.0, 0.001, 0.002),
         tip,
         ramp: 0.5,
+        start: 0.0,
     }
 }
 
@@ -176,6 +177,7 @@ fn cantilever(nodes: usize) -> (f64, f64, f64) {
         end_torque: Vector3::zeros(),
         tip: nodes as i64 - 1,
         ramp: 2.0 * std::f64::consts::PI / omega1,
+        start: 0.0,
     };
     let lag = CosseratCell::new(CosseratDensity::free(p), lattice.ds(), dt)
         .expect("spacings")

@@ -33,7 +33,7 @@ use rayon::prelude::*;
 
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, force_block, mixed_block, vertex_force, vertex_gradient};
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
-use super::fibre::{Euclidean, Fibre};
+use super::fibre::Fibre;
 pub use super::legendre::{CauchyOptions, LevelReport};
 use super::legendre::{VertexOutcome, solve_legendre};
 use crate::run::{Checkpoint, Words};
@@ -657,21 +657,27 @@ where
 // lattice dimension (n + 1 vertices).
 const _: () = assert!(MAX_CELL_VERTICES > MAX_LATTICE_DIMENSION);
 
-/// A checkpoint of a march of vector-valued fields: the level and the 2n
-/// known levels above the cut; the cell gradients are recomputed from them
-/// by the same code as during the march, so the restored march continues
-/// bit for bit.
-impl<L, const M: usize> Checkpoint for CauchyMarcher<Euclidean<M>, L, M>
+/// A checkpoint of a march: the level and the 2n known levels above the
+/// cut, each value by its coordinates ([`Fibre::write`], read back exactly
+/// by [`Fibre::read`]); the cell gradients are recomputed from them by the
+/// same code as during the march, so the restored march continues bit for
+/// bit. Dirichlet data are part of the set-up, not of the checkpoint.
+impl<F, L, const M: usize> Checkpoint for CauchyMarcher<F, L, M>
 where
-    L: DiscreteLagrangian<Euclidean<M>, M>,
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
 {
     fn save(&self, out: &mut Vec<f64>) {
         let n = self.torus.dimension() as i64;
         out.push(self.level as f64);
+        let mut c = [0.0; 16];
+        let k = F::COORDINATES.min(c.len());
         for w in self.level - n..self.level + n {
             if let Some(level) = self.level_values(w) {
                 for y in level {
-                    out.extend_from_slice(y.as_slice());
+                    F::write(y, &mut c[..k]);
+                    out.extend_from_slice(&c[..k]);
                 }
             }
         }
@@ -689,10 +695,13 @@ where
         self.level = level as i64;
         let n = self.torus.dimension() as i64;
         let size = self.torus.level_size();
+        let mut c = [0.0; 16];
+        let k = F::COORDINATES.min(c.len());
         for w in self.level - n..self.level + n {
             let slot = self.value_slot(w);
             for y in &mut self.values[slot * size..(slot + 1) * size] {
-                words.fill(y.as_mut_slice())?;
+                words.fill(&mut c[..k])?;
+                *y = F::read(&c[..k]);
             }
         }
         self.fill_gradients();

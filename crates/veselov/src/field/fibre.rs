@@ -59,6 +59,10 @@ pub trait Fibre<const M: usize>: Copy + Debug + Send + Sync + 'static {
     /// The point's coordinates (ℝ^M: the vector; SO(3): the 9 entries of R
     /// row by row; SE(3) and ℝ³ × SO(3): R's 9 entries, then the position).
     fn write(y: &Self::Point<f64>, out: &mut [f64]);
+
+    /// The point with the coordinates [`write`](Self::write) gave, exactly
+    /// (no projection: a checkpoint restores bit for bit).
+    fn read(c: &[f64]) -> Self::Point<f64>;
 }
 
 /// ℝ^M with the chart y + ξ.
@@ -88,11 +92,18 @@ impl<const M: usize> Fibre<M> for Euclidean<M> {
     fn write(y: &SVector<f64, M>, out: &mut [f64]) {
         out[..M].copy_from_slice(y.as_slice());
     }
+    fn read(c: &[f64]) -> SVector<f64, M> {
+        SVector::from_fn(|i, _| c[i])
+    }
 }
 
 /// SO(3) with the chart R·exp(ξ̂).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Rotations;
+
+fn read_rotation(c: &[f64]) -> SO3<f64> {
+    SO3::from_matrix_unchecked(Matrix3::from_fn(|i, j| c[3 * i + j]))
+}
 
 fn write_rotation(r: &Matrix3<f64>, out: &mut [f64]) {
     for i in 0..3 {
@@ -127,6 +138,9 @@ impl Fibre<3> for Rotations {
     fn write(y: &SO3<f64>, out: &mut [f64]) {
         write_rotation(y.matrix(), out);
     }
+    fn read(c: &[f64]) -> SO3<f64> {
+        read_rotation(c)
+    }
 }
 
 /// SE(3) (algebra ordered (ω; v)) with the chart g·exp(ξ).
@@ -153,6 +167,9 @@ impl Fibre<6> for RigidMotions {
     fn write(y: &SE3<f64>, out: &mut [f64]) {
         write_rotation(y.rotation().matrix(), out);
         out[9..12].copy_from_slice(y.translation().as_slice());
+    }
+    fn read(c: &[f64]) -> SE3<f64> {
+        SE3::new(read_rotation(c), Vector3::new(c[9], c[10], c[11]))
     }
 }
 
@@ -201,6 +218,9 @@ impl Fibre<6> for PositionRotation {
     fn write(y: &Pose<f64>, out: &mut [f64]) {
         write_rotation(y.rotation.matrix(), out);
         out[9..12].copy_from_slice(y.position.as_slice());
+    }
+    fn read(c: &[f64]) -> Pose<f64> {
+        Pose::new(Vector3::new(c[9], c[10], c[11]), read_rotation(c))
     }
 }
 

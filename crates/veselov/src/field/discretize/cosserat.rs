@@ -524,10 +524,11 @@ impl<P: RodPotential> CosseratCell<P> {
 ///   the trapezoidal rule on each cell's time edge:
 ///   F⁰_β = F²_β = −(A_β/2)(c_r v_d; c_R ω_d), F¹_β = 0;
 /// * a force F and a torque τ (spatial frame) at the end material point
-///   `tip` (0 or the last), ramped linearly from zero over `ramp` (time
-///   t = wΔt/2 of level w): each vertex of that end receives the impulse
-///   Δt·min(t/ramp, 1)·(F; R_vᵀτ) (left-trivialised), on the cell based at
-///   it that lies in the body.
+///   `tip` (0 or the last), switched on at `start` and ramped linearly from
+///   zero over `ramp` (time t = wΔt/2 of level w): each vertex of that end
+///   receives the impulse Δt·f(t)·(F; R_vᵀτ) (left-trivialised),
+///   f = [`RodLoads::ramp_factor`], on the cell based at it that lies in the
+///   body.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RodLoads {
     /// Linear damping coefficient c_r per unit length (≥ 0).
@@ -540,8 +541,11 @@ pub struct RodLoads {
     pub end_torque: Vector3<f64>,
     /// Material point of the loaded end (0 or the last point of the rod).
     pub tip: i64,
-    /// Ramp duration (0: applied at full strength from the start).
+    /// Ramp duration (0: applied at full strength from `start` on).
     pub ramp: f64,
+    /// Time at which the end load is switched on (lattice time wΔt/2;
+    /// before it the end load is zero).
+    pub start: f64,
 }
 
 impl RodLoads {
@@ -555,6 +559,9 @@ impl RodLoads {
                 return Err(invalid(name, v, "must be finite and non-negative"));
             }
         }
+        if !self.start.is_finite() {
+            return Err(invalid("start", self.start, "must be finite"));
+        }
         for (name, v) in [("end_force", self.end_force), ("end_torque", self.end_torque)] {
             if !v.iter().all(|x| x.is_finite()) {
                 return Err(invalid(name, format!("{v}"), "must be finite"));
@@ -566,10 +573,13 @@ impl RodLoads {
         Ok(())
     }
 
-    /// min(t/ramp, 1) (1 without a ramp).
+    /// The fraction of the end load applied at time t:
+    /// clamp((t − start)/ramp, 0, 1) (a step at `start` without a ramp).
     pub fn ramp_factor(&self, t: f64) -> f64 {
-        if self.ramp > 0.0 {
-            (t / self.ramp).clamp(0.0, 1.0)
+        if t < self.start {
+            0.0
+        } else if self.ramp > 0.0 {
+            ((t - self.start) / self.ramp).clamp(0.0, 1.0)
         } else {
             1.0
         }

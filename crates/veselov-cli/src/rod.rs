@@ -1,0 +1,487 @@
+//! The Cosserat rod (`[model] name = "cosserat-rod"`, seed 003 §6): the
+//! scenario schema and its validation into the library's rod
+//! ([`veselov::models::rod`]); the run is [`crate::rod_run`].
+//!
+//! ```toml
+//! [model]
+//! name = "cosserat-rod"
+//! length = 1.0                  # m
+//! nodes = 41                    # material points (≥ 3)
+//! radius = 0.02                 # circular section (or width = …, height = …)
+//! density = 1000.0              # kg/m³
+//! young = 1e6                   # Pa
+//! poisson = 0.5                 # or shear_modulus = … (Pa)
+//! shear_coefficient = 0.9       # κ (default: Cowper's, 6(1+ν)/(7+6ν) circle, 10(1+ν)/(12+11ν) rectangle)
+//! [ends]
+//! start = "clamped"             # free | clamped (held at its initial pose)
+//! end = "free"
+//! [loads]
+//! gravity = [0.0, 0.0, -9.81]   # m/s²
+//! damping = 0.5                 # c_r: force −c_r ∂_t r per unit length
+//! angular_damping = 0.0         # c_R: body torque −c_R ω per unit length
+//! end_force = [0.0, 0.01, 0.0]  # N, at the last material point, spatial frame
+//! end_torque = [0.0, 0.0, 0.0]  # N·m
+//! ramp = 1.0                    # s: the end load grows linearly from 0
+//! [initial]
+//! shape = "straight"            # straight | bent | helix
+//! curvature = 2.0               # bent: an arc in the x–z plane
+//! helix_radius = 0.1            # helix: radius and pitch (rise per turn)
+//! helix_pitch = 0.2
+//! velocity = [0.0, 0.0, 0.0]    # a rigid motion: translation velocity …
+//! angular_velocity = [0.0, 0.0, 0.0]  # … and spin about the origin
+//! [time]
+//! t_end = 2.0
+//! dt = 1e-4                     # adjusted to t_end/round(t_end/dt); default: at most half the stability limit
+//! [method]
+//! tolerance = 1e-14             # vertex solves (relative)
+//! max_iterations = 30
+//! allow_unstable = false        # run above the stability limit (it will blow up)
+//! [output]
+//! every = 10                    # time steps between output rows (default: ~500 rows)
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::Vector3;
+use serde::Deserialize;
+use veselov::field::cauchy::CauchyOptions;
+use veselov::field::discretize::{RodLoads, RodParameters};
+use veselov::field::fibre::Pose;
+use veselov::lie::so3;
+use veselov::models::rod::{
+    CrossSection, EndCondition, Material, RodEnds, RodLattice, Shear, courant_number, largest_step, rod_parameters,
+};
+
+use crate::error::CliError;
+use crate::scenario::{finite_value, key_error, parse_toml, positive_value};
+
+/// The model name of the rod kind.
+pub const ROD_MODEL: &str = "cosserat-rod";
+
+/// Largest number of material points.
+const MAX_NODES: usize = 100_000;
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RodScenario {
+    pub model: RodModelSpec,
+    #[serde(default)]
+    pub ends: EndsSpec,
+    #[serde(default)]
+    pub loads: LoadsSpec,
+    #[serde(default)]
+    pub initial: RodInitialSpec,
+    pub time: RodTimeSpec,
+    #[serde(default)]
+    pub method: RodMethodSpec,
+    #[serde(default)]
+    pub output: RodOutputSpec,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RodModelSpec {
+    pub name: String,
+    pub length: f64,
+    pub nodes: usize,
+    pub radius: Option<f64>,
+    pub width: Option<f64>,
+    pub height: Option<f64>,
+    pub density: f64,
+    pub young: f64,
+    pub poisson: Option<f64>,
+    pub shear_modulus: Option<f64>,
+    pub shear_coefficient: Option<f64>,
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct EndsSpec {
+    pub start: Option<String>,
+    pub end: Option<String>,
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct LoadsSpec {
+    pub gravity: Option<[f64; 3]>,
+    pub damping: Option<f64>,
+    pub angular_damping: Option<f64>,
+    pub end_force: Option<[f64; 3]>,
+    pub end_torque: Option<[f64; 3]>,
+    pub ramp: Option<f64>,
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RodInitialSpec {
+    pub shape: Option<String>,
+    pub curvature: Option<f64>,
+    pub helix_radius: Option<f64>,
+    pub helix_pitch: Option<f64>,
+    pub velocity: Option<[f64; 3]>,
+    pub angular_velocity: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RodTimeSpec {
+    pub t_end: f64,
+    pub dt: Option<f64>,
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RodMethodSpec {
+    pub tolerance: Option<f64>,
+    pub max_iterations: Option<usize>,
+    #[serde(default)]
+    pub allow_unstable: bool,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RodOutputSpec {
+    pub dir: Option<PathBuf>,
+    /// Time steps Δt between output rows (default: about 500 rows).
+    pub every: Option<u64>,
+    /// Time steps Δt between checkpoints (default 0: only where the run ends).
+    #[serde(default)]
+    pub checkpoint_every: u64,
+    #[serde(default = "yes")]
+    pub plots: bool,
+    #[serde(default = "svg")]
+    pub plot_format: String,
+}
+
+fn yes() -> bool {
+    true
+}
+fn svg() -> String {
+    "svg".into()
+}
+
+impl Default for RodOutputSpec {
+    fn default() -> Self {
+        Self {
+            dir: None,
+            every: None,
+            checkpoint_every: 0,
+            plots: true,
+            plot_format: svg(),
+        }
+    }
+}
+
+/// The initial shape s ↦ (r, R) at rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Shape {
+    /// Along e₃.
+    Straight,
+    /// An arc of curvature κ in the x–z plane, tangent e₃ at s = 0.
+    Bent { curvature: f64 },
+    /// A helix about e₃ of the given radius and pitch, by arc length.
+    Helix { radius: f64, pitch: f64 },
+}
+
+impl Shape {
+    /// The pose at material coordinate s: the frame's third axis along the
+    /// tangent (the unstressed strain of the rod is e₃).
+    pub fn pose(&self, s: f64) -> Pose<f64> {
+        match *self {
+            Shape::Straight => Pose::new(Vector3::new(0.0, 0.0, s), so3::exp(&Vector3::zeros())),
+            Shape::Bent { curvature: k } => {
+                let angle = k * s;
+                let (x, z) = if k.abs() * s < 1e-8 {
+                    (0.5 * k * s * s, s)
+                } else {
+                    ((1.0 - angle.cos()) / k, angle.sin() / k)
+                };
+                Pose::new(Vector3::new(x, 0.0, z), so3::exp(&Vector3::new(0.0, angle, 0.0)))
+            }
+            Shape::Helix { radius, pitch } => {
+                // Arc length per turn ℓ = √((2πa)² + h²); φ = 2πs/ℓ.
+                let turn = std::f64::consts::TAU;
+                let ell = (turn * radius).hypot(pitch);
+                let phi = turn * s / ell;
+                let r = Vector3::new(radius * phi.cos() - radius, radius * phi.sin(), pitch * phi / turn);
+                let tangent = Vector3::new(-radius * phi.sin(), radius * phi.cos(), pitch / turn) * (turn / ell);
+                Pose::new(r, frame_along(&tangent))
+            }
+        }
+    }
+}
+
+/// The rotation taking e₃ to the unit vector `t` by the smallest angle.
+fn frame_along(t: &Vector3<f64>) -> veselov::lie::SO3<f64> {
+    let e3 = Vector3::new(0.0, 0.0, 1.0);
+    let axis = e3.cross(t);
+    let (sin, cos) = (axis.norm(), e3.dot(t));
+    if sin < 1e-15 {
+        return so3::exp(&Vector3::zeros());
+    }
+    so3::exp(&(axis / sin * sin.atan2(cos)))
+}
+
+/// The validated rod scenario.
+pub(crate) struct RodSetup {
+    pub path: PathBuf,
+    pub scenario: RodScenario,
+    pub parameters: RodParameters,
+    pub lattice: RodLattice,
+    pub ends: RodEnds,
+    /// Damping and end load (None when all are zero).
+    pub loads: Option<RodLoads>,
+    pub gravity: Vector3<f64>,
+    pub shape: Shape,
+    pub velocity: Vector3<f64>,
+    pub spin: Vector3<f64>,
+    pub options: CauchyOptions,
+    pub dt: f64,
+    /// The `[time] dt` given, if any (dt is adjusted to land on t_end).
+    pub dt_requested: Option<f64>,
+    pub steps: u64,
+    pub every: u64,
+    /// Step number √((cΔt/Δs)² + (ωΔt/2)²) and the largest stable Δt.
+    pub courant: f64,
+    pub dt_limit: f64,
+}
+
+fn vector(path: &Path, key: &str, v: Option<[f64; 3]>) -> Result<Vector3<f64>, CliError> {
+    let v = v.unwrap_or([0.0; 3]);
+    for (i, x) in v.iter().enumerate() {
+        finite_value(path, &format!("{key}[{i}]"), *x)?;
+    }
+    Ok(Vector3::from(v))
+}
+
+fn non_negative(path: &Path, key: &str, v: Option<f64>) -> Result<f64, CliError> {
+    let v = finite_value(path, key, v.unwrap_or(0.0))?;
+    if v < 0.0 {
+        return Err(key_error(path, key, format!("must be ≥ 0, got {v}")));
+    }
+    Ok(v)
+}
+
+impl RodSetup {
+    pub fn key(&self, key: &str, message: impl Into<String>) -> CliError {
+        key_error(&self.path, key, message)
+    }
+
+    pub fn parse(path: &Path, text: &str) -> Result<Self, CliError> {
+        let scenario: RodScenario = parse_toml(path, text)?;
+        let key = |k: &str, m: String| key_error(path, k, m);
+        let m = &scenario.model;
+        if m.name != ROD_MODEL {
+            return Err(key("model.name", format!("expected \"{ROD_MODEL}\", got `{}`", m.name)));
+        }
+        if !(3..=MAX_NODES).contains(&m.nodes) {
+            return Err(key(
+                "model.nodes",
+                format!("expected 3..={MAX_NODES} material points, got {}", m.nodes),
+            ));
+        }
+        let length = positive_value(path, "model.length", m.length)?;
+        let section = match (m.radius, m.width, m.height) {
+            (Some(r), None, None) => CrossSection::Circle {
+                radius: positive_value(path, "model.radius", r)?,
+            },
+            (None, Some(w), Some(h)) => CrossSection::Rectangle {
+                width: positive_value(path, "model.width", w)?,
+                height: positive_value(path, "model.height", h)?,
+            },
+            _ => {
+                return Err(key(
+                    "model.radius",
+                    "give the cross-section as `radius` (circle) or `width` and `height` (rectangle)".into(),
+                ));
+            }
+        };
+        let young = positive_value(path, "model.young", m.young)?;
+        let (shear, nu) = match (m.poisson, m.shear_modulus) {
+            (Some(nu), None) => {
+                let nu = finite_value(path, "model.poisson", nu)?;
+                if !(-1.0 < nu && nu <= 0.5) {
+                    return Err(key("model.poisson", format!("must lie in (−1, 0.5], got {nu}")));
+                }
+                (Shear::Poisson(nu), nu)
+            }
+            (None, Some(g)) => {
+                let g = positive_value(path, "model.shear_modulus", g)?;
+                (Shear::Modulus(g), young / (2.0 * g) - 1.0)
+            }
+            _ => return Err(key("model.poisson", "give either `poisson` or `shear_modulus`".into())),
+        };
+        // Cowper's shear coefficients, from ν (clamped into the physical range).
+        let cowper_nu = nu.clamp(-0.99, 0.5);
+        let kappa = match m.shear_coefficient {
+            Some(k) => positive_value(path, "model.shear_coefficient", k)?,
+            None => match section {
+                CrossSection::Circle { .. } => 6.0 * (1.0 + cowper_nu) / (7.0 + 6.0 * cowper_nu),
+                CrossSection::Rectangle { .. } => 10.0 * (1.0 + cowper_nu) / (12.0 + 11.0 * cowper_nu),
+            },
+        };
+        let material = Material {
+            density: positive_value(path, "model.density", m.density)?,
+            young,
+            shear,
+            shear_coefficient: kappa,
+        };
+        let parameters = rod_parameters(&section, &material).map_err(|e| key("model", e.to_string()))?;
+        let probe = RodLattice::new(m.nodes, length, 1.0).map_err(|e| key("model.nodes", e.to_string()))?;
+        let dt_limit = largest_step(&parameters, probe.ds()).map_err(|e| key("model", e.to_string()))?;
+        // The step count is round(t_end/dt) (at least 1) and dt = t_end/count,
+        // so that the run ends at t_end exactly; without `dt`, the fewest
+        // steps with dt at most half the stability limit.
+        let t_end = positive_value(path, "time.t_end", scenario.time.t_end)?;
+        let requested = match scenario.time.dt {
+            Some(dt) => Some(positive_value(path, "time.dt", dt)?),
+            None => None,
+        };
+        let steps = match requested {
+            Some(dt) => (t_end / dt).round().max(1.0),
+            None => (t_end / (0.5 * dt_limit)).ceil().max(1.0),
+        };
+        if steps > 1e12 {
+            return Err(key("time.t_end", format!("{steps:e} time steps are too many")));
+        }
+        let dt = t_end / steps;
+        let steps = steps as u64;
+        let lattice = RodLattice::new(m.nodes, length, dt).map_err(|e| key("time.dt", e.to_string()))?;
+        let courant = courant_number(&parameters, lattice.ds(), dt).map_err(|e| key("model", e.to_string()))?;
+        if courant > 1.0 && !scenario.method.allow_unstable {
+            return Err(key(
+                "time.dt",
+                format!(
+                    "dt = {dt:e} exceeds the stability limit {dt_limit:e} of the rod's march (step number \
+                     {courant:.3} > 1: the lattice waves would grow without bound); lower dt, or set \
+                     [method] allow_unstable = true to run anyway"
+                ),
+            ));
+        }
+        let every = match scenario.output.every {
+            Some(0) => return Err(key("output.every", "expected an integer ≥ 1".into())),
+            Some(k) => k,
+            None => steps.div_ceil(500).max(1),
+        };
+        let end = |k: &str, v: &Option<String>, at: f64| -> Result<EndCondition, CliError> {
+            match v.as_deref().unwrap_or("free") {
+                "free" => Ok(EndCondition::Free),
+                "clamped" => Ok(EndCondition::Clamped(Shape::Straight.pose(at))),
+                other => Err(key(k, format!("unknown end condition `{other}` (free | clamped)"))),
+            }
+        };
+        let i = &scenario.initial;
+        let shape = match i.shape.as_deref().unwrap_or("straight") {
+            "straight" => Shape::Straight,
+            "bent" => Shape::Bent {
+                curvature: finite_value(path, "initial.curvature", i.curvature.unwrap_or(1.0))?,
+            },
+            "helix" => Shape::Helix {
+                radius: positive_value(path, "initial.helix_radius", i.helix_radius.unwrap_or(0.0))?,
+                pitch: finite_value(path, "initial.helix_pitch", i.helix_pitch.unwrap_or(0.0))?,
+            },
+            other => {
+                return Err(key(
+                    "initial.shape",
+                    format!("unknown shape `{other}` (straight | bent | helix)"),
+                ));
+            }
+        };
+        if let Shape::Bent { curvature } = shape
+            && (curvature * length).abs() >= std::f64::consts::PI
+        {
+            return Err(key(
+                "initial.curvature",
+                format!(
+                    "|curvature|·length = {:.3} must stay below π",
+                    (curvature * length).abs()
+                ),
+            ));
+        }
+        // A clamped end holds the initial shape's pose there.
+        let mut ends = RodEnds {
+            start: end("ends.start", &scenario.ends.start, 0.0)?,
+            end: end("ends.end", &scenario.ends.end, length)?,
+        };
+        if let EndCondition::Clamped(_) = ends.start {
+            ends.start = EndCondition::Clamped(shape.pose(0.0));
+        }
+        if let EndCondition::Clamped(_) = ends.end {
+            ends.end = EndCondition::Clamped(shape.pose(length));
+        }
+        let l = &scenario.loads;
+        let gravity = vector(path, "loads.gravity", l.gravity)?;
+        let loads = RodLoads {
+            damping_linear: non_negative(path, "loads.damping", l.damping)?,
+            damping_angular: non_negative(path, "loads.angular_damping", l.angular_damping)?,
+            end_force: vector(path, "loads.end_force", l.end_force)?,
+            end_torque: vector(path, "loads.end_torque", l.end_torque)?,
+            tip: m.nodes as i64 - 1,
+            ramp: non_negative(path, "loads.ramp", l.ramp)?,
+            // Lattice time Δt is the run's t = 0 (see `motion`).
+            start: dt,
+        };
+        let any_load = loads.damping_linear > 0.0
+            || loads.damping_angular > 0.0
+            || loads.end_force != Vector3::zeros()
+            || loads.end_torque != Vector3::zeros();
+        if any_load
+            && !ends.end.is_free()
+            && (loads.end_force != Vector3::zeros() || loads.end_torque != Vector3::zeros())
+        {
+            return Err(key(
+                "loads.end_force",
+                "the end load acts at the last material point, which is clamped".into(),
+            ));
+        }
+        let mut options = CauchyOptions::default();
+        if let Some(t) = scenario.method.tolerance {
+            options.tolerance = positive_value(path, "method.tolerance", t)?;
+        }
+        if let Some(k) = scenario.method.max_iterations {
+            if k == 0 {
+                return Err(key("method.max_iterations", "expected an integer ≥ 1".into()));
+            }
+            options.max_iterations = k;
+        }
+        let o = &scenario.output;
+        if o.plot_format != "svg" && o.plot_format != "png" {
+            return Err(key(
+                "output.plot_format",
+                format!("unknown plot format `{}`", o.plot_format),
+            ));
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            velocity: vector(path, "initial.velocity", i.velocity)?,
+            spin: vector(path, "initial.angular_velocity", i.angular_velocity)?,
+            scenario,
+            parameters,
+            lattice,
+            ends,
+            loads: any_load.then_some(loads),
+            gravity,
+            shape,
+            options,
+            dt,
+            dt_requested: requested,
+            steps,
+            every,
+            courant,
+            dt_limit,
+        })
+    }
+
+    /// The initial motion (s, t) ↦ (r, R) in lattice time: the shape moved
+    /// rigidly, r = exp(τω̂)r₀(s) + vτ, R = exp(τω̂)R₀(s), τ = t − Δt, so that
+    /// the march's first cut (level 2, lattice time Δt) is the run's t = 0.
+    pub fn motion(&self) -> impl Fn(f64, f64) -> Pose<f64> + '_ {
+        move |s, t| {
+            let t = t - self.dt;
+            let q = so3::exp(&(self.spin * t));
+            let p = self.shape.pose(s);
+            Pose::new(q.act(&p.position) + self.velocity * t, q.compose(&p.rotation))
+        }
+    }
+}

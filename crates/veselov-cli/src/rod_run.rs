@@ -1,0 +1,559 @@
+//! The run of a Cosserat-rod scenario ([`crate::rod`]) on the shared
+//! pipeline: the core's Cauchy march of Prop. 6.5 with the split vertex
+//! step, one row of every output per `every` time steps.
+//!
+//! Outputs: `centerline.npy` (rows × nodes × 3) and `frames.npy` (rows ×
+//! nodes × 9, R row by row) at the output times — material points of the
+//! cut's level as marched, the others (which the leapfrog lattice holds half
+//! a step earlier and later) at the midpoint of their two values (positions
+//! averaged, rotations along the geodesic); `momentum.csv` (t, P_x, P_y,
+//! P_z, L_x, L_y, L_z: the discrete linear and angular momenta about the
+//! origin at the cut, note 003 §3.7); `energy.csv` (t, energy: kinetic +
+//! elastic + potential of the slab below the cut over Δt); `summary.json`;
+//! plots of the centreline (x–z and y–z projections), the momenta (change
+//! from the start) and the energy.
+//!
+//! With free ends the momenta change exactly by the impulse of gravity,
+//! damping and the end load (the discrete Lagrange–d'Alembert balance); the
+//! summary reports the largest balance error. With a clamped end the
+//! support's reaction is not computed and the balance is not reported.
+
+use std::path::Path;
+
+use nalgebra::Vector3;
+use serde_json::json;
+use veselov::field::CauchyStepper;
+use veselov::field::cauchy::CauchyMarcher;
+use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential};
+use veselov::field::fibre::{Pose, PositionRotation};
+use veselov::lie::so3;
+use veselov::models::rod::{EndCondition, angular_momentum, energy, linear_momentum, load_impulse};
+use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
+
+use crate::error::CliError;
+use crate::output::{Table, write_json};
+use crate::pipeline::readback::rows_for_plots;
+use crate::pipeline::stream::{CsvStream, NpyStream, Position};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, summary, words_error};
+use crate::plot::{Figure, Scale, Series, draw};
+use crate::rod::RodSetup;
+use crate::run::RunJob;
+use crate::scenario::{OutputSpec, output_dir};
+
+type Cell = CosseratCell<LinearPotential>;
+
+/// The level of the march's first cut (Cauchy data on levels 0 … 3): the
+/// run's t = 0.
+const FIRST_CUT: i64 = 2;
+
+/// The run's time of the cut below the marcher's level: (level − 2)Δt/2.
+fn run_time(m: &Rod, dt: f64) -> f64 {
+    (m.level() - FIRST_CUT) as f64 * 0.5 * dt
+}
+type Rod = CauchyMarcher<PositionRotation, Cell, 6>;
+
+/// Writes the rows and keeps the balances.
+struct RodObserver<'a> {
+    setup: &'a RodSetup,
+    lag: Cell,
+    every_levels: u64,
+    centerline: NpyStream,
+    frames: NpyStream,
+    momentum: CsvStream,
+    energy: CsvStream,
+    /// Momenta at the start, the impulses summed since, the largest balance
+    /// errors, the energy at the start and its range.
+    start: [f64; 6],
+    impulse: [f64; 6],
+    balance_error: [f64; 2],
+    energy0: f64,
+    energy_range: [f64; 2],
+    rows_written: u64,
+    error: Option<CliError>,
+    buffer: Vec<f64>,
+    before: Vec<Option<Pose<f64>>>,
+}
+
+impl RodObserver<'_> {
+    fn io(&mut self, r: Result<(), CliError>) {
+        if let Err(e) = r
+            && self.error.is_none()
+        {
+            self.error = Some(e);
+        }
+    }
+
+    fn momenta(m: &Rod) -> [f64; 6] {
+        let (p, l) = (linear_momentum(m), angular_momentum(m));
+        [p[0], p[1], p[2], l[0], l[1], l[2]]
+    }
+
+    /// The impulse of the loads and of gravity on the level just solved.
+    fn level_impulse(&self, m: &Rod) -> [f64; 6] {
+        let (mut f, mut tau) = load_impulse(m);
+        let g = self.setup.gravity;
+        if g != Vector3::zeros() {
+            // P = −2ρA g·r enters at v₀ only: Σ_k ∇_{r_k}L_β = (ΔsΔt/4)ρA g
+            // per cell, torque r₀ × that (note 003 §3.7 with a potential).
+            let c = m.level() - 1;
+            let weight = g * (0.25 * self.setup.lattice.ds() * self.setup.dt * self.setup.parameters.rho());
+            m.for_each_straddling_cell(|cell, y| {
+                if cell.origin[0] + cell.origin[1] == c {
+                    f += weight;
+                    tau += y[0].position.cross(&weight);
+                }
+            });
+        }
+        [f[0], f[1], f[2], tau[0], tau[1], tau[2]]
+    }
+
+    /// Centreline and frames at the cut (level c: the points of level c as
+    /// marched, the others at the midpoint of their values at levels c − 1
+    /// and c + 1).
+    fn snapshot(&mut self, m: &Rod) -> Result<(), veselov::Error> {
+        let lattice = &self.setup.lattice;
+        let nodes = lattice.nodes();
+        let c = m.level();
+        self.buffer.clear();
+        self.buffer.resize(nodes * 12, f64::NAN);
+        self.before.clear();
+        self.before.resize(nodes, None);
+        if let Some(values) = m.level_values(c - 1) {
+            for (i, y) in values.iter().enumerate() {
+                if let Some(p) = lattice.node(c - 1, i) {
+                    self.before[p] = Some(*y);
+                }
+            }
+        }
+        for (w, mid) in [(c, false), (c + 1, true)] {
+            let Some(values) = m.level_values(w) else { continue };
+            for (i, y) in values.iter().enumerate() {
+                let Some(p) = lattice.node(w, i) else { continue };
+                let pose = match (mid, self.before[p]) {
+                    (false, _) => *y,
+                    (true, Some(b)) => midpoint(&b, y)?,
+                    (true, None) => continue,
+                };
+                write_pose(&mut self.buffer, nodes, p, &pose);
+            }
+        }
+        Ok(())
+    }
+
+    fn record(&mut self, m: &Rod, stepper_t: f64) -> Result<(), veselov::Error> {
+        let momenta = Self::momenta(m);
+        let e = energy(m, &self.lag)?;
+        if !e.is_finite() {
+            return Err(veselov::Error::NonFiniteState {
+                step: m.level() as usize,
+                t: stepper_t,
+                what: "energy".into(),
+            });
+        }
+        if self.energy0.is_nan() {
+            self.energy0 = e;
+            self.energy_range = [e, e];
+            self.start = momenta;
+        }
+        self.energy_range = [self.energy_range[0].min(e), self.energy_range[1].max(e)];
+        self.snapshot(m)?;
+        if self.setup.ends.start.is_free() && self.setup.ends.end.is_free() {
+            // Momentum scales: besides the momenta and impulses themselves,
+            // √(2ME) bounds |P| for a rod of mass M and energy E without a
+            // potential (|Σmv| ≤ √(Σm)·√(Σmv²)), and R·√(2ME) bounds |L|,
+            // R the largest distance of the rod from the origin.
+            let nodes = self.setup.lattice.nodes();
+            let reach = (0..nodes)
+                .map(|p| Vector3::new(self.buffer[3 * p], self.buffer[3 * p + 1], self.buffer[3 * p + 2]).norm())
+                .fold(0.0, f64::max);
+            let mass = self.setup.parameters.rho() * self.setup.lattice.length();
+            let kinetic_scale = if self.setup.gravity == Vector3::zeros() {
+                (2.0 * mass * self.energy_range[1].abs()).sqrt()
+            } else {
+                0.0
+            };
+            for (k, half, floor) in [(0, 0..3, kinetic_scale), (1, 3..6, kinetic_scale * reach)] {
+                let scale = half
+                    .clone()
+                    .map(|i| momenta[i].abs().max(self.start[i].abs()).max(self.impulse[i].abs()))
+                    .fold(floor.max(f64::MIN_POSITIVE), f64::max);
+                let error = half
+                    .map(|i| (momenta[i] - self.start[i] - self.impulse[i]).abs())
+                    .fold(0.0, f64::max);
+                self.balance_error[k] = self.balance_error[k].max(error / scale);
+            }
+        }
+        let nodes = self.setup.lattice.nodes();
+        let (line, frames) = self.buffer.split_at(nodes * 3);
+        let mut row = vec![stepper_t];
+        row.extend_from_slice(&momenta);
+        let r = self
+            .centerline
+            .row(line)
+            .and_then(|()| self.frames.row(frames))
+            .and_then(|()| self.momentum.row(&row))
+            .and_then(|()| self.energy.row(&[stepper_t, e]));
+        self.io(r);
+        self.rows_written += 1;
+        Ok(())
+    }
+}
+
+/// Position p of the centreline block and frame p of the frames block.
+fn write_pose(buffer: &mut [f64], nodes: usize, p: usize, y: &Pose<f64>) {
+    let r = y.rotation.matrix();
+    for a in 0..3 {
+        buffer[p * 3 + a] = y.position[a];
+        for b in 0..3 {
+            buffer[nodes * 3 + p * 9 + 3 * a + b] = r[(a, b)];
+        }
+    }
+}
+
+fn end_name(e: &EndCondition) -> &'static str {
+    match e {
+        EndCondition::Free => "free",
+        EndCondition::Clamped(_) => "clamped",
+        EndCondition::Driven(_) => "driven",
+    }
+}
+
+/// The midpoint of two poses: positions averaged, R₀exp(½log(R₀ᵀR₁)).
+fn midpoint(a: &Pose<f64>, b: &Pose<f64>) -> Result<Pose<f64>, veselov::Error> {
+    let half = so3::log(&a.rotation.inverse().compose(&b.rotation))? * 0.5;
+    Ok(Pose::new(
+        (a.position + b.position) * 0.5,
+        a.rotation.compose(&so3::exp(&half)),
+    ))
+}
+
+impl Observer<Rod> for RodObserver<'_> {
+    fn observe(&mut self, step: u64, state: &Rod, _: &StepStats) -> Control {
+        let i = self.level_impulse(state);
+        for (s, x) in self.impulse.iter_mut().zip(i) {
+            *s += x;
+        }
+        if step.is_multiple_of(self.every_levels)
+            && let Err(e) = self.record(state, run_time(state, self.setup.dt))
+        {
+            return Control::Fail(e);
+        }
+        if self.error.is_some() {
+            Control::Stop
+        } else {
+            Control::Continue
+        }
+    }
+}
+
+impl Resumable for RodObserver<'_> {
+    fn save(&mut self, out: &mut Vec<f64>) -> Result<(), CliError> {
+        for p in [
+            self.centerline.position()?,
+            self.frames.position()?,
+            self.momentum.position()?,
+            self.energy.position()?,
+        ] {
+            p.save(out);
+        }
+        out.extend(self.start);
+        out.extend(self.impulse);
+        out.extend(self.balance_error);
+        out.push(self.energy0);
+        out.extend(self.energy_range);
+        Ok(())
+    }
+    fn take_error(&mut self) -> Option<CliError> {
+        self.error.take()
+    }
+}
+
+impl RodObserver<'_> {
+    fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
+        for x in self
+            .start
+            .iter_mut()
+            .chain(&mut self.impulse)
+            .chain(&mut self.balance_error)
+        {
+            *x = w.one()?;
+        }
+        self.energy0 = w.one()?;
+        self.energy_range = [w.one()?, w.one()?];
+        Ok(())
+    }
+}
+
+/// Run a rod scenario.
+pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    let setup = RodSetup::parse(path, text)?;
+    let s = &setup.scenario;
+    let lattice = &setup.lattice;
+    // Always shown, --quiet or not: the run is expected to blow up.
+    if setup.courant > 1.0 {
+        eprintln!(
+            "warning: dt = {:e} exceeds the stability limit {:e} (step number {:.3}); running because \
+             [method] allow_unstable = true",
+            setup.dt, setup.dt_limit, setup.courant
+        );
+    }
+    if let Some(requested) = setup.dt_requested
+        && (requested - setup.dt).abs() > 1e-12 * requested
+        && !job.quiet
+    {
+        eprintln!(
+            "note: dt = {requested:e} adjusted to {:e} = t_end/{} so that the run ends at t_end",
+            setup.dt, setup.steps
+        );
+    }
+    let p = setup.parameters;
+    let potential = LinearPotential {
+        gradient: setup.gravity * (-2.0 * p.rho()),
+    };
+    let mut lag = CosseratCell::new(
+        CosseratDensity {
+            parameters: p,
+            potential,
+        },
+        lattice.ds(),
+        setup.dt,
+    )
+    .map_err(|e| setup.key("time.dt", e.to_string()))?;
+    if let Some(loads) = setup.loads {
+        lag = lag.with_loads(loads).map_err(|e| setup.key("loads", e.to_string()))?;
+    }
+    let mut data = lattice.cauchy_data(setup.motion());
+    setup.ends.apply(lattice, 0, &mut data);
+    let mut marcher =
+        CauchyMarcher::with_window(lag, lattice.torus().clone(), 0, &data, setup.options, lattice.window())
+            .map_err(|e| setup.key("initial", e.to_string()))?;
+    if let Some(d) = setup.ends.dirichlet(lattice) {
+        marcher = marcher.with_dirichlet(d);
+    }
+    let nodes = lattice.nodes();
+    let rows = setup.steps / setup.every + 2;
+    let plan = Plan {
+        steps: 2.0 * setup.steps as f64,
+        steps_key: "time.t_end",
+        bytes: rows as f64 * (nodes as f64 * 12.0 * 8.0 + 9.0 * CSV_BYTES_PER_VALUE),
+        bytes_key: "output.every",
+    };
+    let spec = OutputSpec {
+        dir: s.output.dir.clone(),
+        ..Default::default()
+    };
+    let mut session = Session::open(
+        &setup.path,
+        &job,
+        output_dir(&setup.path, &spec, job.out.as_deref()),
+        &plan,
+        Some(s.output.checkpoint_every.saturating_mul(2)),
+        "cosserat-rod",
+    )?;
+    let dir = session.dir.clone();
+    let saved = session.resumed.clone();
+    let mut words = saved.as_ref().map(|c| Words::new(&c.observer));
+    let at = match &mut words {
+        Some(w) => Position::read_all(w).map_err(|e| words_error(&dir, e))?.map(Some),
+        None => [None; 4],
+    };
+    let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    let mut obs = RodObserver {
+        setup: &setup,
+        lag,
+        every_levels: 2 * setup.every,
+        centerline: NpyStream::create(&dir.join("centerline.npy"), &[nodes, 3], rows, at[0])?,
+        frames: NpyStream::create(&dir.join("frames.npy"), &[nodes, 9], rows, at[1])?,
+        momentum: CsvStream::create(
+            &dir.join("momentum.csv"),
+            &names(&["t", "P_x", "P_y", "P_z", "L_x", "L_y", "L_z"]),
+            at[2],
+        )?,
+        energy: CsvStream::create(&dir.join("energy.csv"), &names(&["t", "energy"]), at[3])?,
+        start: [0.0; 6],
+        impulse: [0.0; 6],
+        balance_error: [0.0; 2],
+        energy0: f64::NAN,
+        energy_range: [f64::NAN; 2],
+        rows_written: 0,
+        error: None,
+        buffer: Vec::with_capacity(nodes * 12),
+        before: Vec::with_capacity(nodes),
+    };
+    let mut state = marcher;
+    let mut stepper = CauchyStepper::<PositionRotation, Cell, 6>::new(0.5 * setup.dt, FIRST_CUT);
+    let (first, start) = match (&saved, words) {
+        (Some(saved), Some(mut w)) => {
+            obs.restore(&mut w).map_err(|e| words_error(&dir, e))?;
+            restore(&dir, &mut state, &mut Words::new(&saved.state))?;
+            (saved.step, Ok(()))
+        }
+        _ => {
+            let t = run_time(&state, setup.dt);
+            (0, obs.record(&state, t))
+        }
+    };
+    let outcome = match start {
+        Err(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
+        Ok(()) => session.execute(
+            &mut stepper,
+            &mut state,
+            first,
+            StopWhen::steps(2 * setup.steps),
+            &mut obs,
+        )?,
+    };
+    if !outcome.last_step.is_multiple_of(obs.every_levels) && matches!(outcome.status, Status::Completed) {
+        let t = run_time(&state, setup.dt);
+        if let Err(e) = obs.record(&state, t) {
+            obs.io(Err(CliError::Run {
+                error: e,
+                dir: dir.clone(),
+            }));
+        }
+    }
+    obs.centerline.position()?;
+    obs.frames.position()?;
+    obs.energy.position()?;
+    let rows_out = obs.momentum.position()?.rows;
+    let t_final = run_time(&state, setup.dt);
+    let free = setup.ends.start.is_free() && setup.ends.end.is_free();
+    let own = json!({
+        "scenario": setup.path.display().to_string(),
+        "model": s.model.name,
+        "nodes": nodes,
+        "length": lattice.length(),
+        "ds": lattice.ds(),
+        "dt": setup.dt,
+        "dt_requested": setup.dt_requested,
+        "dt_stability_limit": setup.dt_limit,
+        "step_number": setup.courant,
+        "time_steps": outcome.last_step / 2,
+        "levels": outcome.last_step,
+        "vertex_solves": outcome.last_step * (nodes as u64).div_ceil(2),
+        "newton_iterations_per_vertex": outcome.iterations as f64 / (outcome.last_step.max(1) * (nodes as u64).div_ceil(2)) as f64,
+    "ends": [end_name(&setup.ends.start), end_name(&setup.ends.end)],
+        "energy_initial": obs.energy0,
+        "energy_min": obs.energy_range[0],
+        "energy_max": obs.energy_range[1],
+        "linear_momentum_balance_error": if free { json!(obs.balance_error[0]) } else { json!(null) },
+        "angular_momentum_balance_error": if free { json!(obs.balance_error[1]) } else { json!(null) },
+    });
+    let value = summary::common(
+        &outcome.status,
+        outcome.last_step,
+        t_final,
+        session.wall_seconds(),
+        outcome.iterations,
+        own,
+    );
+    write_json(&dir.join("summary.json"), &value)?;
+    if let Some(e) = obs.error.take() {
+        return Err(e);
+    }
+    if s.output.plots {
+        draw_rod(&dir, nodes, rows_out, &s.output.plot_format)?;
+    }
+    if !session.quiet {
+        let balance = if free {
+            format!(
+                ", momentum balance error {:.1e} (linear), {:.1e} (angular)",
+                obs.balance_error[0], obs.balance_error[1]
+            )
+        } else {
+            String::new()
+        };
+        println!(
+            "cosserat-rod, {nodes} nodes: {} time steps of {:e} to t = {t_final}{balance}; outputs in {}",
+            outcome.last_step / 2,
+            setup.dt,
+            dir.display()
+        );
+    }
+    match outcome.status {
+        Status::Failed(error) => Err(CliError::Run { error, dir }),
+        Status::Interrupted => Err(CliError::Interrupted { dir }),
+        _ => Ok(()),
+    }
+}
+
+/// Centreline snapshots (x–z and y–z), momentum changes and energy, read back
+/// from the files.
+pub fn draw_rod(dir: &Path, nodes: usize, rows: u64, format: &str) -> Result<(), CliError> {
+    let width: Vec<String> = (0..nodes * 3).map(|i| i.to_string()).collect();
+    let snaps = rows_for_plots(dir, "centerline", &width, rows, 6)?;
+    for (name, a) in [("xz", 0), ("yz", 1)] {
+        let curves: Vec<(Vec<f64>, Vec<f64>)> = snaps
+            .rows
+            .iter()
+            .map(|r| {
+                (
+                    (0..nodes).map(|p| r[3 * p + a]).collect(),
+                    (0..nodes).map(|p| r[3 * p + 2]).collect(),
+                )
+            })
+            .collect();
+        let labels: Vec<String> = (0..curves.len()).map(|k| format!("snapshot {k}")).collect();
+        let fig = Figure {
+            title: "Centreline snapshots",
+            x_label: if a == 0 { "x" } else { "y" },
+            y_label: "z",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: curves
+                .iter()
+                .zip(&labels)
+                .map(|((x, y), label)| Series { label, x, y })
+                .collect(),
+            markers: false,
+            equal_aspect: true,
+        };
+        draw(&dir.join(format!("centerline_{name}.{format}")), &fig).map_err(crate::figures::plot_err)?;
+    }
+    let momentum = Table::read_csv(&dir.join("momentum.csv"))?;
+    if let Some(t) = momentum.column("t") {
+        let names = ["P_x", "P_y", "P_z", "L_x", "L_y", "L_z"];
+        let changes: Vec<Vec<f64>> = names
+            .iter()
+            .map(|n| {
+                let v = momentum.column(n).unwrap_or_default();
+                let v0 = v.first().copied().unwrap_or(0.0);
+                v.iter().map(|x| x - v0).collect()
+            })
+            .collect();
+        let fig = Figure {
+            title: "Momenta: change since the start",
+            x_label: "time t",
+            y_label: "P(t) − P(0), L(t) − L(0)",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: names
+                .iter()
+                .zip(&changes)
+                .map(|(label, y)| Series { label, x: &t, y })
+                .collect(),
+            markers: false,
+            equal_aspect: false,
+        };
+        draw(&dir.join(format!("momentum.{format}")), &fig).map_err(crate::figures::plot_err)?;
+    }
+    let energy = Table::read_csv(&dir.join("energy.csv"))?;
+    if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
+        let fig = Figure {
+            title: "Energy (kinetic + elastic + potential)",
+            x_label: "time t",
+            y_label: "E",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: vec![Series {
+                label: "energy",
+                x: &t,
+                y: &e,
+            }],
+            markers: false,
+            equal_aspect: false,
+        };
+        draw(&dir.join(format!("energy.{format}")), &fig).map_err(crate::figures::plot_err)?;
+    }
+    Ok(())
+}

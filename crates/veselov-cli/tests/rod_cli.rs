@@ -1,0 +1,211 @@
+//! The Cosserat-rod kind of `veselov run` (`[model] name = "cosserat-rod"`):
+//! outputs, momentum balances read back from the files, the step limit and
+//! errors naming the key.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("veselov-rod-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn example(name: &str) -> String {
+    std::fs::read_to_string(workspace_root().join("examples").join(name)).expect("example")
+}
+
+/// Replace `key = …` in the text (the first occurrence of the key at the
+/// start of a line).
+fn set(text: &str, key: &str, value: &str) -> String {
+    let mut done = false;
+    text.lines()
+        .map(|l| {
+            if !done && l.trim_start().starts_with(&format!("{key} =")) {
+                done = true;
+                format!("{key} = {value}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Run `text`; returns (success, stderr, output directory).
+fn run(name: &str, text: &str) -> (bool, String, PathBuf) {
+    let dir = temp_dir(name);
+    let file = dir.join("scenario.toml");
+    std::fs::write(&file, text).expect("write");
+    let out = dir.join("out");
+    let o = Command::cargo_bin("veselov")
+        .expect("binary")
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .output()
+        .expect("run");
+    (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned(), out)
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).expect("summary")).expect("json")
+}
+
+fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).expect("csv");
+    let mut lines = text.lines();
+    let header = lines.next().expect("header").split(',').map(str::to_string).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.trim().parse::<f64>().expect("number")).collect())
+        .collect();
+    (header, rows)
+}
+
+/// The shape in the header of an NPY file.
+fn npy_shape(path: &Path) -> Vec<usize> {
+    let bytes = std::fs::read(path).expect("npy");
+    assert!(bytes.starts_with(b"\x93NUMPY"));
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = String::from_utf8_lossy(&bytes[10..10 + len]).into_owned();
+    let inner = &header[header.find("'shape': (").expect("shape") + 10..];
+    inner[..inner.find(')').expect("end")]
+        .split(',')
+        .filter(|s| !s.trim().is_empty())
+        .map(|s| s.trim().parse().expect("dim"))
+        .collect()
+}
+
+#[test]
+fn free_rod_writes_its_outputs_and_keeps_its_momenta() {
+    let text = set(&example("rod_free_tumbling.toml"), "t_end", "0.5");
+    let (ok, err, out) = run("free", &text);
+    assert!(ok, "{err}");
+    let s = summary(&out);
+    assert_eq!(s["status"], "ok");
+    let (header, rows) = csv(&out.join("momentum.csv"));
+    assert_eq!(header, ["t", "P_x", "P_y", "P_z", "L_x", "L_y", "L_z"]);
+    let n = rows.len();
+    assert_eq!(npy_shape(&out.join("centerline.npy")), [n, 31, 3]);
+    assert_eq!(npy_shape(&out.join("frames.npy")), [n, 31, 9]);
+    assert_eq!(rows[0][0], 0.0);
+    assert!((rows[n - 1][0] - 0.5).abs() < 1e-12, "ends at t_end");
+    // Conserved to round-off (the rod moves: |P| ≈ 0.1 M).
+    for (range, bound) in [(1..4, 1e-12), (4..7, 1e-10)] {
+        let scale = rows
+            .iter()
+            .flat_map(|r| r[range.clone()].to_vec())
+            .fold(0.0_f64, |m, x| m.max(x.abs()));
+        let drift = rows
+            .iter()
+            .flat_map(|r| range.clone().map(|i| (r[i] - rows[0][i]).abs()).collect::<Vec<_>>())
+            .fold(0.0_f64, f64::max);
+        assert!(
+            scale > 1e-3 && drift <= bound * scale,
+            "{range:?}: {drift:e} of {scale:e}"
+        );
+    }
+    assert!(s["linear_momentum_balance_error"].as_f64().expect("number") <= 1e-12);
+    let (eh, energy) = csv(&out.join("energy.csv"));
+    assert_eq!(eh, ["t", "energy"]);
+    assert_eq!(energy.len(), n);
+    for plot in ["centerline_xz.svg", "centerline_yz.svg", "momentum.svg", "energy.svg"] {
+        assert!(out.join(plot).exists(), "no {plot}");
+    }
+}
+
+#[test]
+fn falling_rod_gains_the_momentum_of_its_weight() {
+    let text = set(&example("rod_gravity.toml"), "t_end", "0.3");
+    let (ok, err, out) = run("gravity", &text);
+    assert!(ok, "{err}");
+    let (_, rows) = csv(&out.join("momentum.csv"));
+    // M = ρAL; P_z(t) − P_z(0) = −M g t exactly in the discrete balance.
+    let mass = 1000.0 * std::f64::consts::PI * 0.02_f64.powi(2) * 1.0;
+    let mut worst = 0.0_f64;
+    for r in &rows {
+        let expected = -mass * 9.81 * r[0];
+        worst = worst.max((r[3] - rows[0][3] - expected).abs() / (mass * 9.81 * 0.3));
+        assert!((r[1] - rows[0][1]).abs() < 1e-12 && (r[2] - rows[0][2]).abs() < 1e-12);
+    }
+    assert!(worst < 1e-12, "{worst:e}");
+    assert!(
+        summary(&out)["angular_momentum_balance_error"]
+            .as_f64()
+            .expect("number")
+            <= 1e-12
+    );
+}
+
+#[test]
+fn damped_cantilever_comes_to_rest_with_a_clamped_end() {
+    let text = set(&example("rod_cantilever_damped.toml"), "nodes", "21");
+    let (ok, err, out) = run("cantilever", &text);
+    assert!(ok, "{err}");
+    let s = summary(&out);
+    assert!(
+        s["linear_momentum_balance_error"].is_null(),
+        "no balance with a support"
+    );
+    let (_, rows) = csv(&out.join("momentum.csv"));
+    let last = &rows[rows.len() - 1];
+    let peak = rows.iter().map(|r| r[1].abs()).fold(0.0_f64, f64::max);
+    assert!(last[1].abs() < 1e-6 * peak, "still moving: {} of {peak}", last[1]);
+}
+
+#[test]
+fn above_the_step_limit_the_run_is_refused_or_fails_cleanly() {
+    let base = example("rod_free_tumbling.toml");
+    let fast = set(&base, "t_end", "0.5\ndt = 0.02");
+    let (ok, err, _) = run("unstable", &fast);
+    assert!(
+        !ok && err.contains("time.dt") && err.contains("allow_unstable"),
+        "{err}"
+    );
+    let forced = fast.replace("[output]", "[method]\nallow_unstable = true\n\n[output]");
+    let (ok, err, out) = run("forced", &forced);
+    assert!(!ok && err.starts_with("warning") && err.contains("error: "), "{err}");
+    assert!(!err.contains("panicked"));
+    let s = summary(&out);
+    assert_eq!(s["status"], "error", "{s}");
+    let (_, rows) = csv(&out.join("momentum.csv"));
+    assert!(rows.iter().flatten().all(|x| x.is_finite()));
+}
+
+#[test]
+fn bad_rod_input_names_the_key() {
+    let base = example("rod_free_tumbling.toml");
+    let cases = [
+        (set(&base, "density", "-1.0"), "model.density"),
+        (set(&base, "nodes", "2"), "model.nodes"),
+        (base.replace("[time]", "[time]\nsteps = 3"), "steps"),
+        (
+            set(&base, "shape", "\"helix\"").replace("curvature = 1.5", "helix_radius = 0.0"),
+            "initial.helix_radius",
+        ),
+        (set(&base, "shape", "\"spiral\""), "initial.shape"),
+        (
+            base.replace(
+                "[initial]",
+                "[ends]\nend = \"clamped\"\n\n[loads]\nend_force = [1.0, 0.0, 0.0]\n\n[initial]",
+            ),
+            "loads.end_force",
+        ),
+        (
+            base.replace("[initial]", "[ends]\nstart = \"pinned\"\n\n[initial]"),
+            "ends.start",
+        ),
+        (set(&base, "curvature", "10.0"), "initial.curvature"),
+    ];
+    for (text, key) in cases {
+        let (ok, err, _) = run("bad", &text);
+        assert!(!ok && err.contains(key), "expected an error naming {key}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
