@@ -35,6 +35,47 @@ pub(crate) fn draw_energy_error(path: &Path, title: &str, t: &[f64], e: &[f64]) 
     draw(path, &fig).map_err(plot_err)
 }
 
+/// Labelled curves (label, x, y) on linear axes.
+pub(crate) fn draw_curves(
+    path: &Path,
+    (title, x_label, y_label): (&str, &str, &str),
+    curves: &[(String, Vec<f64>, Vec<f64>)],
+    equal_aspect: bool,
+) -> Result<(), CliError> {
+    let fig = Figure {
+        title,
+        x_label,
+        y_label,
+        x_scale: Scale::Linear,
+        y_scale: Scale::Linear,
+        series: curves.iter().map(|(label, x, y)| Series { label, x, y }).collect(),
+        markers: false,
+        equal_aspect,
+    };
+    draw(path, &fig).map_err(plot_err)
+}
+
+/// The columns `names` of a CSV table as changes from their first value,
+/// against its column `x`, in one figure.
+pub(crate) fn draw_changes(
+    path: &Path,
+    table: &Table,
+    x: &str,
+    names: &[&str],
+    labels: (&str, &str),
+) -> Result<(), CliError> {
+    let Some(xs) = table.column(x) else { return Ok(()) };
+    let curves: Vec<(String, Vec<f64>, Vec<f64>)> = names
+        .iter()
+        .filter_map(|n| {
+            let v = table.column(n)?;
+            let v0 = v.first().copied().unwrap_or(0.0);
+            Some((n.to_string(), xs.clone(), v.iter().map(|y| y - v0).collect()))
+        })
+        .collect();
+    draw_curves(path, (labels.0, x, labels.1), &curves, false)
+}
+
 /// Energy error, momentum errors, phase portrait, (in 2-D) the orbit and (rigid
 /// bodies) the body angular momentum.
 pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(), CliError> {

@@ -35,7 +35,6 @@ use crate::output::{Table, write_json};
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, summary, words_error};
-use crate::plot::{Figure, Scale, Series, draw};
 use crate::rod::RodSetup;
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, output_dir};
@@ -482,78 +481,53 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
 pub fn draw_rod(dir: &Path, nodes: usize, rows: u64, format: &str) -> Result<(), CliError> {
     let width: Vec<String> = (0..nodes * 3).map(|i| i.to_string()).collect();
     let snaps = rows_for_plots(dir, "centerline", &width, rows, 6)?;
+    let points: Vec<Vec<[f64; 3]>> = snaps
+        .rows
+        .iter()
+        .map(|r| (0..nodes).map(|p| [r[3 * p], r[3 * p + 1], r[3 * p + 2]]).collect())
+        .collect();
+    draw_centerlines(dir, &points, format)?;
+    let momentum = Table::read_csv(&dir.join("momentum.csv"))?;
+    crate::figures::draw_changes(
+        &dir.join(format!("momentum.{format}")),
+        &momentum,
+        "t",
+        &["P_x", "P_y", "P_z", "L_x", "L_y", "L_z"],
+        ("Momenta: change since the start", "P(t) − P(0), L(t) − L(0)"),
+    )?;
+    let energy = Table::read_csv(&dir.join("energy.csv"))?;
+    if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
+        crate::figures::draw_curves(
+            &dir.join(format!("energy.{format}")),
+            ("Energy (kinetic + elastic + potential)", "time t", "E"),
+            &[("energy".to_string(), t, e)],
+            false,
+        )?;
+    }
+    Ok(())
+}
+
+/// Centreline snapshots (each a list of points) in the x–z and y–z planes:
+/// `centerline_xz` and `centerline_yz`.
+pub(crate) fn draw_centerlines(dir: &Path, snapshots: &[Vec<[f64; 3]>], format: &str) -> Result<(), CliError> {
     for (name, a) in [("xz", 0), ("yz", 1)] {
-        let curves: Vec<(Vec<f64>, Vec<f64>)> = snaps
-            .rows
+        let curves: Vec<(String, Vec<f64>, Vec<f64>)> = snapshots
             .iter()
-            .map(|r| {
+            .enumerate()
+            .map(|(k, points)| {
                 (
-                    (0..nodes).map(|p| r[3 * p + a]).collect(),
-                    (0..nodes).map(|p| r[3 * p + 2]).collect(),
+                    format!("snapshot {k}"),
+                    points.iter().map(|p| p[a]).collect(),
+                    points.iter().map(|p| p[2]).collect(),
                 )
             })
             .collect();
-        let labels: Vec<String> = (0..curves.len()).map(|k| format!("snapshot {k}")).collect();
-        let fig = Figure {
-            title: "Centreline snapshots",
-            x_label: if a == 0 { "x" } else { "y" },
-            y_label: "z",
-            x_scale: Scale::Linear,
-            y_scale: Scale::Linear,
-            series: curves
-                .iter()
-                .zip(&labels)
-                .map(|((x, y), label)| Series { label, x, y })
-                .collect(),
-            markers: false,
-            equal_aspect: true,
-        };
-        draw(&dir.join(format!("centerline_{name}.{format}")), &fig).map_err(crate::figures::plot_err)?;
-    }
-    let momentum = Table::read_csv(&dir.join("momentum.csv"))?;
-    if let Some(t) = momentum.column("t") {
-        let names = ["P_x", "P_y", "P_z", "L_x", "L_y", "L_z"];
-        let changes: Vec<Vec<f64>> = names
-            .iter()
-            .map(|n| {
-                let v = momentum.column(n).unwrap_or_default();
-                let v0 = v.first().copied().unwrap_or(0.0);
-                v.iter().map(|x| x - v0).collect()
-            })
-            .collect();
-        let fig = Figure {
-            title: "Momenta: change since the start",
-            x_label: "time t",
-            y_label: "P(t) − P(0), L(t) − L(0)",
-            x_scale: Scale::Linear,
-            y_scale: Scale::Linear,
-            series: names
-                .iter()
-                .zip(&changes)
-                .map(|(label, y)| Series { label, x: &t, y })
-                .collect(),
-            markers: false,
-            equal_aspect: false,
-        };
-        draw(&dir.join(format!("momentum.{format}")), &fig).map_err(crate::figures::plot_err)?;
-    }
-    let energy = Table::read_csv(&dir.join("energy.csv"))?;
-    if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
-        let fig = Figure {
-            title: "Energy (kinetic + elastic + potential)",
-            x_label: "time t",
-            y_label: "E",
-            x_scale: Scale::Linear,
-            y_scale: Scale::Linear,
-            series: vec![Series {
-                label: "energy",
-                x: &t,
-                y: &e,
-            }],
-            markers: false,
-            equal_aspect: false,
-        };
-        draw(&dir.join(format!("energy.{format}")), &fig).map_err(crate::figures::plot_err)?;
+        crate::figures::draw_curves(
+            &dir.join(format!("centerline_{name}.{format}")),
+            ("Centreline snapshots", if a == 0 { "x" } else { "y" }, "z"),
+            &curves,
+            true,
+        )?;
     }
     Ok(())
 }

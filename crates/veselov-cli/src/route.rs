@@ -6,7 +6,7 @@ use std::path::Path;
 
 use crate::error::CliError;
 use crate::scenario::LoadedScenario;
-use crate::{field, rigid, rod_run, run, systems, verify};
+use crate::{beam_run, field, rigid, rod_run, run, systems, verify};
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -19,6 +19,8 @@ pub enum ScenarioKind {
     Field,
     /// The Cosserat rod on the leapfrog CFK lattice.
     Rod,
+    /// The geometrically exact beam on SE(3) (seed 000).
+    Beam,
 }
 
 /// Read a scenario file.
@@ -40,6 +42,7 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
         Some(n) if crate::rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
         Some(n) if crate::field::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
         Some(crate::rod::ROD_MODEL) => ScenarioKind::Rod,
+        Some(crate::beam::BEAM_MODEL) => ScenarioKind::Beam,
         _ => ScenarioKind::Mechanics,
     })
 }
@@ -57,6 +60,7 @@ pub fn run_text(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliErro
         ScenarioKind::RigidBody => rigid::run(path, text, job),
         ScenarioKind::Field => field::run(path, text, job),
         ScenarioKind::Rod => rod_run::run(path, text, job),
+        ScenarioKind::Beam => beam_run::run(path, text, job),
         ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),
     }
 }
@@ -73,6 +77,11 @@ pub fn verify_text(path: &Path, text: &str, job: verify::VerifyJob) -> Result<()
         ScenarioKind::Field => Err(CliError::Setup(format!(
             "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
              is measured by the test suite (tests/field_*.rs)",
+            path.display()
+        ))),
+        ScenarioKind::Beam => Err(CliError::Setup(format!(
+            "{}: `veselov verify` does not take beam scenarios; the beam's convergence (Timoshenko's \
+             frequencies and deflection) is measured by the test suite (tests/beam_*.rs)",
             path.display()
         ))),
         ScenarioKind::Rod => Err(CliError::Setup(format!(

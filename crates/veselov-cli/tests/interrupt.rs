@@ -297,3 +297,82 @@ fn checkpoints_by_wall_time_resume_bit_for_bit() {
         },
     );
 }
+
+#[test]
+fn rod_run_survives_sigterm_and_resumes_bit_for_bit() {
+    // The Cosserat rod: the Cauchy march on ℝ³ × SO(3) (checkpoint words by
+    // the fibre's coordinates) and the observer's momentum balance sums.
+    interrupt_and_resume(
+        "rod",
+        r#"
+[model]
+name = "cosserat-rod"
+length = 1.0
+nodes = 31
+radius = 0.02
+density = 1000.0
+young = 1e5
+poisson = 0.5
+[loads]
+gravity = [0.0, 0.0, -9.81]
+damping = 0.1
+end_force = [0.001, 0.0, 0.0]
+ramp = 1.0
+[initial]
+shape = "bent"
+curvature = 1.0
+angular_velocity = [0.0, 0.5, 1.0]
+[time]
+t_end = 30.0
+[output]
+every = 10
+checkpoint_every = 500
+plots = false
+"#,
+        &Files {
+            watch: "momentum.csv",
+            watch_bytes: 20_000,
+            paired: ("momentum.csv", "centerline.npy", 31 * 3),
+            compared: &["momentum.csv", "energy.csv", "centerline.npy", "frames.npy"],
+            args: &[],
+        },
+    );
+}
+
+#[test]
+fn beam_run_survives_sigterm_and_resumes_bit_for_bit() {
+    // Seed 000's time evolution on SE(3) with a clamped end (the rolling
+    // three-level window rebuilt from the checkpoint).
+    interrupt_and_resume(
+        "beam",
+        r#"
+[model]
+name = "beam"
+length = 0.8
+nodes = 21
+width = 0.05
+height = 0.05
+density = 1000.0
+young = 1e6
+poisson = 0.3
+[ends]
+start = "clamped"
+[initial]
+shape = "bent"
+curvature = 1.0
+[time]
+t_end = 1.0
+[output]
+every = 2
+checkpoint_every = 50
+plots = false
+"#,
+        &Files {
+            watch: "momentum.csv",
+            watch_bytes: 20_000,
+            paired: ("momentum.csv", "frames.npy", 21 * 12),
+            compared: &["momentum.csv", "energy.csv", "frames.npy"],
+            args: &[],
+        },
+    );
+}

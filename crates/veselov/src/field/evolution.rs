@@ -42,6 +42,7 @@ use super::complex::{SpacetimeLattice, TopCell, TopCells};
 use super::fibre::Fibre;
 use super::flow::FlowMarcher;
 use super::legendre::{CauchyOptions, LevelReport, VertexOutcome};
+use crate::run::{Checkpoint, StepStats, Stepper, Words};
 use crate::{Error, Result};
 
 /// The marching direction on seed 000's lattice.
@@ -370,5 +371,105 @@ where
             out.scale += j.iter().map(|v| v.amax()).sum::<f64>();
         });
         out
+    }
+}
+
+/// A checkpoint of an evolution: the level index and the previous and
+/// current levels, each value by its coordinates ([`Fibre::write`], read
+/// back exactly by [`Fibre::read`]); the window is rebuilt as a step leaves
+/// it, so a restored run
+/// continues bit for bit. End conditions are part of the set-up.
+impl<F, L, const M: usize> Checkpoint for Evolution000<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    fn save(&self, out: &mut Vec<f64>) {
+        out.push(self.level as f64);
+        let mut c = [0.0; 16];
+        let k = F::COORDINATES.min(c.len());
+        for back in [1, 0] {
+            for node in 0..=self.cross {
+                F::write(&self.value(back, node), &mut c[..k]);
+                out.extend_from_slice(&c[..k]);
+            }
+        }
+    }
+
+    fn restore(&mut self, words: &mut Words<'_>) -> Result<()> {
+        let level = words.one()?;
+        if !(level.is_finite() && level >= 1.0 && level.fract() == 0.0 && level < 2f64.powi(52)) {
+            return Err(Error::InvalidParameter {
+                name: "checkpoint".into(),
+                value: level.to_string(),
+                reason: "not a level number".into(),
+            });
+        }
+        let mut c = [0.0; 16];
+        let k = F::COORDINATES.min(c.len());
+        // After a step every value of both levels is known (the slaved
+        // node solved as soon as its level is complete).
+        for w in [0, 1] {
+            for node in 0..=self.cross {
+                words.fill(&mut c[..k])?;
+                let y = F::read(&c[..k]);
+                self.marcher.set(self.vertex(w, node), y, true);
+                if w == 1 {
+                    self.marcher.set(self.vertex(2, node), y, false);
+                }
+            }
+        }
+        self.level = level as usize;
+        Ok(())
+    }
+}
+
+/// Drives an [`Evolution000`] on the run pipeline: one level per step, the
+/// level ℓ at time (or arc length) ℓ·`step_length`.
+pub struct EvolutionStepper<F, L, const M: usize> {
+    /// Δt in time evolution, Δs in space evolution.
+    pub step_length: f64,
+    _evolution: std::marker::PhantomData<fn() -> (F, L)>,
+}
+
+impl<F, L, const M: usize> EvolutionStepper<F, L, M> {
+    /// A stepper with levels `step_length` apart.
+    pub fn new(step_length: f64) -> Self {
+        Self {
+            step_length,
+            _evolution: std::marker::PhantomData,
+        }
+    }
+}
+
+impl<F, L, const M: usize> Stepper for EvolutionStepper<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    type State = Evolution000<F, L, M>;
+    fn step(&mut self, _index: u64, e: &mut Evolution000<F, L, M>) -> Result<StepStats> {
+        let report = e.step()?;
+        Ok(StepStats {
+            iterations: report.iterations,
+            ..StepStats::default()
+        })
+    }
+    fn time(&self, e: &Evolution000<F, L, M>) -> f64 {
+        e.level() as f64 * self.step_length
+    }
+    fn non_finite(&self, e: &Evolution000<F, L, M>) -> Option<String> {
+        (0..=e.cross())
+            .any(|c| !F::is_finite(&e.value(0, c)))
+            .then(|| format!("level {}", e.level()))
+    }
+}
+
+impl<F, L, const M: usize> Checkpoint for EvolutionStepper<F, L, M> {
+    fn save(&self, _: &mut Vec<f64>) {}
+    fn restore(&mut self, _: &mut Words<'_>) -> Result<()> {
+        Ok(())
     }
 }
