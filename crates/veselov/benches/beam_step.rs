@@ -1,6 +1,7 @@
 //! The SE(3) beam on seed 000's lattice: nanoseconds per node update (one
-//! 6-D Newton solve of the core's flow marcher, nested-dual Jacobians
-//! through the Cayley map) for time evolution (a free–free beam, A = 16
+//! 6-D Newton solve of the core's flow marcher; its nested-dual Jacobian
+//! through the Cayley map is kept from the node's previous level while it
+//! contracts) for time evolution (a free–free beam, A = 16
 //! space cells: 16 updates per level, the slaved node included) and space
 //! evolution (zero momentum, N = 16 time cells: 16 updates per column).
 //! One sample steps 4 levels: divide its time by 64. Newton iterations per node are printed

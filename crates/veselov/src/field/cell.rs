@@ -104,9 +104,11 @@ where
     let k = y.len();
     debug_assert!(k <= MAX_CELL_VERTICES && l < k && b < k);
     let seeded = F::retract(&F::lift::<DualSVec64<M>>(&y[b]), &seeds::<f64, M>());
-    let values: [F::Point<DualSVec64<M>>; MAX_CELL_VERTICES] =
-        std::array::from_fn(|i| if i == b { seeded } else { F::lift(&y[i.min(k - 1)]) });
-    let f = lag.cell_force(cell, &values[..k], l);
+    let f = with_values(
+        k,
+        |i| if i == b { seeded } else { F::lift(&y[i]) },
+        |v| lag.cell_force(cell, v, l),
+    );
     let mut block = SMatrix::<f64, M, M>::zeros();
     for i in 0..M {
         block.set_row(i, &f[i].eps.unwrap_generic(Const::<M>, U1).transpose());
@@ -121,6 +123,25 @@ where
     L: DiscreteLagrangian<F, M> + ?Sized,
 {
     lag.cell_force(cell, y, l)
+}
+
+/// Vertex counts of the common cells (triangles, rectangles, tetrahedra):
+/// their lifted values live in an array of this size, not
+/// [`MAX_CELL_VERTICES`] (dual-number points are large, and copying unused
+/// slots dominated the cost of a derivative pass).
+const SMALL_CELL: usize = 4;
+
+/// Calls `f` on the `k` values `value(0) … value(k − 1)` held in a stack
+/// array just large enough for common cells.
+fn with_values<P: Copy, R>(k: usize, value: impl Fn(usize) -> P, f: impl FnOnce(&[P]) -> R) -> R {
+    debug_assert!((1..=MAX_CELL_VERTICES).contains(&k));
+    if k <= SMALL_CELL {
+        let v: [P; SMALL_CELL] = std::array::from_fn(|i| value(i.min(k - 1)));
+        f(&v[..k])
+    } else {
+        let v: [P; MAX_CELL_VERTICES] = std::array::from_fn(|i| value(i.min(k - 1)));
+        f(&v[..k])
+    }
 }
 
 /// The seeds e_i (i = 0..M) of M-direction dual numbers over `D`.
@@ -146,9 +167,11 @@ where
     let k = y.len();
     debug_assert!(k <= MAX_CELL_VERTICES && l < k);
     let seeded = F::retract(&F::lift::<DualSVec64<M>>(&y[l]), &seeds::<f64, M>());
-    let values: [F::Point<DualSVec64<M>>; MAX_CELL_VERTICES] =
-        std::array::from_fn(|i| if i == l { seeded } else { F::lift(&y[i.min(k - 1)]) });
-    gradient_of(lag.cell_lagrangian(cell, &values[..k]))
+    gradient_of(with_values(
+        k,
+        |i| if i == l { seeded } else { F::lift(&y[i]) },
+        |v| lag.cell_lagrangian(cell, v),
+    ))
 }
 
 /// ∂L_β/∂y_a and its derivative with respect to y_b:
@@ -175,16 +198,19 @@ where
     let ya = F::retract(&F::lift::<Outer<M>>(&y[a]), &inner);
     let ya = if a == b { F::retract(&ya, &outer) } else { ya };
     let yb = F::retract(&F::lift::<Outer<M>>(&y[b]), &outer);
-    let values: [F::Point<Outer<M>>; MAX_CELL_VERTICES] = std::array::from_fn(|i| {
-        if i == a {
-            ya
-        } else if i == b && b != a {
-            yb
-        } else {
-            F::lift(&y[i.min(k - 1)])
-        }
-    });
-    let value = lag.cell_lagrangian(cell, &values[..k]);
+    let value = with_values(
+        k,
+        |i| {
+            if i == a {
+                ya
+            } else if i == b && b != a {
+                yb
+            } else {
+                F::lift(&y[i])
+            }
+        },
+        |v| lag.cell_lagrangian(cell, v),
+    );
     let grad = value.re.eps.unwrap_generic(Const::<M>, U1);
     let outer_eps: SVector<DualSVec64<M>, M> = match value.eps {
         Derivative(Some(e)) => e,

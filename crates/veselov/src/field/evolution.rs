@@ -92,6 +92,9 @@ pub struct Evolution000<F: Fibre<M>, L, const M: usize> {
     far: EndCondition<F::Point<f64>>,
     marcher: FlowMarcher<SpacetimeLattice, F, L, M>,
     level: usize,
+    /// The Newton Jacobian of each cross index's last solve (reused at the
+    /// next level while it contracts); allocated once.
+    jacobians: Vec<Option<SMatrix<f64, M, M>>>,
 }
 
 impl<F, L, const M: usize> Evolution000<F, L, M>
@@ -182,6 +185,7 @@ where
             far,
             marcher,
             level: 1,
+            jacobians: vec![None; cross + 1],
         };
         if evolution.far.is_natural() {
             evolution.solve_slaved()?;
@@ -203,7 +207,7 @@ where
 
     fn solve_slaved(&mut self) -> Result<VertexOutcome> {
         let v = self.vertex(1, self.cross);
-        let solved = self.marcher.solve(v, v);
+        let solved = self.marcher.solve_reusing(v, v, &mut self.jacobians[self.cross]);
         solved.map_err(|e| self.name_node(e, self.level, self.cross))
     }
 
@@ -307,7 +311,8 @@ where
         }
         let start = usize::from(!self.near.is_natural());
         for c in start..cross {
-            let solved = self.marcher.solve(self.vertex(1, c), self.vertex(2, c));
+            let (v, dv) = (self.vertex(1, c), self.vertex(2, c));
+            let solved = self.marcher.solve_reusing(v, dv, &mut self.jacobians[c]);
             add(solved.map_err(|e| self.name_node(e, self.level, c))?);
         }
         // Roll the window: levels ℓ, ℓ + 1 become the previous and current ones.
@@ -374,10 +379,10 @@ where
     }
 }
 
-/// A checkpoint of an evolution: the level index and the previous and
-/// current levels, each value by its coordinates ([`Fibre::write`], read
-/// back exactly by [`Fibre::read`]); the window is rebuilt as a step leaves
-/// it, so a restored run
+/// A checkpoint of an evolution: the level index, the previous and current
+/// levels, each value by its coordinates ([`Fibre::write`], read back
+/// exactly by [`Fibre::read`]), and the Newton Jacobians kept for the next
+/// level; the window is rebuilt as a step leaves it, so a restored run
 /// continues bit for bit. End conditions are part of the set-up.
 impl<F, L, const M: usize> Checkpoint for Evolution000<F, L, M>
 where
@@ -394,6 +399,11 @@ where
                 F::write(&self.value(back, node), &mut c[..k]);
                 out.extend_from_slice(&c[..k]);
             }
+        }
+        // The kept Newton Jacobians: the next level's iterations depend on them.
+        for j in &self.jacobians {
+            out.push(f64::from(u8::from(j.is_some())));
+            out.extend_from_slice(j.unwrap_or_else(SMatrix::zeros).as_slice());
         }
     }
 
@@ -419,6 +429,12 @@ where
                     self.marcher.set(self.vertex(2, node), y, false);
                 }
             }
+        }
+        for j in &mut self.jacobians {
+            let has = words.one()? != 0.0;
+            let mut m = SMatrix::<f64, M, M>::zeros();
+            words.fill(m.as_mut_slice())?;
+            *j = has.then_some(m);
         }
         self.level = level as usize;
         Ok(())

@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, force_block, mixed_block, vertex_force, vertex_gradient};
 use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
-use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre};
+use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre_from};
 use crate::{Error, Result};
 
 /// The Cauchy integrator on a finite complex with a caller-given schedule.
@@ -161,7 +161,13 @@ where
     }
 
     /// Solves EL_v = 0 for y_Δv at a checked pair, from the values as they are.
-    fn solve_pair(&self, dv: usize, star: &[StarEntry], guess: F::Point<f64>) -> (F::Point<f64>, VertexOutcome) {
+    fn solve_pair(
+        &self,
+        dv: usize,
+        star: &[StarEntry],
+        guess: F::Point<f64>,
+        kept: &mut Option<SMatrix<f64, M, M>>,
+    ) -> (F::Point<f64>, VertexOutcome) {
         let mut verts = [0; MAX_CELL_VERTICES];
         let mut mu = SVector::<f64, M>::zeros();
         let mut mu_scale = 0.0;
@@ -212,7 +218,7 @@ where
             }
             (leg, with_jacobian.then_some(jac), scale)
         };
-        solve_legendre::<F, M>(&mu, mu_scale, guess, &self.options, legendre)
+        solve_legendre_from::<F, M>(&mu, mu_scale, guess, &self.options, kept, legendre)
     }
 
     /// Solves the pair (v, Δv), starting Newton from the current value at Δv,
@@ -220,9 +226,23 @@ where
     /// itself (a slaved vertex, whose star's other unknowns its gradient
     /// does not depend on: [`DiscreteLagrangian::depends`]).
     pub fn solve(&mut self, v: usize, dv: usize) -> Result<VertexOutcome> {
+        self.solve_reusing(v, dv, &mut None)
+    }
+
+    /// [`solve`](Self::solve) with the Newton Jacobian `kept` from an earlier
+    /// solve of a similar equation (the same node one level before), used
+    /// while it contracts and refreshed when it does not
+    /// ([`solve_legendre_from`]); the Jacobian in use at the end is left in
+    /// `kept`.
+    pub fn solve_reusing(
+        &mut self,
+        v: usize,
+        dv: usize,
+        kept: &mut Option<SMatrix<f64, M, M>>,
+    ) -> Result<VertexOutcome> {
         let mut star = std::mem::take(&mut self.scratch);
         let checked = self.check_pair(v, dv, &mut star);
-        let solved = checked.map(|()| self.solve_pair(dv, &star, self.values[dv]));
+        let solved = checked.map(|()| self.solve_pair(dv, &star, self.values[dv], kept));
         self.scratch = star;
         let (z, o) = solved?;
         if o.failure.is_some() {
@@ -276,7 +296,7 @@ where
         let results: Vec<(F::Point<f64>, VertexOutcome)> = pairs
             .par_iter()
             .zip(stars.par_iter())
-            .map(|(&(_, dv), star)| self.solve_pair(dv, star, self.values[dv]))
+            .map(|(&(_, dv), star)| self.solve_pair(dv, star, self.values[dv], &mut None))
             .collect();
         if let Some((p, (_, o))) = results.iter().enumerate().find(|(_, (_, o))| o.failure.is_some()) {
             return Err(Error::VertexSolveFailure {

@@ -103,15 +103,32 @@ impl Failure {
 pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     mu: &SVector<f64, M>,
     mu_scale: f64,
+    z: F::Point<f64>,
+    options: &CauchyOptions,
+    legendre: impl Fn(&F::Point<f64>, bool) -> (SVector<f64, M>, Option<SMatrix<f64, M, M>>, f64),
+) -> (F::Point<f64>, VertexOutcome) {
+    solve_legendre_from::<F, M>(mu, mu_scale, z, options, &mut None, legendre)
+}
+
+/// [`solve_legendre`] starting from a Jacobian `kept` from an earlier solve
+/// (the same vertex equation one level before, say), used until an
+/// iteration fails to reduce the residual fourfold, then refreshed; the
+/// Jacobian in use at the end is left in `kept` for the next solve. The
+/// root, its tolerance and the stall tests are those of [`solve_legendre`]:
+/// only the number of exact Jacobians changes.
+pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
+    mu: &SVector<f64, M>,
+    mu_scale: f64,
     mut z: F::Point<f64>,
     options: &CauchyOptions,
+    kept: &mut Option<SMatrix<f64, M, M>>,
     legendre: impl Fn(&F::Point<f64>, bool) -> (SVector<f64, M>, Option<SMatrix<f64, M, M>>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
     let mut outcome = VertexOutcome::default();
     let mut previous = f64::INFINITY;
-    let mut jacobian: Option<SMatrix<f64, M, M>> = None;
+    let mut jacobian: Option<SMatrix<f64, M, M>> = kept.take().filter(|j| j.iter().all(|x| x.is_finite()));
     let mut fresh = false;
-    let mut point_scale = 0.0;
+    let mut point_scale = jacobian.map_or(0.0, |j| j.amax() * (1.0 + coordinate_size::<F, M>(&z)));
     let mut last_step = f64::INFINITY;
     for it in 0..=options.max_iterations {
         let (mut leg, mut jac, mut leg_scale) = legendre(&z, jacobian.is_none());
@@ -124,10 +141,7 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
             r = residual.amax();
         }
         if let Some(j) = jac {
-            let mut c = [0.0; 16];
-            let n = if F::COORDINATES <= c.len() { F::COORDINATES } else { 0 };
-            F::write(&z, &mut c[..n]);
-            point_scale = j.amax() * (1.0 + c[..n].iter().fold(0.0_f64, |m, x| m.max(x.abs())));
+            point_scale = j.amax() * (1.0 + coordinate_size::<F, M>(&z));
             jacobian = Some(j);
             fresh = true;
             outcome.jacobians += 1;
@@ -149,6 +163,7 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
             outcome.relative_residual = r / (scale + point_scale).max(f64::MIN_POSITIVE);
         }
         if r <= options.tolerance * scale || stalled {
+            *kept = jacobian;
             return (F::renormalize(&z), outcome);
         }
         previous = r;
@@ -180,12 +195,16 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     (z, outcome)
 }
 
-/// 64 ε_mach (1 + the largest coordinate of y): a chart correction below it
-/// changes y by round-off only.
-fn resolution<F: Fibre<M>, const M: usize>(y: &F::Point<f64>) -> f64 {
+/// The largest coordinate of y in absolute value.
+fn coordinate_size<F: Fibre<M>, const M: usize>(y: &F::Point<f64>) -> f64 {
     let mut c = [0.0; 16];
     let n = if F::COORDINATES <= c.len() { F::COORDINATES } else { 0 };
     F::write(y, &mut c[..n]);
-    let size = c[..n].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-    64.0 * f64::EPSILON * (1.0 + size)
+    c[..n].iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+}
+
+/// 64 ε_mach (1 + the largest coordinate of y): a chart correction below it
+/// changes y by round-off only.
+fn resolution<F: Fibre<M>, const M: usize>(y: &F::Point<f64>) -> f64 {
+    64.0 * f64::EPSILON * (1.0 + coordinate_size::<F, M>(y))
 }
