@@ -48,3 +48,12 @@ pub mod special;
 pub mod tableau;
 
 pub use error::{Error, Result};
+/// The `nalgebra` this crate is built with (vectors and matrices of its API).
+pub use nalgebra;
+/// The `num_dual` this crate is built with (the dual numbers of [`ad::Scalar`]).
+pub use num_dual;
+
+/// The README's Rust examples, compiled and run as doc-tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeExamples;
