@@ -101,7 +101,8 @@ fn periodic() -> String {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SchemeSpec {
-    /// The scheme.
+    /// The scheme (`name` is accepted too, the spelling of the mechanics kinds).
+    #[serde(alias = "name")]
     pub scheme: String,
     /// Relative tolerance of the level solves (default 1e-13).
     pub tolerance: Option<f64>,

@@ -54,7 +54,9 @@ pub struct ModelSpec {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MethodSpec {
-    /// `midpoint | trapezoid | alpha | galerkin-lobatto | galerkin-gauss`.
+    /// `midpoint | trapezoid | alpha | galerkin-lobatto | galerkin-gauss`
+    /// (`scheme` is accepted too, the spelling of the lattice kinds).
+    #[serde(alias = "scheme")]
     pub name: String,
     /// Stages of the Galerkin methods.
     pub stages: Option<usize>,

@@ -905,3 +905,36 @@ fn cfk_lattice_fields_run_and_conserve_their_momenta() {
     let err = failing("cfk-initial", &text("sine-gordon", "plane-wave", 0.1));
     assert!(err.contains("`initial.kind`"), "{err}");
 }
+
+#[test]
+fn method_key_is_spelled_name_or_scheme_in_every_kind() {
+    // Mechanics with `scheme`, a lattice with `name`: the same runs as the
+    // shipped spellings.
+    let cases = [
+        (
+            "kepler.toml",
+            "name = \"galerkin-gauss\"",
+            "scheme = \"galerkin-gauss\"",
+        ),
+        ("wave.toml", "scheme = ", "name = "),
+    ];
+    for (file, from, to) in cases {
+        let original = std::fs::read_to_string(workspace_root().join("examples").join(file)).expect("example");
+        assert!(original.contains(from), "{file} spells {from}");
+        let dir = temp_dir(&format!("spelling-{file}"));
+        let text = original.replacen(from, to, 1);
+        let text = if original.contains("[lattice]") {
+            text.replace("t_end = ", "t_end = 1.0 #")
+        } else {
+            shorten(&text, 20)
+        };
+        let out = dir.join("out");
+        veselov()
+            .args(["run", "--quiet", "--out"])
+            .arg(&out)
+            .arg(scenario(&dir, &text))
+            .assert()
+            .success();
+        assert_eq!(summary(&out)["status"], "ok", "{file}");
+    }
+}
