@@ -48,7 +48,7 @@ use veselov::models::beam::paper;
 use veselov::models::beam::{BeamProperties, CrossSection, Material, ShearProperty, StepLimit};
 
 use crate::error::CliError;
-use crate::scenario::{finite_value, key_error, parse_toml, positive_value};
+use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value};
 
 /// The model name of the beam kind.
 pub const BEAM_MODEL: &str = "beam";
@@ -71,7 +71,7 @@ pub(crate) struct BeamScenario {
     #[serde(default)]
     pub time: BeamTimeSpec,
     #[serde(default)]
-    pub output: BeamOutputSpec,
+    pub output: RowsOutputSpec,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -127,40 +127,6 @@ pub(crate) struct BeamInitialSpec {
 pub(crate) struct BeamTimeSpec {
     pub t_end: Option<f64>,
     pub dt: Option<f64>,
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct BeamOutputSpec {
-    pub dir: Option<PathBuf>,
-    /// Levels between output rows (default: about 500 rows).
-    pub every: Option<u64>,
-    /// Levels between checkpoints (default 0: only where the run ends).
-    #[serde(default)]
-    pub checkpoint_every: u64,
-    #[serde(default = "yes")]
-    pub plots: bool,
-    #[serde(default = "svg")]
-    pub plot_format: String,
-}
-
-fn yes() -> bool {
-    true
-}
-fn svg() -> String {
-    "svg".into()
-}
-
-impl Default for BeamOutputSpec {
-    fn default() -> Self {
-        Self {
-            dir: None,
-            every: None,
-            checkpoint_every: 0,
-            plots: true,
-            plot_format: svg(),
-        }
-    }
 }
 
 /// The initial data.
@@ -363,11 +329,7 @@ impl BeamSetup {
                 ));
             }
         };
-        let every = match scenario.output.every {
-            Some(0) => return Err(key("output.every", "expected an integer ≥ 1".into())),
-            Some(k) => k,
-            None => levels.div_ceil(500).max(1),
-        };
+        let every = scenario.output.rows_every(path, levels)?;
         let end = |k: &str, v: &Option<String>| -> Result<bool, CliError> {
             match (v.as_deref().unwrap_or("free"), space) {
                 ("free", _) => Ok(false),
@@ -403,13 +365,6 @@ impl BeamSetup {
                 return Err(key("method.max_iterations", "expected an integer ≥ 1".into()));
             }
             options.max_iterations = k;
-        }
-        let o = &scenario.output;
-        if o.plot_format != "svg" && o.plot_format != "png" {
-            return Err(key(
-                "output.plot_format",
-                format!("unknown plot format `{}`", o.plot_format),
-            ));
         }
         Ok(Self {
             path: path.to_path_buf(),

@@ -53,7 +53,7 @@ use veselov::models::rod::{
 };
 
 use crate::error::CliError;
-use crate::scenario::{finite_value, key_error, parse_toml, positive_value};
+use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value};
 
 /// The model name of the rod kind.
 pub const ROD_MODEL: &str = "cosserat-rod";
@@ -75,7 +75,7 @@ pub(crate) struct RodScenario {
     #[serde(default)]
     pub method: RodMethodSpec,
     #[serde(default)]
-    pub output: RodOutputSpec,
+    pub output: RowsOutputSpec,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -137,40 +137,6 @@ pub(crate) struct RodMethodSpec {
     pub max_iterations: Option<usize>,
     #[serde(default)]
     pub allow_unstable: bool,
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RodOutputSpec {
-    pub dir: Option<PathBuf>,
-    /// Time steps Δt between output rows (default: about 500 rows).
-    pub every: Option<u64>,
-    /// Time steps Δt between checkpoints (default 0: only where the run ends).
-    #[serde(default)]
-    pub checkpoint_every: u64,
-    #[serde(default = "yes")]
-    pub plots: bool,
-    #[serde(default = "svg")]
-    pub plot_format: String,
-}
-
-fn yes() -> bool {
-    true
-}
-fn svg() -> String {
-    "svg".into()
-}
-
-impl Default for RodOutputSpec {
-    fn default() -> Self {
-        Self {
-            dir: None,
-            every: None,
-            checkpoint_every: 0,
-            plots: true,
-            plot_format: svg(),
-        }
-    }
 }
 
 /// The initial shape s ↦ (r, R) at rest.
@@ -359,11 +325,7 @@ impl RodSetup {
                 ),
             ));
         }
-        let every = match scenario.output.every {
-            Some(0) => return Err(key("output.every", "expected an integer ≥ 1".into())),
-            Some(k) => k,
-            None => steps.div_ceil(500).max(1),
-        };
+        let every = scenario.output.rows_every(path, steps)?;
         let end = |k: &str, v: &Option<String>, at: f64| -> Result<EndCondition, CliError> {
             match v.as_deref().unwrap_or("free") {
                 "free" => Ok(EndCondition::Free),
@@ -444,13 +406,6 @@ impl RodSetup {
                 return Err(key("method.max_iterations", "expected an integer ≥ 1".into()));
             }
             options.max_iterations = k;
-        }
-        let o = &scenario.output;
-        if o.plot_format != "svg" && o.plot_format != "png" {
-            return Err(key(
-                "output.plot_format",
-                format!("unknown plot format `{}`", o.plot_format),
-            ));
         }
         Ok(Self {
             path: path.to_path_buf(),

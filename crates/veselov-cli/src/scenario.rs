@@ -391,3 +391,63 @@ pub fn key_at(text: &str, message: &str) -> Option<String> {
         _ => key.to_string(),
     })
 }
+
+/// `[output]` of the beam and rod kinds: rows every `every` steps (levels of
+/// the beam, time steps of the rod).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RowsOutputSpec {
+    /// Output directory (default `out/<scenario stem>`; `--out` overrides).
+    pub dir: Option<PathBuf>,
+    /// Steps between output rows (default: about 500 rows).
+    pub every: Option<u64>,
+    /// Steps between checkpoints (default 0: only where the run ends).
+    #[serde(default)]
+    pub checkpoint_every: u64,
+    /// Draw the plots (default true).
+    #[serde(default = "rows_plots")]
+    pub plots: bool,
+    /// `svg` (default) or `png`.
+    #[serde(default = "rows_format")]
+    pub plot_format: String,
+}
+
+fn rows_plots() -> bool {
+    true
+}
+fn rows_format() -> String {
+    "svg".into()
+}
+
+impl Default for RowsOutputSpec {
+    fn default() -> Self {
+        Self {
+            dir: None,
+            every: None,
+            checkpoint_every: 0,
+            plots: true,
+            plot_format: rows_format(),
+        }
+    }
+}
+
+impl RowsOutputSpec {
+    /// Rows every `every` steps of `steps` (about 500 rows by default).
+    ///
+    /// # Errors
+    /// `output.every` = 0 or an unknown `output.plot_format`.
+    pub fn rows_every(&self, file: &Path, steps: u64) -> Result<u64, CliError> {
+        if self.plot_format != "svg" && self.plot_format != "png" {
+            return Err(key_error(
+                file,
+                "output.plot_format",
+                format!("unknown plot format `{}`", self.plot_format),
+            ));
+        }
+        match self.every {
+            Some(0) => Err(key_error(file, "output.every", "expected an integer ≥ 1")),
+            Some(k) => Ok(k),
+            None => Ok(steps.div_ceil(500).max(1)),
+        }
+    }
+}
