@@ -12,7 +12,7 @@ use crate::catalog::{self, Choice};
 use crate::error::CliError;
 use crate::output::Table;
 pub use crate::pipeline::RunJob;
-use crate::pipeline::finish::{empty_outcome, finish, open_table_session, start_or_resume, t_of, totals};
+use crate::pipeline::finish::{Totals, empty_outcome, finish, open_table_session, start_or_resume, t_of, totals};
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, TableObserver, Tracker};
 use crate::pipeline::{restore, summary, words_error};
@@ -179,7 +179,11 @@ fn run_fixed<const N: usize>(
     let mut stepper = PhaseStepper::new(map.as_mut(), x0.t);
     let mut x = x0;
     let outcome = start_or_resume(&mut session, &mut stepper, &mut x, &mut table, &words, steps)?;
-    let (iterations, fallback) = totals(&session, &outcome);
+    let Totals {
+        iterations,
+        fallback_steps: fallback,
+        ..
+    } = totals(&session, &outcome);
     let wall = session.wall_seconds();
     let t_final = t_of(outcome.last_step, x0.t, dt);
     finish(
@@ -344,7 +348,11 @@ fn run_variable<const N: usize>(
         Some(e) => empty_outcome(Status::Failed(e)),
         None => session.execute(&mut stepper, &mut x, first, stop, &mut table)?,
     };
-    let (iterations, fallback) = totals(&session, &outcome);
+    let Totals {
+        iterations,
+        fallback_steps: fallback,
+        jacobians,
+    } = totals(&session, &outcome);
     let wall = session.wall_seconds();
     let t_final = x.t;
     finish(
@@ -370,6 +378,7 @@ fn run_variable<const N: usize>(
                 "fallback_steps": fallback,
                 "momentum_error_max": t.deviations(&names),
                 "newton_iterations_mean": iterations as f64 / outcome.last_step.max(1) as f64,
+                "jacobians_mean": jacobians as f64 / outcome.last_step.max(1) as f64,
             });
             summary::common(status, outcome.last_step, t_final, wall, iterations, own)
         },

@@ -512,6 +512,11 @@ fn variable_step_run_reports_steps_and_discrete_energy() {
     assert!(s["discrete_energy_error_max"].as_f64().expect("number") < 1e-12, "{s}");
     assert!(s["h_min"].as_f64().expect("number") > 0.0);
     assert_eq!(s["fallback_steps"], 0);
+    // Every step evaluates one Jacobian (in full or in part) and a few residuals.
+    let jacobians = s["jacobians_mean"].as_f64().expect("number");
+    assert!((0.9..=1.5).contains(&jacobians), "{s}");
+    let iterations = s["newton_iterations_mean"].as_f64().expect("number");
+    assert!((2.0..=12.0).contains(&iterations), "{s}");
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
     assert_eq!(
         csv.lines().next(),

@@ -1,6 +1,8 @@
 //! Nanoseconds per step of the variable-step SEM integrators (fixed-energy form).
 //! Each benchmark restarts from the first step periodically to stay on its orbit.
 
+use std::hint::black_box;
+
 use criterion::{Criterion, criterion_group, criterion_main};
 
 mod common;
@@ -44,5 +46,30 @@ fn sem(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, sem);
+/// The passes a step is made of, on Kepler (N = 2) at a pericentre step:
+/// the residual (two first-order passes), the exact step Jacobian (four
+/// small hyper-dual passes), the momentum-equation Newton pass (one
+/// hyper-dual pass) and the arrival momentum and energy.
+fn parts(c: &mut Criterion) {
+    let kepler = Kepler::new(0.5).expect("valid");
+    let x0 = kepler.initial_state();
+    let action = SemAction::new(kepler.system(), SemRule::Midpoint).expect("valid");
+    let h = 2.0 * std::f64::consts::PI / 1000.0;
+    let q1 = x0.q + x0.p * h;
+    let name = "sem/kepler-e0.5/parts";
+    c.bench_function(&format!("{name}/residual"), |b| {
+        b.iter(|| action.leaving(0.0, black_box(&x0.q), black_box(&q1), h))
+    });
+    c.bench_function(&format!("{name}/step-jacobian"), |b| {
+        b.iter(|| action.step_jacobian(0.0, black_box(&x0.q), black_box(&q1), h))
+    });
+    c.bench_function(&format!("{name}/momentum-newton-pass"), |b| {
+        b.iter(|| action.momentum_derivatives(0.0, black_box(&x0.q), black_box(&q1), h))
+    });
+    c.bench_function(&format!("{name}/arrival"), |b| {
+        b.iter(|| action.arrival(0.0, black_box(&x0.q), black_box(&q1), h))
+    });
+}
+
+criterion_group!(benches, sem, parts);
 criterion_main!(benches);

@@ -123,3 +123,27 @@ fn lie_group_steps_do_not_allocate() {
     let mut se3 = SplitLieIntegrator::<RigidMotions, CayleyMap, _, 6>::new(body, 0.01).expect("valid");
     assert_eq!(count(&mut se3, y0), 0, "SE(3) free flight");
 }
+
+/// The variable-step SEM step allocates nothing either, on its continuing
+/// path and on a restart (momentum-equation start), for both rules the
+/// benchmarks time.
+#[test]
+fn variable_steps_do_not_allocate() {
+    use veselov::sem::{SemAction, SemIntegrator, SemRule};
+    let kepler = Kepler::new(0.5).expect("valid");
+    let x0 = kepler.initial_state();
+    for rule in [SemRule::Midpoint, SemRule::Averaged(2)] {
+        let mut sem = SemIntegrator::new(SemAction::new(kepler.system(), rule).expect("valid"));
+        let (_, s1) = sem.start(0.0, x0.q, x0.p, 0.01).expect("start");
+        let mut s = sem.step(1, &s1).expect("warm-up").0;
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        WATCHED.with(|w| w.set(true));
+        for k in 2..200 {
+            s = sem.step(k, &s).expect("step").0;
+        }
+        let restarted = sem.step(1, &s1).expect("restart");
+        WATCHED.with(|w| w.set(false));
+        assert!(restarted.0.h > 0.0);
+        assert_eq!(ALLOCATIONS.load(Ordering::SeqCst) - before, 0, "{rule:?}");
+    }
+}

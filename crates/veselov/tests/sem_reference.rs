@@ -97,6 +97,7 @@ fn check<L: Lagrangian<N> + Clone, const N: usize>(name: &str, lagrangian: L, ru
     let action = SemAction::new(lagrangian, rule).expect("valid");
     let mut continued = SemIntegrator::new(action.clone());
     let (mut worst, mut excess, mut floored, mut iterations) = (0.0_f64, 0.0_f64, 0, 0);
+    let (mut cont_iterations, mut cont_jacobians) = (0, 0);
     for k in 0..states.len() - 1 {
         let floor = step_floor(&action, &states[k], &states[k + 1]);
         floored += usize::from(floor > 1e-13);
@@ -105,15 +106,23 @@ fn check<L: Lagrangian<N> + Clone, const N: usize>(name: &str, lagrangian: L, ru
         iterations += info.iterations;
         worst = worst.max(distance(&next, &states[k + 1]));
         excess = excess.max(deviation(&next, &states[k + 1], &states[k], floor));
-        let (next, _) = continued.step(k + 1, &states[k]).expect("continuing step");
+        continued.seed_history(&states[k.saturating_sub(2)..=k]);
+        let (next, info) = continued.step(k + 1, &states[k]).expect("continuing step");
+        if k >= 2 {
+            cont_iterations += info.iterations;
+            cont_jacobians += info.jacobian_refreshes + info.jacobian_updates;
+        }
         worst = worst.max(distance(&next, &states[k + 1]));
         excess = excess.max(deviation(&next, &states[k + 1], &states[k], floor));
     }
     eprintln!(
         "{name}: worst one-step deviation {worst:.1e}; h round-off floor above 1e-13 on {floored} of {} steps; \
-         worst deviation / bound {excess:.2}; {:.2} iterations per step",
+         worst deviation / bound {excess:.2}; {:.2} iterations per new step, {:.2} iterations and {:.2} Jacobians \
+         (whole or updated) per continued step",
         states.len() - 1,
-        iterations as f64 / (states.len() - 1) as f64
+        iterations as f64 / (states.len() - 1) as f64,
+        cont_iterations as f64 / (states.len() - 3) as f64,
+        cont_jacobians as f64 / (states.len() - 3) as f64
     );
     assert!(excess <= 1.0, "{name}: a step deviates by {excess:.2} times its bound");
 }

@@ -24,6 +24,8 @@ pub struct Saved {
     pub iterations: u64,
     /// Fallback steps up to it.
     pub fallback_steps: u64,
+    /// Exact Jacobians evaluated before the checkpoint, where counted.
+    pub jacobians: u64,
     /// Wall time spent up to it.
     pub wall_seconds: f64,
     /// State words.
@@ -75,6 +77,7 @@ where
         "step": outcome.last_step,
         "iterations": outcome.iterations,
         "fallback_steps": outcome.fallback_steps,
+        "jacobians": outcome.jacobians,
         "wall_seconds": wall_seconds,
         "state": hex(&s),
         "stepper": hex(&c),
@@ -111,6 +114,8 @@ impl Saved {
             step: int("step")?,
             iterations: int("iterations")?,
             fallback_steps: int("fallback_steps")?,
+            // Absent from checkpoints written before it was counted.
+            jacobians: v["jacobians"].as_u64().unwrap_or(0),
             wall_seconds: v["wall_seconds"].as_f64().unwrap_or(0.0),
             state: words("state")?,
             stepper: words("stepper")?,

@@ -142,17 +142,30 @@ pub fn empty_outcome(status: Status) -> Outcome {
         steps: 0,
         iterations: 0,
         fallback_steps: 0,
+        jacobians: 0,
         status,
     }
 }
 
-/// Iterations and fallback steps over the whole run, resumed parts included.
-pub fn totals(session: &Session, outcome: &Outcome) -> (u64, u64) {
-    let before = session
-        .resumed
-        .as_ref()
-        .map_or((0, 0), |s| (s.iterations, s.fallback_steps));
-    (before.0 + outcome.iterations, before.1 + outcome.fallback_steps)
+/// What a whole run spent, resumed parts included.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Totals {
+    /// Nonlinear iterations.
+    pub iterations: u64,
+    /// Steps that fell back (or, for variable steps, are not energy-exact).
+    pub fallback_steps: u64,
+    /// Exact Jacobians evaluated, where counted.
+    pub jacobians: u64,
+}
+
+/// Iterations, fallback steps and Jacobians over the whole run, resumed parts included.
+pub fn totals(session: &Session, outcome: &Outcome) -> Totals {
+    let before = session.resumed.as_ref();
+    Totals {
+        iterations: before.map_or(0, |s| s.iterations) + outcome.iterations,
+        fallback_steps: before.map_or(0, |s| s.fallback_steps) + outcome.fallback_steps,
+        jacobians: before.map_or(0, |s| s.jacobians) + outcome.jacobians,
+    }
 }
 
 /// `t₀ + k·h`, as the stepper sets it.

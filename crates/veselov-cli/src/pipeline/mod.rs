@@ -255,6 +255,7 @@ impl Session {
             steps: 0,
             iterations: 0,
             fallback_steps: 0,
+            jacobians: 0,
             status: Status::Completed,
         };
         let mut last_checkpoint = Instant::now();
@@ -289,6 +290,7 @@ impl Session {
             total.steps += out.steps;
             total.iterations += out.iterations;
             total.fallback_steps += out.fallback_steps;
+            total.jacobians += out.jacobians;
             total.status = out.status;
             if due && total.status == Status::Stopped {
                 // Stopped by the clock, not by an observer: a checkpoint is due.

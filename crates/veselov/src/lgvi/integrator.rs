@@ -249,6 +249,7 @@ where
                 iterations,
                 fallback: false,
                 work: 0.0,
+                jacobians: 0,
             },
         ))
     }

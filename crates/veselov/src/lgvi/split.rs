@@ -212,6 +212,7 @@ where
                 iterations,
                 fallback,
                 work: 0.0,
+                jacobians: 0,
             },
         ))
     }

@@ -609,6 +609,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
                 iterations: report.iterations,
                 fallback: false,
                 work: self.last_work(),
+                jacobians: 0,
             },
         ))
     }

@@ -362,6 +362,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
                     iterations,
                     fallback: false,
                     work,
+                    jacobians: 0,
                 },
             ));
         }
@@ -373,6 +374,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
                 iterations: report.iterations,
                 fallback: true,
                 work: self.general.last_work(),
+                jacobians: 0,
             },
         ))
     }

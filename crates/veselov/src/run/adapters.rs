@@ -146,6 +146,7 @@ impl<M: VariableStepMap<N> + ?Sized, const N: usize> Stepper for SemStepper<'_, 
                 iterations: info.iterations,
                 fallback: true,
                 work: 0.0,
+                jacobians: info.jacobian_refreshes + info.jacobian_updates,
             });
         }
         *state = next;
@@ -153,6 +154,7 @@ impl<M: VariableStepMap<N> + ?Sized, const N: usize> Stepper for SemStepper<'_, 
             iterations: info.iterations,
             fallback: info.fallback,
             work: 0.0,
+            jacobians: info.jacobian_refreshes + info.jacobian_updates,
         })
     }
     fn time(&self, state: &SemState<N>) -> f64 {

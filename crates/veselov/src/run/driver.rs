@@ -13,6 +13,9 @@ pub struct StepStats {
     /// Whether a fast path had to fall back to a general solver (or, for
     /// variable steps, the step is not energy-exact).
     pub fallback: bool,
+    /// Exact Jacobians evaluated in the step, in full or in part (reported by
+    /// the variable-step integrators; 0 where not counted).
+    pub jacobians: usize,
     /// Discrete work of the generalised forces over the step,
     /// `h Σᵢ bᵢ F(i)·Yᵢ` (zero for unforced systems and for other families).
     pub work: f64,
@@ -121,6 +124,8 @@ pub struct Outcome {
     pub iterations: u64,
     /// Steps that reported a fallback.
     pub fallback_steps: u64,
+    /// Exact Jacobians evaluated over those steps (where counted).
+    pub jacobians: u64,
     /// Why the run ended.
     pub status: Status,
 }
@@ -154,6 +159,7 @@ pub fn drive<S: Stepper + ?Sized>(
         steps: 0,
         iterations: 0,
         fallback_steps: 0,
+        jacobians: 0,
         status: Status::Completed,
     };
     loop {
@@ -183,6 +189,7 @@ pub fn drive<S: Stepper + ?Sized>(
         out.steps += 1;
         out.iterations += stats.iterations as u64;
         out.fallback_steps += u64::from(stats.fallback);
+        out.jacobians += stats.jacobians as u64;
         let mut control = Control::Continue;
         for o in observers.iter_mut() {
             control = o.observe(out.last_step, state, &stats);

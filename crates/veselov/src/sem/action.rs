@@ -13,7 +13,10 @@
 //! (arriving); autonomous `L`: `E⁻ = E⁺ = E_d = −∂S/∂h`.
 
 use nalgebra::{SMatrix, SVector, Vector2};
-use num_dual::{Dual2SVec64, HyperDualSVec64, partial_hessian};
+use num_dual::{
+    Dual2SVec64, Dual64, DualSVec64, HyperDual64, HyperDualSVec64, first_derivative, gradient, partial_hessian,
+    second_partial_derivative,
+};
 
 use crate::ad::{Scalar, lift};
 use crate::error::{Error, Result};
@@ -76,6 +79,20 @@ pub struct ActionDerivatives<const N: usize> {
     pub hh: f64,
     /// `∂²S/∂t₀∂h`.
     pub t0h: f64,
+}
+
+/// The Jacobian of the SEM step residual `R₁ = p + ∂S/∂q₀`, `R₂ = E⁻ − E` in
+/// the unknowns `(q₁, h)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepJacobian<const N: usize> {
+    /// `∂R₁/∂q₁ = ∂²S/∂q₀∂q₁`.
+    pub momentum_q1: SMatrix<f64, N, N>,
+    /// `∂R₁/∂h = ∂²S/∂q₀∂h`.
+    pub momentum_h: SVector<f64, N>,
+    /// `∂R₂/∂q₁ = ∂E⁻/∂q₁`.
+    pub energy_q1: SVector<f64, N>,
+    /// `∂R₂/∂h = ∂E⁻/∂h`.
+    pub energy_h: f64,
 }
 
 /// The SEM action `S` of a Lagrangian with a quadrature rule.
@@ -172,34 +189,140 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
         }
     }
 
-    /// The step residual ingredients `(∂S/∂q₀, ∂S/∂t₀ − ∂S/∂h)` (one pass).
-    pub fn step_residuals(
+    /// The Jacobian of the step residual `(p + ∂S/∂q₀, E⁻ − E)` in the
+    /// unknowns `(q₁, h)` (note 001 §2.2), exact, in four small passes:
+    /// `∂²S/∂q₀∂q₁`, `∂²S/∂q₀∂h`, `∂E⁻/∂q₁` and `∂E⁻/∂h`, where
+    /// `E⁻ = (∂_{t₀} − ∂_h)S` is a derivative along `(δt₀, δh) = (1, −1)`.
+    pub fn step_jacobian(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> StepJacobian<N> {
+        let (_, _, _, q0q1) = partial_hessian(
+            |(a, b): (SVector<HyperDualSVec64<N, N>, N>, SVector<HyperDualSVec64<N, N>, N>)| {
+                self.action(HyperDualSVec64::from(t0), &a, &b, HyperDualSVec64::from(h))
+            },
+            (q0, q1),
+        );
+        let hh = nalgebra::Vector1::new(h);
+        let (_, _, _, q0h) = partial_hessian(
+            |(a, y): (SVector<HyperDualSVec64<N, 1>, N>, SVector<HyperDualSVec64<N, 1>, 1>)| {
+                self.action(HyperDualSVec64::from(t0), &a, &lift(q1), y[0])
+            },
+            (q0, &hh),
+        );
+        let zero = nalgebra::Vector1::new(0.0);
+        let (_, _, _, energy_q1) = partial_hessian(
+            |(b, x): (SVector<HyperDualSVec64<N, 1>, N>, SVector<HyperDualSVec64<N, 1>, 1>)| {
+                self.action(
+                    HyperDualSVec64::from(t0) + x[0],
+                    &lift(q0),
+                    &b,
+                    HyperDualSVec64::from(h) - x[0],
+                )
+            },
+            (q1, &zero),
+        );
+        let (_, _, _, energy_h) = second_partial_derivative(
+            |(x, y): (HyperDual64, HyperDual64)| {
+                self.action(
+                    HyperDual64::from(t0) + x,
+                    &lift(q0),
+                    &lift(q1),
+                    HyperDual64::from(h) - x + y,
+                )
+            },
+            (0.0, 0.0),
+        );
+        StepJacobian {
+            momentum_q1: q0q1,
+            momentum_h: q0h.column(0).into_owned(),
+            energy_q1: energy_q1.column(0).into_owned(),
+            energy_h,
+        }
+    }
+
+    /// `S`, the leaving momentum `∂S/∂q₀` and the leaving energy
+    /// `E⁻ = ∂S/∂t₀ − ∂S/∂h`: the ingredients of the step residual (note 001
+    /// §2.2; seed 001 (3.3)–(3.4)).
+    ///
+    /// Two first-order passes: a gradient in `q₀` and one directional
+    /// derivative along `(δt₀, δh) = (1, −1)`, which is `E⁻` itself.
+    pub fn leaving(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> (f64, SVector<f64, N>, f64) {
+        let (value, s_q0) = gradient(
+            |a: SVector<DualSVec64<N>, N>| self.action(DualSVec64::from(t0), &a, &lift(q1), DualSVec64::from(h)),
+            q0,
+        );
+        let (_, e_minus) = first_derivative(
+            |x: Dual64| self.action(Dual64::from(t0) + x, &lift(q0), &lift(q1), Dual64::from(h) - x),
+            0.0,
+        );
+        (value, s_q0, e_minus)
+    }
+
+    /// The second derivatives of the step Jacobian that move along a run, in
+    /// the direction `w = (δq₁, δh) = (v̄, 1)` (a longer step at the same mean
+    /// velocity `v̄ = (q₁ − q₀)/h`): `∂²S/∂q₀∂w`, `∂E⁻/∂q₁` and `∂E⁻/∂w`, with
+    /// `E⁻ = (∂_{t₀} − ∂_h)S` (three small passes; what
+    /// [`SemAction::step_jacobian`] adds is `∂²S/∂q₀∂q₁`).
+    pub fn step_jacobian_along(
         &self,
         t0: f64,
         q0: &SVector<f64, N>,
         q1: &SVector<f64, N>,
         h: f64,
-    ) -> (SVector<f64, N>, f64) {
-        let th = Vector2::new(t0, h);
-        let (_, s_q0, s_th, _) = partial_hessian(
-            |(a, y): (SVector<HyperDualSVec64<N, 2>, N>, SVector<HyperDualSVec64<N, 2>, 2>)| {
-                self.action(y[0], &a, &lift(q1), y[1])
+    ) -> (SVector<f64, N>, SVector<f64, N>, f64) {
+        let vbar = (q1 - q0) / h;
+        let zero = nalgebra::Vector1::new(0.0);
+        let (_, _, _, momentum_w) = partial_hessian(
+            |(a, x): (SVector<HyperDualSVec64<N, 1>, N>, SVector<HyperDualSVec64<N, 1>, 1>)| {
+                let b = lift::<HyperDualSVec64<N, 1>, N>(q1) + lift::<HyperDualSVec64<N, 1>, N>(&vbar) * x[0];
+                self.action(HyperDualSVec64::from(t0), &a, &b, HyperDualSVec64::from(h) + x[0])
             },
-            (q0, &th),
+            (q0, &zero),
         );
-        (s_q0, s_th[0] - s_th[1])
+        let (_, _, _, energy_q1) = partial_hessian(
+            |(b, x): (SVector<HyperDualSVec64<N, 1>, N>, SVector<HyperDualSVec64<N, 1>, 1>)| {
+                self.action(
+                    HyperDualSVec64::from(t0) + x[0],
+                    &lift(q0),
+                    &b,
+                    HyperDualSVec64::from(h) - x[0],
+                )
+            },
+            (q1, &zero),
+        );
+        let (_, _, _, energy_w) = second_partial_derivative(
+            |(x, y): (HyperDual64, HyperDual64)| {
+                let b = lift::<HyperDual64, N>(q1) + lift::<HyperDual64, N>(&vbar) * y;
+                self.action(HyperDual64::from(t0) + x, &lift(q0), &b, HyperDual64::from(h) - x + y)
+            },
+            (0.0, 0.0),
+        );
+        (
+            momentum_w.column(0).into_owned(),
+            energy_q1.column(0).into_owned(),
+            energy_w,
+        )
     }
 
-    /// The arrival momentum and energy `(p₁, E⁺₁) = (∂S/∂q₁, −∂S/∂h)` (one pass).
+    /// The leaving momentum `∂S/∂q₀` alone (one gradient pass).
+    pub fn leaving_momentum(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> SVector<f64, N> {
+        gradient(
+            |a: SVector<DualSVec64<N>, N>| self.action(DualSVec64::from(t0), &a, &lift(q1), DualSVec64::from(h)),
+            q0,
+        )
+        .1
+    }
+
+    /// The arrival momentum and energy `(p₁, E⁺₁) = (∂S/∂q₁, −∂S/∂h)`: a
+    /// gradient in `q₁` and a derivative in `h` (two first-order passes).
     pub fn arrival(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> (SVector<f64, N>, f64) {
-        let hh = nalgebra::Vector1::new(h);
-        let (_, s_q1, s_h, _) = partial_hessian(
-            |(b, y): (SVector<HyperDualSVec64<N, 1>, N>, SVector<HyperDualSVec64<N, 1>, 1>)| {
-                self.action(HyperDualSVec64::from(t0), &lift(q0), &b, y[0])
-            },
-            (q1, &hh),
+        let (_, s_q1) = gradient(
+            |b: SVector<DualSVec64<N>, N>| self.action(DualSVec64::from(t0), &lift(q0), &b, DualSVec64::from(h)),
+            q1,
         );
-        (s_q1, -s_h[0])
+        let (_, s_h) = first_derivative(
+            |x: Dual64| self.action(Dual64::from(t0), &lift(q0), &lift(q1), Dual64::from(h) + x),
+            0.0,
+        );
+        (s_q1, -s_h)
     }
 
     /// `S`, `∂S/∂q₀`, `∂S/∂q₁` and `∂²S/∂q₀∂q₁` only (one pass): the fixed-step solve.
