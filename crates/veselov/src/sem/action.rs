@@ -81,20 +81,6 @@ pub struct ActionDerivatives<const N: usize> {
     pub t0h: f64,
 }
 
-/// The Jacobian of the SEM step residual `R₁ = p + ∂S/∂q₀`, `R₂ = E⁻ − E` in
-/// the unknowns `(q₁, h)`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StepJacobian<const N: usize> {
-    /// `∂R₁/∂q₁ = ∂²S/∂q₀∂q₁`.
-    pub momentum_q1: SMatrix<f64, N, N>,
-    /// `∂R₁/∂h = ∂²S/∂q₀∂h`.
-    pub momentum_h: SVector<f64, N>,
-    /// `∂R₂/∂q₁ = ∂E⁻/∂q₁`.
-    pub energy_q1: SVector<f64, N>,
-    /// `∂R₂/∂h = ∂E⁻/∂h`.
-    pub energy_h: f64,
-}
-
 /// The SEM action `S` of a Lagrangian with a quadrature rule.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SemAction<L, const N: usize> {
@@ -189,55 +175,6 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
         }
     }
 
-    /// The Jacobian of the step residual `(p + ∂S/∂q₀, E⁻ − E)` in the
-    /// unknowns `(q₁, h)` (note 001 §2.2), exact, in four small passes:
-    /// `∂²S/∂q₀∂q₁`, `∂²S/∂q₀∂h`, `∂E⁻/∂q₁` and `∂E⁻/∂h`, where
-    /// `E⁻ = (∂_{t₀} − ∂_h)S` is a derivative along `(δt₀, δh) = (1, −1)`.
-    pub fn step_jacobian(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> StepJacobian<N> {
-        let (_, _, _, q0q1) = partial_hessian(
-            |(a, b): (SVector<HyperDualSVec64<N, N>, N>, SVector<HyperDualSVec64<N, N>, N>)| {
-                self.action(HyperDualSVec64::from(t0), &a, &b, HyperDualSVec64::from(h))
-            },
-            (q0, q1),
-        );
-        let hh = nalgebra::Vector1::new(h);
-        let (_, _, _, q0h) = partial_hessian(
-            |(a, y): (SVector<HyperDualSVec64<N, 1>, N>, SVector<HyperDualSVec64<N, 1>, 1>)| {
-                self.action(HyperDualSVec64::from(t0), &a, &lift(q1), y[0])
-            },
-            (q0, &hh),
-        );
-        let zero = nalgebra::Vector1::new(0.0);
-        let (_, _, _, energy_q1) = partial_hessian(
-            |(b, x): (SVector<HyperDualSVec64<N, 1>, N>, SVector<HyperDualSVec64<N, 1>, 1>)| {
-                self.action(
-                    HyperDualSVec64::from(t0) + x[0],
-                    &lift(q0),
-                    &b,
-                    HyperDualSVec64::from(h) - x[0],
-                )
-            },
-            (q1, &zero),
-        );
-        let (_, _, _, energy_h) = second_partial_derivative(
-            |(x, y): (HyperDual64, HyperDual64)| {
-                self.action(
-                    HyperDual64::from(t0) + x,
-                    &lift(q0),
-                    &lift(q1),
-                    HyperDual64::from(h) - x + y,
-                )
-            },
-            (0.0, 0.0),
-        );
-        StepJacobian {
-            momentum_q1: q0q1,
-            momentum_h: q0h.column(0).into_owned(),
-            energy_q1: energy_q1.column(0).into_owned(),
-            energy_h,
-        }
-    }
-
     /// `S`, the leaving momentum `∂S/∂q₀` and the leaving energy
     /// `E⁻ = ∂S/∂t₀ − ∂S/∂h`: the ingredients of the step residual (note 001
     /// §2.2; seed 001 (3.3)–(3.4)).
@@ -259,8 +196,9 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
     /// The second derivatives of the step Jacobian that move along a run, in
     /// the direction `w = (δq₁, δh) = (v̄, 1)` (a longer step at the same mean
     /// velocity `v̄ = (q₁ − q₀)/h`): `∂²S/∂q₀∂w`, `∂E⁻/∂q₁` and `∂E⁻/∂w`, with
-    /// `E⁻ = (∂_{t₀} − ∂_h)S` (three small passes; what
-    /// [`SemAction::step_jacobian`] adds is `∂²S/∂q₀∂q₁`).
+    /// `E⁻ = (∂_{t₀} − ∂_h)S` (three small passes). With `∂²S/∂q₀∂q₁`
+    /// ([`SemAction::momentum_derivatives`]) they make the Jacobian of the
+    /// step residual `(p + ∂S/∂q₀, E⁻ − E)` in the unknowns `(v̄, u = h²)`.
     pub fn step_jacobian_along(
         &self,
         t0: f64,

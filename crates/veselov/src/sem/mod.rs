@@ -8,7 +8,7 @@ mod predictor;
 pub mod run;
 pub mod stepper;
 
-pub use action::{ActionDerivatives, SemAction, SemRule, StepJacobian};
+pub use action::{ActionDerivatives, SemAction, SemRule};
 pub use bvp::solve_lee_bvp;
 pub use run::{SemRun, run_sem};
 pub use stepper::{SemIntegrator, SemOptions, SemState, SemStepInfo, VariableStepMap};
