@@ -45,7 +45,7 @@ use crate::scenario::{
     OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, output_dir, parse_toml, planned_steps,
     step_count,
 };
-use crate::verify::{Study, VerifyJob, whole_steps};
+use crate::verify::{Study, VerifyJob, note_adjusted, study_steps};
 
 /// The rigid-body model names.
 pub const RIGID_MODELS: &[&str] = &["rigid-body", "heavy-top", "rigid-body-se3"];
@@ -292,7 +292,8 @@ impl RigidJob for VerifyJob {
             None => x0.t + step_count(&s.time, s.method.dt) as f64 * s.method.dt,
         };
         let span = t_end - x0.t;
-        let steps = whole_steps(&loaded.path, &self.dts, span)?;
+        let (steps, dts) = study_steps(&loaded.path, &self.dts, span)?;
+        note_adjusted(&self.dts, &dts, self.quiet);
         let n_ref = 16 * steps.iter().copied().max().unwrap_or(1);
         let reference = rk4_group_reference::<G, CayleyMap, L, N>(&l, &x0, t_end, n_ref)
             .map_err(|e| CliError::Setup(format!("reference run failed: {e}")))?;
@@ -315,7 +316,7 @@ impl RigidJob for VerifyJob {
             let dx = (G::translation(&x.g) - G::translation(&reference.g)).amax();
             dr.max(dx).max((x.mu - reference.mu).amax())
         };
-        study.run(&dir, &self.dts, &steps, self.quiet, |n| {
+        study.run(&dir, &dts, &steps, self.quiet, |n| {
             let h = span / n as f64;
             let setup = |e: veselov::Error| CliError::Setup(e.to_string());
             let traj = if retraction == "exp" {

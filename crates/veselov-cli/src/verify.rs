@@ -8,7 +8,7 @@
 use std::path::PathBuf;
 
 use serde_json::json;
-use veselov::diagnostics::fit_order;
+use veselov::diagnostics::{fit_order_auto, local_rates};
 use veselov::mechanics::{GalerkinScheme, Method, OneStepMap, PhaseState, integrate};
 
 use crate::error::CliError;
@@ -42,22 +42,50 @@ fn run_to<const N: usize>(
     }
 }
 
-/// Step counts that divide the horizon `span` into whole steps of each `dt`
-/// (an error naming `--dt` otherwise).
-pub fn whole_steps(file: &std::path::Path, dts: &[f64], span: f64) -> Result<Vec<usize>, CliError> {
-    let mut steps = Vec::new();
-    for &dt in dts {
-        let n = span / dt;
-        if !(dt.is_finite() && dt > 0.0) || (n - n.round()).abs() > 1e-9 * n.max(1.0) || n.round() < 1.0 {
-            return Err(CliError::Key {
-                file: file.to_path_buf(),
-                key: "--dt".into(),
-                message: format!("{dt} does not divide the horizon t_end − t0 = {span} into a whole number of steps"),
-            });
-        }
-        steps.push(n.round() as usize);
+/// The most steps one `--dt` may ask for (a guard against `--dt 1e-300`).
+pub const MAX_VERIFY_STEPS: f64 = 1e8;
+
+/// The step counts of a study: `n = round(span/dt)` steps of `span/n` for each
+/// `--dt`, so that every run ends exactly at `t_end` (the same rule as `run`
+/// for the beam and rod kinds). Returns the counts and the steps actually
+/// taken; an error names `--dt` when a value is not a positive number, or asks
+/// for more than [`MAX_VERIFY_STEPS`] steps.
+pub fn study_steps(file: &std::path::Path, dts: &[f64], span: f64) -> Result<(Vec<usize>, Vec<f64>), CliError> {
+    let bad = |message: String| CliError::Key {
+        file: file.to_path_buf(),
+        key: "--dt".into(),
+        message,
+    };
+    if !(span.is_finite() && span > 0.0) {
+        return Err(bad(format!(
+            "the horizon t_end − t0 = {span} must be a positive number"
+        )));
     }
-    Ok(steps)
+    let (mut steps, mut taken) = (Vec::new(), Vec::new());
+    for &dt in dts {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(bad(format!("{dt} is not a positive step")));
+        }
+        let n = (span / dt).round().max(1.0);
+        if n > MAX_VERIFY_STEPS {
+            return Err(bad(format!(
+                "{dt:e} asks for {n:e} steps over t_end − t0 = {span}; at most {MAX_VERIFY_STEPS:e} per run"
+            )));
+        }
+        steps.push(n as usize);
+        taken.push(span / n);
+    }
+    Ok((steps, taken))
+}
+
+/// Say which requested steps were adjusted to land on `t_end` (by more than a
+/// relative 1e-12).
+pub fn note_adjusted(requested: &[f64], taken: &[f64], quiet: bool) {
+    for (&r, &t) in requested.iter().zip(taken) {
+        if !quiet && (r - t).abs() > 1e-12 * r {
+            println!("note: dt = {r:e} adjusted to {t:.12e} so that the run ends at t_end");
+        }
+    }
 }
 
 /// A convergence study: what is measured against what.
@@ -102,7 +130,7 @@ impl Study {
                 Ok(e) => e,
                 Err(e) => {
                     if !quiet {
-                        println!("{dt:>14e} {n:>10} failed: {e}");
+                        println!("{dt:>14.6e} {n:>10} failed: {e}");
                     }
                     f64::NAN
                 }
@@ -110,36 +138,69 @@ impl Study {
             let rate = previous.map(|(h, e)| (e / err).ln() / (h / dt).ln());
             if !quiet {
                 let rate = rate.map(|r| format!("{r:8.3}")).unwrap_or_default();
-                println!("{dt:>14e} {n:>10} {err:>14.6e} {rate}");
+                println!("{dt:>14.6e} {n:>10} {err:>14.6e} {rate}");
             }
             previous = Some((dt, err));
             table.rows.push(vec![dt, n as f64, err]);
         }
         let dts: Vec<f64> = table.rows.iter().map(|r| r[0]).collect();
         let errs: Vec<f64> = table.rows.iter().map(|r| r[2]).collect();
-        let fit = fit_order(&dts, &errs, 1e-13 * self.scale);
+        // The asymptotic range: the finest points above the round-off floor
+        // whose local rates agree to within 0.25.
+        let fit = fit_order_auto(&dts, &errs, 1e-13 * self.scale, 0.25);
+        let range = fit.as_ref().map(|f| {
+            let used: Vec<f64> = f.used.iter().map(|&i| dts[i]).collect();
+            (
+                used.iter().copied().fold(0.0, f64::max),
+                used.iter().copied().fold(f64::INFINITY, f64::min),
+            )
+        });
+        let reached = fit.as_ref().is_some_and(|f| f.order >= order as f64 - 0.25);
         if !quiet {
-            match &fit {
-                Some(f) => println!(
-                    "fitted order {:.3} over {} points (claimed {order})",
-                    f.order,
-                    f.used.len()
-                ),
-                None => println!("too few points above the round-off floor to fit an order"),
+            match (&fit, range) {
+                (Some(f), Some((coarse, fine))) => {
+                    println!(
+                        "fitted order {:.3} over {} points, dt from {coarse:.4e} to {fine:.4e} (claimed {order})",
+                        f.order,
+                        f.used.len()
+                    );
+                    if !reached {
+                        println!(
+                            "warning: the claimed order {order} is not reached; smaller steps may be needed to \
+                             reach the asymptotic range (or the error is at its round-off floor)"
+                        );
+                    } else if f.order > order as f64 + 0.5 {
+                        println!(
+                            "warning: the fitted order is above the claimed {order}: the steps may not be in the \
+                             asymptotic range yet (or the error superconverges at t_end)"
+                        );
+                    }
+                }
+                _ => println!("warning: too few points above the round-off floor to fit an order"),
             }
         }
         table.write_csv(&dir.join("convergence.csv"))?;
+        let rates: Vec<f64> = local_rates(&dts, &errs).iter().map(|r| r.2).collect();
         write_json(
             &dir.join("summary.json"),
             &json!({
                 "method": self.method,
                 "order_claimed": order,
                 "order_fitted": fit.as_ref().map(|f| f.order),
+                "order_reached": reached,
+                "fit_dt_range": range.map(|(coarse, fine)| [coarse, fine]),
+                "local_rates": rates,
+                "dt": dts,
+                "errors": errs,
                 "reference": self.reference,
                 "t_end": self.t_end,
             }),
         )?;
-        draw_convergence(&dir.join("convergence.svg"), &dts, &errs, order, fit.map(|f| f.order))
+        draw_convergence(&dir.join("convergence.svg"), &dts, &errs, order, fit.map(|f| f.order))?;
+        if !quiet {
+            println!("outputs in {}", dir.display());
+        }
+        Ok(())
     }
 }
 
@@ -156,11 +217,12 @@ impl Job for VerifyJob {
             None => t0 + scenario.steps() as f64 * scenario.scenario.method.dt,
         };
         let span = t_end - t0;
-        let steps = whole_steps(&scenario.path, &self.dts, span)?;
+        let (steps, dts) = study_steps(&scenario.path, &self.dts, span)?;
+        note_adjusted(&self.dts, &dts, self.quiet);
         let (reference, source) = match system.exact.as_ref().and_then(|f| f(&x0, t_end)) {
             Some(x) => (x, "exact solution".to_string()),
             None => {
-                let h_min = self.dts.iter().copied().fold(f64::INFINITY, f64::min);
+                let h_min = dts.iter().copied().fold(f64::INFINITY, f64::min);
                 let n = (span / (h_min / 16.0)).ceil() as usize;
                 let mut map = (system.make_map)(Method::GalerkinGauss(5), span / n as f64)
                     .map_err(|e| CliError::Setup(e.to_string()))?;
@@ -183,7 +245,7 @@ impl Job for VerifyJob {
             t_end,
             scale: reference.q.amax().max(reference.p.amax()).max(1.0),
         };
-        study.run(&dir, &self.dts, &steps, self.quiet, |n| {
+        study.run(&dir, &dts, &steps, self.quiet, |n| {
             let mut map = (system.make_map)(method, span / n as f64).map_err(|e| CliError::Setup(e.to_string()))?;
             Ok(run_to(map.as_mut(), x0, n).map(|x| (x.q - reference.q).amax().max((x.p - reference.p).amax())))
         })
