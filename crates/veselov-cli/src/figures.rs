@@ -76,13 +76,48 @@ pub(crate) fn draw_changes(
     draw_curves(path, (labels.0, x, labels.1), &curves, false)
 }
 
-/// Energy error, momentum errors, phase portrait, (in 2-D) the orbit and (rigid
+/// Energy error (for a forced system, with a `work` column: the energy
+/// balance error and the energy change beside the work), momentum errors
+/// (changes, when forced), phase portrait, (in 2-D) the orbit and (rigid
 /// bodies) the body angular momentum.
 pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(), CliError> {
     let Some(t) = table.column("t") else { return Ok(()) };
     let file = |name: &str| dir.join(format!("{name}.{format}"));
-    if let Some(e) = table.column("energy") {
-        draw_energy_error(&file("energy_error"), "Energy error", &t, &e)?;
+    // A forced system (a `work` column) does not conserve E: plot the energy
+    // balance error |E − E₀ − W| and the energy change beside the work.
+    let work = table.column("work");
+    match (table.column("energy"), &work) {
+        (Some(e), Some(w)) => {
+            let e0 = e.first().copied().unwrap_or(0.0);
+            let balance: Vec<f64> = e.iter().zip(w).map(|(e, w)| (e - e0 - w).abs()).collect();
+            let fig = Figure {
+                title: "Energy balance error (forced system)",
+                x_label: "time t",
+                y_label: "|E(t) − E(0) − W(t)|",
+                x_scale: Scale::Linear,
+                y_scale: Scale::Log,
+                series: vec![Series {
+                    label: "energy balance",
+                    x: &t,
+                    y: &balance,
+                }],
+                markers: false,
+                equal_aspect: false,
+            };
+            draw(&file("energy_balance"), &fig).map_err(plot_err)?;
+            let change: Vec<f64> = e.iter().map(|e| e - e0).collect();
+            draw_curves(
+                &file("energy_change"),
+                ("Energy change and work of the forces", "time t", "E(t) − E(0), W(t)"),
+                &[
+                    ("E(t) − E(0)".to_string(), t.clone(), change),
+                    ("W(t)".to_string(), t.clone(), w.clone()),
+                ],
+                false,
+            )?;
+        }
+        (Some(e), None) => draw_energy_error(&file("energy_error"), "Energy error", &t, &e)?,
+        _ => {}
     }
     let momenta: Vec<(String, Vec<f64>)> = table
         .header
@@ -95,8 +130,14 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
         })
         .collect();
     if !momenta.is_empty() {
+        // Forces break the symmetries: then the momentum maps change, and the
+        // plot says so rather than calling the change an error.
         let fig = Figure {
-            title: "Momentum-map errors",
+            title: if work.is_some() {
+                "Momentum-map changes (forced system)"
+            } else {
+                "Momentum-map errors"
+            },
             x_label: "time t",
             y_label: "|J(t) − J(0)|",
             x_scale: Scale::Linear,

@@ -216,13 +216,21 @@ fn run_fixed<const N: usize>(
             }
             summary::common(status, outcome.last_step, t_final, wall, iterations, own)
         },
-        |t| {
-            format!(
+        |t| match t.balance {
+            // Forced: E is not conserved; the meaningful figure is the energy balance.
+            Some((_, _, balance)) => format!(
+                "{}: {} steps to t = {t_final}, max |E − E₀ − W| = {balance:.3e} (energy balance; work of the \
+                 forces W = {:.6e})",
+                scheme.describe(),
+                outcome.last_step,
+                t.work()
+            ),
+            None => format!(
                 "{}: {} steps to t = {t_final}, max |E − E₀| = {:.3e}",
                 scheme.describe(),
                 outcome.last_step,
                 t.column("energy").map_or(0.0, |c| c.value)
-            )
+            ),
         },
     )
 }

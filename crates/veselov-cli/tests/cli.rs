@@ -862,3 +862,46 @@ fn method_key_is_spelled_name_or_scheme_in_every_kind() {
         assert_eq!(summary(&out)["status"], "ok", "{file}");
     }
 }
+
+/// A forced run's headline and plots show the energy balance, not the
+/// dissipated energy as an "error"; a conservative run keeps its energy error.
+#[test]
+fn forced_runs_report_the_energy_balance() {
+    let dir = temp_dir("forced-headline");
+    let text = shorten(
+        &std::fs::read_to_string(workspace_root().join("examples/damped_kepler.toml")).expect("example"),
+        2000,
+    );
+    let file = scenario(&dir, &text);
+    let out = dir.join("out");
+    let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
+    let said = String::from_utf8_lossy(&res.get_output().stderr).to_string();
+    assert!(
+        said.contains("max |E − E₀ − W| = ") && said.contains("energy balance"),
+        "{said}"
+    );
+    assert!(!said.contains("max |E − E₀| ="), "{said}");
+    for plot in ["energy_balance.svg", "energy_change.svg", "momentum_error.svg"] {
+        assert!(out.join(plot).exists(), "{plot}");
+    }
+    assert!(!out.join("energy_error.svg").exists());
+    let momentum = std::fs::read_to_string(out.join("momentum_error.svg")).expect("svg");
+    assert!(momentum.contains("Momentum-map changes (forced system)"));
+    let s = summary(&out);
+    let balance = s["energy_balance_error_max"].as_f64().expect("number");
+    assert!(
+        balance < 1e-6 && s["work_of_forces"].as_f64().expect("number") < -1e-3,
+        "{s}"
+    );
+    // Conservative: the energy error plot and headline as before.
+    let text = shorten(
+        &std::fs::read_to_string(workspace_root().join("examples/kepler.toml")).expect("example"),
+        200,
+    );
+    let file = scenario(&dir, &text);
+    let out = dir.join("conservative");
+    let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
+    let said = String::from_utf8_lossy(&res.get_output().stderr).to_string();
+    assert!(said.contains("max |E − E₀| = "), "{said}");
+    assert!(out.join("energy_error.svg").exists() && !out.join("energy_balance.svg").exists());
+}
