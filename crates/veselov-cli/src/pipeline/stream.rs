@@ -104,13 +104,12 @@ impl CsvStream {
 
     /// Append one row.
     pub fn row(&mut self, row: &[f64]) -> Result<(), CliError> {
-        use std::fmt::Write as _;
         self.line.clear();
         for (i, x) in row.iter().enumerate() {
             if i > 0 {
                 self.line.push(',');
             }
-            let _ = write!(self.line, "{x}");
+            crate::output::push_number(&mut self.line, *x);
         }
         self.line.push('\n');
         self.w.write_all(self.line.as_bytes()).map_err(io(&self.path))?;
