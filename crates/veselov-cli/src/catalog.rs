@@ -429,3 +429,50 @@ pub fn method(name: &str, stages: Option<usize>, alpha: Option<f64>) -> Result<M
     })?;
     Ok(m)
 }
+
+/// The reference of the expression language of custom models, as
+/// `veselov expressions` prints it.
+pub fn expressions_reference() -> String {
+    let functions = veselov::expr::FUNCTIONS.join(" ");
+    let constants: Vec<String> = veselov::expr::CONSTANTS
+        .iter()
+        .map(|(n, v)| format!("{n} = {v}"))
+        .collect();
+    format!(
+        "\
+Custom models: [model] name = \"custom\", with expressions in text.
+
+  [model]
+  name = \"custom\"
+  coordinates = [\"x\", \"y\"]                      # 1 to {max} names: letters, digits, _ (not t)
+  lagrangian = \"0.5*(x_dot^2 + y_dot^2) + k/sqrt(x^2 + y^2)\"
+  force = [\"-c*x_dot\", \"-c*y_dot\"]              # optional: a generalised force, one per coordinate
+  symmetries = {{ angular = [\"-y\", \"x\"] }}        # optional: generators ξ(q), one per coordinate
+  constants = {{ k = 1.0, c = 0.01 }}             # optional: named numbers
+
+Names in an expression:
+  x, y, …      the coordinates
+  x_dot, …     their velocities (<name>_dot; not in symmetries)
+  t            the time
+  k, c, …      the [model] constants
+  {constants} (built in; a declared name takes precedence)
+
+Operators: + - * / and ^ (right-associative: 2^3^2 = 2^9; -x^2 = -(x^2); 2^-1 = 0.5),
+parentheses. Numbers: 1, 2.5, .5, 1e-3.
+
+Functions: {functions}
+  one argument each except pow(a, b) and atan2(y, x); log and ln are the natural
+  logarithm; abs has derivative ±1 at ±0. a^b with a non-integer constant b uses
+  powf, with a non-constant b exp(b·ln a), which needs a > 0.
+
+Every derivative the integrators take is exact (automatic differentiation of the
+parsed expression). Limits: {max} coordinates, {nesting} levels of nested
+parentheses, signs, powers and calls, and an expression tree {height} levels tall
+(long sums and products are fine). Errors name the key and the column.
+",
+        max = crate::custom::MAX_DIMENSION,
+        nesting = veselov::expr::MAX_NESTING,
+        height = veselov::expr::MAX_HEIGHT,
+        constants = constants.join(", "),
+    )
+}

@@ -49,6 +49,8 @@ enum Command {
     Models,
     /// List the methods with their keys, orders and properties.
     Methods,
+    /// The expression language of custom models: names, operators, functions, limits.
+    Expressions,
     /// Convergence study of the scenario's method.
     Verify {
         /// The scenario (TOML).
@@ -143,6 +145,10 @@ fn main() -> ExitCode {
         }
         Command::Methods => {
             list_methods();
+            Ok(())
+        }
+        Command::Expressions => {
+            print!("{}", catalog::expressions_reference());
             Ok(())
         }
         Command::Verify {

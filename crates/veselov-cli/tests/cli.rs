@@ -905,3 +905,44 @@ fn forced_runs_report_the_energy_balance() {
     assert!(said.contains("max |E − E₀| = "), "{said}");
     assert!(out.join("energy_error.svg").exists() && !out.join("energy_balance.svg").exists());
 }
+
+/// `veselov expressions` documents every name and function the parser knows,
+/// `pi` and `e` work in a custom model, and an unknown function's error lists
+/// the functions there are.
+#[test]
+fn expression_language_is_documented_and_helpful() {
+    let res = veselov().arg("expressions").assert().success();
+    let text = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    for needle in [
+        "<name>_dot",
+        "t ",
+        "pi",
+        "e = 2.718281828459045",
+        "pow(a, b)",
+        "atan2(y, x)",
+        "1 to 6",
+    ] {
+        assert!(text.contains(needle), "lacks {needle}: {text}");
+    }
+    for f in veselov::expr::FUNCTIONS {
+        assert!(text.contains(f), "lacks {f}");
+    }
+    // A custom model that uses the built-in constants runs.
+    let ok = "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\n\
+              lagrangian = \"0.5*x_dot^2 + cos(x) - 0*pi*e\"\n[method]\nname = \"midpoint\"\ndt = 0.01\n\
+              [time]\nsteps = 10\n[initial]\nq = [1.0]\np = [0.0]\n";
+    let dir = temp_dir("expressions");
+    let file = scenario(&dir, ok);
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.join("out"))
+        .arg(&file)
+        .assert()
+        .success();
+    let bad = ok.replace("cos(x)", "cosine(x)");
+    let err = failing("expressions-bad", &bad);
+    assert!(
+        err.contains("unknown function `cosine`") && err.contains("sinh") && err.contains("atan2"),
+        "{err}"
+    );
+}

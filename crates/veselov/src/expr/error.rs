@@ -50,7 +50,11 @@ impl fmt::Display for ExprErrorKind {
         match self {
             Self::Empty => write!(f, "empty expression"),
             Self::UnknownVariable(n) => write!(f, "unknown variable `{n}`"),
-            Self::UnknownFunction(n) => write!(f, "unknown function `{n}`"),
+            Self::UnknownFunction(n) => write!(
+                f,
+                "unknown function `{n}` (the functions are {})",
+                super::ops::FUNCTIONS.join(", ")
+            ),
             Self::NotCalled(n) => write!(f, "`{n}` is a function: call it as `{n}(...)`"),
             Self::WrongArity {
                 function,

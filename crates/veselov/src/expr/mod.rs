@@ -23,6 +23,10 @@
 //! `pow(a, b)`, `atan2(y, x)` (two arguments). `abs` is not differentiable at 0:
 //! there its derivative is taken as `+1` (at `+0.0`) or `-1` (at `-0.0`).
 //!
+//! # Constants
+//! `pi` and `e` are built in; a variable or constant declared with the same
+//! name takes precedence (a coordinate may be called `e`).
+//!
 //! # Powers
 //! `a^b` and `pow(a, b)` compile according to the exponent: an integer-valued
 //! constant uses `powi` (exact, fast), any other constant `powf`, and a
@@ -60,12 +64,13 @@ mod symbols;
 
 pub use error::{ExprError, ExprErrorKind};
 pub use eval::Expr;
+pub use ops::{CONSTANTS, FUNCTIONS};
 pub use symbols::SymbolTable;
 
 /// Deepest nesting of parentheses, signs, powers and calls the parser accepts.
-const MAX_NESTING: usize = 256;
+pub const MAX_NESTING: usize = 256;
 /// Tallest expression tree accepted, bounding the recursion of [`Expr::eval`].
-const MAX_HEIGHT: usize = 128;
+pub const MAX_HEIGHT: usize = 128;
 /// Shortest sequence `a + b + …` (counted in operators) evaluated as a loop
 /// instead of a left-leaning tree: trees evaluate faster, loops keep long
 /// sums within [`MAX_HEIGHT`].

@@ -99,6 +99,16 @@ impl Op {
     }
 }
 
+/// The names of the built-in functions, as [`builtin`] knows them.
+pub const FUNCTIONS: [&str; 16] = [
+    "sin", "cos", "tan", "exp", "log", "ln", "sqrt", "abs", "sinh", "cosh", "tanh", "asin", "acos", "atan", "pow",
+    "atan2",
+];
+
+/// The built-in constants: names that are not declared in the symbol table
+/// mean these (a declared name takes precedence).
+pub const CONSTANTS: [(&str, f64); 2] = [("pi", std::f64::consts::PI), ("e", std::f64::consts::E)];
+
 /// The built-in functions: name → (arity, operation).
 pub(super) fn builtin(name: &str) -> Option<(usize, Result<Func, Op>)> {
     let f = match name {

@@ -2,7 +2,7 @@
 //! with names resolved against a symbol table and nesting bounded.
 
 use super::eval::Node;
-use super::ops::{Func, Op, builtin};
+use super::ops::{CONSTANTS, Func, Op, builtin};
 use super::symbols::Symbol;
 use super::{ExprError, ExprErrorKind, MAX_HEIGHT, MAX_NESTING, MIN_CHAIN, SymbolTable};
 
@@ -225,6 +225,7 @@ impl Parser<'_> {
             }
             Some(Symbol::Constant(c)) => self.push(Node::Const(c)),
             None if builtin(name).is_some() => Err(self.error(ExprErrorKind::NotCalled(name.to_string()), start)),
+            None if let Some(&(_, c)) = CONSTANTS.iter().find(|(n, _)| *n == name) => self.push(Node::Const(c)),
             None => Err(self.error(ExprErrorKind::UnknownVariable(name.to_string()), start)),
         }
     }
@@ -269,6 +270,31 @@ mod tests {
     use crate::expr::Expr;
     use crate::expr::test_support::{error, table, value};
     use num_dual::Dual2SVec64;
+
+    /// `pi` and `e` are built in unless a declared name takes them; an unknown
+    /// function's error lists the functions there are, each of which parses.
+    #[test]
+    fn built_in_constants_and_the_function_list() {
+        assert_eq!(value("pi"), std::f64::consts::PI);
+        assert_eq!(value("2*e^x"), 2.0 * std::f64::consts::E.powi(2));
+        let mut t = SymbolTable::new();
+        t.variable("e").expect("fresh");
+        assert_eq!(
+            Expr::parse("e + pi", &t).expect("parses").eval(&[1.0]),
+            1.0 + std::f64::consts::PI
+        );
+        let message = error("2 + foo(x)").to_string();
+        for f in crate::expr::FUNCTIONS {
+            assert!(message.contains(f), "{message}");
+            let arity = builtin(f).expect("listed functions exist").0;
+            let call = if arity == 1 {
+                format!("{f}(0.5)")
+            } else {
+                format!("{f}(0.5, 0.25)")
+            };
+            assert!(Expr::parse(&call, &table()).is_ok(), "{call}");
+        }
+    }
 
     #[test]
     fn precedence_and_associativity() {
