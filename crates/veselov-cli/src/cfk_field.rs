@@ -694,7 +694,7 @@ where
         draw(&dir, setup, snapshot_rows, &s.output.plot_format)?;
     }
     if !session.quiet {
-        eprintln!(
+        println!(
             "{} on a {}×{} CFK lattice: {} time steps to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
             s.model.name,
             setup.nodes[0],

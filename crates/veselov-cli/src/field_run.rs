@@ -397,7 +397,7 @@ fn close<S>(
         )?;
     }
     if !session.quiet {
-        eprintln!(
+        println!(
             "{} / {}: {} levels to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
             s.model.name,
             s.method.scheme,

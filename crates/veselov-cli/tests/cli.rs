@@ -211,7 +211,13 @@ fn every_example_runs() {
             "{name}: {}",
             csv.lines().next().unwrap_or_default()
         );
-        assert!(out.join("energy_error.svg").exists(), "{name}: no energy plot");
+        // Forced runs (a `work` column) plot the energy balance instead.
+        let energy_plot = if csv.lines().next().is_some_and(|h| h.ends_with(",work")) {
+            "energy_balance.svg"
+        } else {
+            "energy_error.svg"
+        };
+        assert!(out.join(energy_plot).exists(), "{name}: no {energy_plot}");
         if rigid {
             assert!(out.join("body_momentum.svg").exists(), "{name}: no body momentum plot");
         } else {
@@ -875,7 +881,7 @@ fn forced_runs_report_the_energy_balance() {
     let file = scenario(&dir, &text);
     let out = dir.join("out");
     let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
-    let said = String::from_utf8_lossy(&res.get_output().stderr).to_string();
+    let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
     assert!(
         said.contains("max |E − E₀ − W| = ") && said.contains("energy balance"),
         "{said}"
@@ -901,7 +907,7 @@ fn forced_runs_report_the_energy_balance() {
     let file = scenario(&dir, &text);
     let out = dir.join("conservative");
     let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
-    let said = String::from_utf8_lossy(&res.get_output().stderr).to_string();
+    let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
     assert!(said.contains("max |E − E₀| = "), "{said}");
     assert!(out.join("energy_error.svg").exists() && !out.join("energy_balance.svg").exists());
 }

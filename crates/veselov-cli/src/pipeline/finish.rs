@@ -123,7 +123,7 @@ pub fn finish<S: Clone>(
         figures::draw_all(dir, &data, n, &out.plot_format)?;
     }
     if !session.quiet {
-        eprintln!("{}; outputs in {}", report(&table), dir.display());
+        println!("{}; outputs in {}", report(&table), dir.display());
     }
     match status {
         Status::Failed(error) => Err(CliError::Run {
