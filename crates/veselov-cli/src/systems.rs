@@ -297,6 +297,7 @@ fn custom_system<const N: usize>(scenario: &LoadedScenario) -> Result<System<N>,
     let m = &scenario.scenario.model;
     let coordinates = m.coordinates.clone().unwrap_or_default();
     let lagrangian = CustomLagrangian::<N>::new(scenario, &coordinates)?;
+    let checked = lagrangian.clone();
     let mut system = match &m.force {
         Some(f) => general(
             "custom",
@@ -308,9 +309,60 @@ fn custom_system<const N: usize>(scenario: &LoadedScenario) -> Result<System<N>,
     };
     for (name, generator) in &m.symmetries {
         let s = CustomSymmetry::<N>::new(scenario, name, generator, &coordinates)?;
+        check_invariance(scenario, name, &checked, &s)?;
         system.momenta.push(symmetry_fn(s));
     }
     Ok(system)
+}
+
+/// Refuse a declared symmetry under which the Lagrangian is not invariant:
+/// `δL = ∂L/∂q·ξ + ∂L/∂v·Dξ v` is evaluated exactly at eight states spread
+/// over `|q_i|, |v_i| ∈ [0.3, 1.3]` (either sign) and `t ∈ [0, 1]` (states
+/// where `L` is not finite are skipped), and must be round-off against the
+/// terms it is made of (1e-9 of them). Its momentum map would not be
+/// conserved, and the run would report the drift as an integrator error.
+fn check_invariance<const N: usize>(
+    scenario: &LoadedScenario,
+    name: &str,
+    lagrangian: &CustomLagrangian<N>,
+    symmetry: &CustomSymmetry<N>,
+) -> Result<(), CliError> {
+    // A fixed pseudo-random sequence: the check is the same on every run.
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        let u = (seed >> 11) as f64 / (1u64 << 53) as f64;
+        let sign = if seed & 1 == 0 { 1.0 } else { -1.0 };
+        (u, sign)
+    };
+    for _ in 0..8 {
+        let mut draw = || {
+            let (u, sign) = next();
+            sign * (0.3 + u)
+        };
+        let q = nalgebra::SVector::<f64, N>::from_fn(|_, _| draw());
+        let v = nalgebra::SVector::<f64, N>::from_fn(|_, _| draw());
+        let t = next().0;
+        let (defect, size) = veselov::mechanics::invariance_defect(lagrangian, symmetry, t, &q, &v);
+        if !(defect.is_finite() && size.is_finite()) {
+            continue;
+        }
+        if defect.abs() > 1e-9 * size.max(f64::MIN_POSITIVE) {
+            return Err(scenario.key_error(
+                &format!("model.symmetries.{name}"),
+                format!(
+                    "the Lagrangian is not invariant under this generator: δL = ∂L/∂q·ξ + ∂L/∂v·Dξ·v = {defect:e} \
+                     at t = {t}, q = {:?}, v = {:?}, so its momentum map is not conserved (a quasi-symmetry, \
+                     invariant only up to a total derivative, cannot be declared)",
+                    q.as_slice(),
+                    v.as_slice()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn dispatch_custom<J: Job>(scenario: &LoadedScenario, job: J) -> Result<(), CliError> {

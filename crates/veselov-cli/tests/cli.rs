@@ -952,3 +952,36 @@ fn expression_language_is_documented_and_helpful() {
         "{err}"
     );
 }
+
+/// A declared symmetry is checked: the rotation of a charge in a magnetic
+/// field (symmetric gauge) is accepted and its momentum conserved; the
+/// translation, which leaves L invariant only up to a total derivative, is
+/// refused naming the key, before any step.
+#[test]
+fn declared_symmetries_are_checked() {
+    let model = |generator: &str| {
+        format!(
+            "[model]\nname = \"custom\"\ncoordinates = [\"x\", \"y\"]\n\
+             lagrangian = \"0.5*(x_dot^2 + y_dot^2) + 0.5*b*(x*y_dot - y*x_dot)\"\n\
+             symmetries = {{ s = {generator} }}\nconstants = {{ b = 1.5 }}\n\
+             [method]\nname = \"midpoint\"\ndt = 0.01\n[time]\nsteps = 200\n[initial]\nq = [1.0, 0.0]\nv = [0.0, 1.0]\n"
+        )
+    };
+    let dir = temp_dir("symmetry-check");
+    let file = scenario(&dir, &model("[\"-y\", \"x\"]"));
+    let out = dir.join("out");
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .success();
+    let s = summary(&out);
+    let drift = s["momentum_error_max"]["s"].as_f64().expect("number");
+    assert!(drift < 1e-12, "{s}");
+    let err = failing("symmetry-translation", &model("[\"1\", \"0\"]"));
+    assert!(
+        err.contains("model.symmetries.s") && err.contains("not invariant"),
+        "{err}"
+    );
+}

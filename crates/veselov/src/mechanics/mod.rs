@@ -18,7 +18,7 @@ pub use galerkin::{DiscreteLagrangianValue, GalerkinIntegrator};
 pub use lagrangian::{
     Hessian, Jet, Lagrangian, acceleration, energy, forced_acceleration, hessian, jet, momentum, velocity_from_momentum,
 };
-pub use noether::{AffineSymmetry, Symmetry, momentum_map};
+pub use noether::{AffineSymmetry, Symmetry, invariance_defect, momentum_map};
 pub use scheme::{GalerkinScheme, MAX_STAGES, Method};
 pub use separable::{Potential, SeparableIntegrator, SeparableLagrangian};
 pub use state::{FlowJacobian, OneStepMap, PhaseState, StepStats, Trajectory, integrate, integrate_observed};
