@@ -42,8 +42,8 @@ use crate::pipeline::summary;
 use crate::pipeline::table::{Acc, TableObserver};
 use crate::run::RunJob;
 use crate::scenario::{
-    OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, output_dir, parse_toml, planned_steps,
-    step_count,
+    OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, note_step_length, output_dir, parse_toml,
+    planned_steps, step_count, step_length,
 };
 use crate::verify::{Study, VerifyJob, note_adjusted, study_steps};
 
@@ -467,7 +467,8 @@ where
     CayleyMap: Retraction<N, Family = G>,
     L: SplitReducedLagrangian<G, N> + Clone,
 {
-    let dt = loaded.scenario.method.dt;
+    let dt = step_length(&loaded.scenario.time, loaded.scenario.method.dt);
+    note_step_length(loaded.scenario.method.dt, dt, job.quiet);
     let setup = |e: veselov::Error| CliError::Setup(e.to_string());
     if retraction == "exp" {
         let map = SplitLieIntegrator::<G, ExpMap, L, N>::new(l.clone(), dt).map_err(setup)?;
@@ -587,7 +588,7 @@ where
     let outcome = start_or_resume(&mut session, &mut stepper, &mut x, &mut table, &words, steps)?;
     let iterations = totals(&session, &outcome).iterations;
     let wall = session.wall_seconds();
-    let t_final = t_of(outcome.last_step, x0.t, s.method.dt);
+    let t_final = t_of(outcome.last_step, x0.t, step_length(&s.time, s.method.dt));
     let orthogonality =
         |t: &TableObserver<'_, GroupState<G, N>>| t.column("orthogonality_defect").map_or(0.0, |c| c.value.max(0.0));
     finish(
@@ -607,7 +608,7 @@ where
                 "method": method,
                 "retraction": s.method.retraction,
                 "order": 2,
-                "dt": s.method.dt,
+                "dt": step_length(&s.time, s.method.dt),
                 "steps_requested": steps,
                 "energy_initial": energy.map(|c| c.first),
                 "energy_error_max": energy.map_or(0.0, |c| c.value),

@@ -16,7 +16,7 @@ use crate::pipeline::finish::{Totals, empty_outcome, finish, open_table_session,
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, TableObserver, Tracker};
 use crate::pipeline::{restore, summary, words_error};
-use crate::scenario::{LoadedScenario, planned_steps};
+use crate::scenario::{LoadedScenario, note_step_length, planned_steps};
 use crate::systems::{Job, System};
 
 /// The scenario's method, with errors naming the key.
@@ -140,7 +140,8 @@ fn run_fixed<const N: usize>(
             "the energy is not finite at the initial state (is the Lagrangian defined and regular there?)",
         ));
     }
-    let dt = scenario.scenario.method.dt;
+    let dt = scenario.step_length();
+    note_step_length(scenario.scenario.method.dt, dt, job.quiet);
     let mut map = (system.make_map)(method, dt).map_err(|e| CliError::Setup(e.to_string()))?;
     let scheme = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?;
     let steps = scenario.steps();

@@ -220,6 +220,11 @@ impl LoadedScenario {
         step_count(&self.scenario.time, self.scenario.method.dt)
     }
 
+    /// The step a fixed-step run takes ([`step_length`]).
+    pub fn step_length(&self) -> f64 {
+        step_length(&self.scenario.time, self.scenario.method.dt)
+    }
+
     /// The output directory: `--out`, else `output.dir`, else `out/<stem>`.
     pub fn output_dir(&self, cli_out: Option<&Path>) -> PathBuf {
         output_dir(&self.path, &self.scenario.output, cli_out)
@@ -316,22 +321,30 @@ pub fn check_time_and_output(file: &Path, time: &TimeSpec, dt: f64, output: &Out
     Ok(())
 }
 
-/// Number of steps of a fixed-step run: `steps`, or `t_end` reached in steps of `dt`.
+/// Number of steps of a fixed-step run: `steps`, or `round((t_end − t0)/dt)`
+/// (at least one), so that the run ends exactly at `t_end` in steps of
+/// [`step_length`].
 pub fn step_count(time: &TimeSpec, dt: f64) -> u64 {
     match (time.steps, time.t_end) {
         (Some(n), _) => n,
-        (None, Some(t_end)) => {
-            let n = (t_end - time.t0) / dt;
-            // Tolerate round-off in t_end/dt (e.g. 1.0/0.1 = 9.999999999999998).
-            let r = n.round();
-            let n = if (n - r).abs() <= 1e-9 * r.max(1.0) {
-                r
-            } else {
-                n.ceil()
-            };
-            n.max(1.0) as u64
-        }
+        (None, Some(t_end)) => ((t_end - time.t0) / dt).round().max(1.0) as u64,
         (None, None) => 1,
+    }
+}
+
+/// The step a fixed-step run takes: `dt`, or with `t_end` (and no `steps`)
+/// `(t_end − t0)/n` for the `n` of [`step_count`], which lands on `t_end`.
+pub fn step_length(time: &TimeSpec, dt: f64) -> f64 {
+    match (time.steps, time.t_end) {
+        (None, Some(t_end)) => (t_end - time.t0) / step_count(time, dt) as f64,
+        _ => dt,
+    }
+}
+
+/// Say when [`step_length`] changed the requested `dt` (by more than a relative 1e-12).
+pub fn note_step_length(requested: f64, taken: f64, quiet: bool) {
+    if !quiet && (taken - requested).abs() > 1e-12 * requested.abs() {
+        println!("note: dt = {requested:e} adjusted to {taken:.12e} so that the run ends at t_end");
     }
 }
 

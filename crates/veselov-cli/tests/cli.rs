@@ -985,3 +985,30 @@ fn declared_symmetries_are_checked() {
         "{err}"
     );
 }
+
+/// One rule for the step count of a fixed-step run with `t_end`: round, and
+/// adjust dt to land on t_end exactly, with a note. `t_end = 0.001` with
+/// `dt = 0.01` is one step of 0.001 (it used to integrate to 0.01).
+#[test]
+fn fixed_step_runs_land_on_t_end() {
+    let dir = temp_dir("land-on-t-end");
+    for (t_end, dt, steps) in [(0.001, 0.01, 1), (1.0, 0.3, 3), (1.0, 0.1, 10)] {
+        let text = format!(
+            "[model]\nname = \"pendulum\"\n[method]\nname = \"midpoint\"\ndt = {dt}\n[time]\nt_end = {t_end}\n\
+             [initial]\nq = [1.0]\np = [0.0]\n"
+        );
+        let file = scenario(&dir, &text);
+        let out = dir.join(format!("out-{steps}"));
+        let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
+        let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+        let s = summary(&out);
+        assert_eq!(s["steps"], steps, "{s}");
+        let t_final = s["t_final"].as_f64().expect("number");
+        assert!(
+            (t_final - t_end).abs() <= 4.0 * f64::EPSILON * t_end,
+            "{t_final} vs {t_end}"
+        );
+        let adjusted = (t_end / steps as f64 - dt).abs() > 1e-12 * dt;
+        assert_eq!(said.contains("adjusted to"), adjusted, "{said}");
+    }
+}
