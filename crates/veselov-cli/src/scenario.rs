@@ -70,7 +70,8 @@ pub struct MethodSpec {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSpec {
-    /// Final time (the run takes `ceil(t_end/dt)` steps, so it ends at the first step time ≥ t_end).
+    /// Final time (a fixed-step run takes `round((t_end − t0)/dt)` steps of
+    /// `(t_end − t0)/n` and ends exactly at t_end; see [`step_count`]).
     pub t_end: Option<f64>,
     /// Number of steps.
     pub steps: Option<u64>,
