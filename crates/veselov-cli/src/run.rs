@@ -142,7 +142,8 @@ fn run_fixed<const N: usize>(
     }
     let dt = scenario.step_length();
     note_step_length(scenario.scenario.method.dt, dt, job.quiet);
-    let mut map = (system.make_map)(method, dt).map_err(|e| CliError::Setup(e.to_string()))?;
+    let mut map = (system.make_map)(method, dt, scenario.scenario.method.newton_options())
+        .map_err(|e| CliError::Setup(e.to_string()))?;
     let scheme = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?;
     let steps = scenario.steps();
     let header = trajectory_header(&system);

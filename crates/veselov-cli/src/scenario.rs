@@ -64,6 +64,25 @@ pub struct MethodSpec {
     pub alpha: Option<f64>,
     /// Time step.
     pub dt: f64,
+    /// Newton iterations: relative update at which they stop (default 4ε);
+    /// the fixed-point sweeps of separable models always go to round-off.
+    pub newton_tolerance: Option<f64>,
+    /// Newton iterations per step before the step fails (default 50).
+    pub newton_max_iterations: Option<usize>,
+}
+
+impl MethodSpec {
+    /// The Newton options these keys ask for (defaults otherwise).
+    pub fn newton_options(&self) -> veselov::solve::NewtonOptions {
+        let mut o = veselov::solve::NewtonOptions::default();
+        if let Some(t) = self.newton_tolerance {
+            o.tol = t;
+        }
+        if let Some(n) = self.newton_max_iterations {
+            o.max_iterations = n;
+        }
+        o
+    }
 }
 
 /// `[time]`: exactly one of `t_end` and `steps`.
@@ -198,6 +217,22 @@ impl LoadedScenario {
     fn check(&self) -> Result<(), CliError> {
         let s = &self.scenario;
         check_time_and_output(&self.path, &s.time, s.method.dt, &s.output)?;
+        if let Some(t) = s.method.newton_tolerance
+            && !(t.is_finite() && (f64::EPSILON..=1e-3).contains(&t))
+        {
+            return Err(self.key_error(
+                "method.newton_tolerance",
+                format!("expected a relative tolerance between 2.2e-16 (ε) and 1e-3, got {t}"),
+            ));
+        }
+        if let Some(n) = s.method.newton_max_iterations
+            && !(1..=10_000).contains(&n)
+        {
+            return Err(self.key_error(
+                "method.newton_max_iterations",
+                format!("expected 1 to 10000 iterations, got {n}"),
+            ));
+        }
         if let Some(init) = &s.initial {
             self.finite("initial.q", &init.q)?;
             match (&init.p, &init.v) {

@@ -13,6 +13,7 @@ use veselov::models::{
     DampedOscillator, DoublePendulum, HarmonicOscillator, HenonHeiles, Kepler, LinearDrag, Pendulum, VanDerPol,
 };
 use veselov::sem::{SemAction, SemIntegrator, SemRule, VariableStepMap};
+use veselov::solve::NewtonOptions;
 
 use crate::catalog;
 use crate::custom::{CustomForce, CustomLagrangian, CustomSymmetry, MAX_DIMENSION};
@@ -20,7 +21,8 @@ use crate::error::CliError;
 use crate::scenario::LoadedScenario;
 
 /// Builds a one-step map for a method and step.
-pub type MapFactory<const N: usize> = Box<dyn Fn(Method, f64) -> veselov::Result<Box<dyn OneStepMap<N>>>>;
+pub type MapFactory<const N: usize> =
+    Box<dyn Fn(Method, f64, NewtonOptions) -> veselov::Result<Box<dyn OneStepMap<N>>>>;
 /// A function of the state.
 pub type StateFn<const N: usize> = Box<dyn Fn(&PhaseState<N>) -> f64>;
 /// The exact state at time `t` from an initial state, where known.
@@ -115,8 +117,9 @@ fn separable<const N: usize, V: Potential<N> + Clone + 'static, F: Force<N> + Cl
     let l = Rc::new(lagrangian);
     let factory = l.clone();
     let forced = !force.is_zero();
-    let make_map: MapFactory<N> = Box::new(move |m, h| {
-        let map = SeparableIntegrator::with_force((*factory).clone(), force.clone(), GalerkinScheme::new(m)?, h)?;
+    let make_map: MapFactory<N> = Box::new(move |m, h, options| {
+        let map = SeparableIntegrator::with_force((*factory).clone(), force.clone(), GalerkinScheme::new(m)?, h)?
+            .with_newton_options(options);
         Ok(Box::new(map) as Box<dyn OneStepMap<N>>)
     });
     system(
@@ -138,8 +141,9 @@ fn general<const N: usize, L: Lagrangian<N> + Clone + 'static, F: Force<N> + Clo
     let l = Rc::new(lagrangian);
     let factory = l.clone();
     let forced = !force.is_zero();
-    let make_map: MapFactory<N> = Box::new(move |m, h| {
-        let map = GalerkinIntegrator::with_force((*factory).clone(), force.clone(), GalerkinScheme::new(m)?, h)?;
+    let make_map: MapFactory<N> = Box::new(move |m, h, options| {
+        let map = GalerkinIntegrator::with_force((*factory).clone(), force.clone(), GalerkinScheme::new(m)?, h)?
+            .with_options(options);
         Ok(Box::new(map) as Box<dyn OneStepMap<N>>)
     });
     system(name, coordinates, l, forced, make_map)

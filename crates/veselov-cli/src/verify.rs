@@ -224,7 +224,7 @@ impl Job for VerifyJob {
             None => {
                 let h_min = dts.iter().copied().fold(f64::INFINITY, f64::min);
                 let n = (span / (h_min / 16.0)).ceil() as usize;
-                let mut map = (system.make_map)(Method::GalerkinGauss(5), span / n as f64)
+                let mut map = (system.make_map)(Method::GalerkinGauss(5), span / n as f64, Default::default())
                     .map_err(|e| CliError::Setup(e.to_string()))?;
                 let x =
                     run_to(map.as_mut(), x0, n).map_err(|e| CliError::Setup(format!("reference run failed: {e}")))?;
@@ -246,7 +246,9 @@ impl Job for VerifyJob {
             scale: reference.q.amax().max(reference.p.amax()).max(1.0),
         };
         study.run(&dir, &dts, &steps, self.quiet, |n| {
-            let mut map = (system.make_map)(method, span / n as f64).map_err(|e| CliError::Setup(e.to_string()))?;
+            let options = scenario.scenario.method.newton_options();
+            let mut map =
+                (system.make_map)(method, span / n as f64, options).map_err(|e| CliError::Setup(e.to_string()))?;
             Ok(run_to(map.as_mut(), x0, n).map(|x| (x.q - reference.q).amax().max((x.p - reference.p).amax())))
         })
     }

@@ -1012,3 +1012,41 @@ fn fixed_step_runs_land_on_t_end() {
         assert_eq!(said.contains("adjusted to"), adjusted, "{said}");
     }
 }
+
+/// `[method] newton_tolerance` and `newton_max_iterations` reach the Newton
+/// iteration of a mechanics run: a looser tolerance takes fewer iterations, a
+/// limit of one iteration fails the first step with a Newton failure (what
+/// was computed is kept), and values out of range are refused naming the key.
+#[test]
+fn newton_controls_reach_the_iteration() {
+    let dir = temp_dir("newton-controls");
+    let base = "[model]\nname = \"double-pendulum\"\n[method]\nname = \"galerkin-gauss\"\nstages = 2\ndt = 0.01\n";
+    let rest = "[time]\nsteps = 100\n[initial]\nq = [0.5, -0.5]\np = [0.0, 0.0]\n";
+    let run = |extra: &str, name: &str| {
+        let file = scenario(&dir, &format!("{base}{extra}{rest}"));
+        let out = dir.join(name);
+        veselov()
+            .args(["run", "--quiet", "--out"])
+            .arg(&out)
+            .arg(&file)
+            .assert();
+        summary(&out)
+    };
+    let tight = run("", "default");
+    let loose = run("newton_tolerance = 1e-6\n", "loose");
+    assert_eq!(tight["status"], "ok");
+    assert_eq!(loose["status"], "ok");
+    let mean = |s: &serde_json::Value| s["newton_iterations_mean"].as_f64().expect("number");
+    assert!(mean(&loose) < mean(&tight), "{} vs {}", mean(&loose), mean(&tight));
+    let starved = run("newton_max_iterations = 1\n", "starved");
+    assert_eq!(starved["status"], "error", "{starved}");
+    assert_eq!(starved["failure"]["kind"], "newton_failure", "{starved}");
+    for (bad, key) in [
+        ("newton_tolerance = 0.5\n", "method.newton_tolerance"),
+        ("newton_tolerance = 1e-20\n", "method.newton_tolerance"),
+        ("newton_max_iterations = 0\n", "method.newton_max_iterations"),
+    ] {
+        let err = failing("newton-bad", &format!("{base}{bad}{rest}"));
+        assert!(err.contains(key), "{bad}: {err}");
+    }
+}

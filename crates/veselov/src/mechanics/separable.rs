@@ -160,6 +160,13 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
         Ok(out)
     }
 
+    /// Replace the options of the Newton fallback (the fixed-point sweeps
+    /// stop at round-off whatever they say).
+    pub fn with_newton_options(mut self, options: crate::solve::NewtonOptions) -> Self {
+        self.general = self.general.with_options(options);
+        self
+    }
+
     /// The general-path integrator used as fallback (and for Jacobians).
     pub fn general(&mut self) -> &mut GalerkinIntegrator<SeparableLagrangian<V, N>, N, F> {
         &mut self.general
