@@ -1025,11 +1025,12 @@ fn newton_controls_reach_the_iteration() {
     let run = |extra: &str, name: &str| {
         let file = scenario(&dir, &format!("{base}{extra}{rest}"));
         let out = dir.join(name);
-        veselov()
+        // A failing run exits non-zero but writes its summary.
+        let _ = veselov()
             .args(["run", "--quiet", "--out"])
             .arg(&out)
             .arg(&file)
-            .assert();
+            .output();
         summary(&out)
     };
     let tight = run("", "default");
