@@ -33,6 +33,12 @@ fn summary(dir: &Path) -> serde_json::Value {
 }
 
 /// Replace the `[time]` table of an example with a short horizon.
+/// The example `examples/<name>.toml` cut to `steps` steps, written into `dir`.
+fn example_scenario(dir: &Path, name: &str, steps: usize) -> PathBuf {
+    let text = std::fs::read_to_string(workspace_root().join(format!("examples/{name}.toml"))).expect("example");
+    scenario(dir, &shorten(&text, steps))
+}
+
 fn shorten(text: &str, steps: usize) -> String {
     let mut out = String::new();
     let mut skip = false;
@@ -231,11 +237,7 @@ fn every_example_runs() {
 #[test]
 fn run_writes_npy_json_and_momentum_columns() {
     let dir = temp_dir("kepler-npy");
-    let text = shorten(
-        &std::fs::read_to_string(workspace_root().join("examples/kepler.toml")).expect("example"),
-        100,
-    );
-    let file = scenario(&dir, &text);
+    let file = example_scenario(&dir, "kepler", 100);
     let out = dir.join("out");
     veselov()
         .args(["run", "--quiet", "--out"])
@@ -874,11 +876,7 @@ fn method_key_is_spelled_name_or_scheme_in_every_kind() {
 #[test]
 fn forced_runs_report_the_energy_balance() {
     let dir = temp_dir("forced-headline");
-    let text = shorten(
-        &std::fs::read_to_string(workspace_root().join("examples/damped_kepler.toml")).expect("example"),
-        2000,
-    );
-    let file = scenario(&dir, &text);
+    let file = example_scenario(&dir, "damped_kepler", 2000);
     let out = dir.join("out");
     let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
     let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
@@ -900,11 +898,7 @@ fn forced_runs_report_the_energy_balance() {
         "{s}"
     );
     // Conservative: the energy error plot and headline as before.
-    let text = shorten(
-        &std::fs::read_to_string(workspace_root().join("examples/kepler.toml")).expect("example"),
-        200,
-    );
-    let file = scenario(&dir, &text);
+    let file = example_scenario(&dir, "kepler", 200);
     let out = dir.join("conservative");
     let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
     let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
