@@ -262,3 +262,44 @@ fn symmetric_rectangle_even_odd_mode() {
     // linear growth.
     assert!(odd[3] <= 0.05 * linear, "odd N: {:e}", odd[3]);
 }
+
+/// The §5.2 initial data as the paper prints its numbers: with κ = 1 − 10⁻⁶
+/// and L̃ = 10, `P = 2K(κ) ≈ 15.90` (checked against the arithmetic–geometric
+/// mean, `K = π / (2 AGM(1, √(1 − κ²)))`, an independent path) and the kink
+/// speed `c = √(1 − L̃²/(κ²P²)) ≈ 0.7773`; the profile solves the
+/// travelling-wave ODE `(1 − c²) φ'' = sin φ` (finite differences, step 1e-3:
+/// truncation ≈ δ²|φ⁗|/12 ≲ 1e-5) and keeps its first integral
+/// `(1 − c²) φ'²/2 + cos φ` constant, with `φ(0) = 0`, `φ(L̃/2) = π`, `φ(L̃) = 2π`.
+#[test]
+fn kink_profile_has_the_papers_period_speed_and_ode() {
+    let kink = veselov::field::PeriodicKink::new(10.0, 1e-6).expect("kink");
+    let kappa: f64 = 1.0 - 1e-6;
+    // 1 − κ² = ε(2 − ε), without the cancellation of 1 − κ·κ.
+    let (mut a, mut b) = (1.0_f64, (1e-6_f64 * (2.0 - 1e-6)).sqrt());
+    for _ in 0..40 {
+        (a, b) = ((a + b) / 2.0, (a * b).sqrt());
+    }
+    let p_agm = 2.0 * PI / (2.0 * a);
+    assert!((kink.p() - p_agm).abs() < 1e-13 * p_agm, "{} vs {p_agm}", kink.p());
+    // P = 15.894959…, which the paper prints as 15.90 (15.9 to three figures).
+    assert!((kink.p() - 15.90).abs() < 0.01, "P = {}", kink.p());
+    let c = kink.speed;
+    assert!((c - 0.7773).abs() < 5e-5, "c = {c}");
+    assert!((c - (1.0 - 100.0 / (kappa * kappa * p_agm * p_agm)).sqrt()).abs() < 1e-12);
+    let phi = |x: f64| kink.profile(x).expect("profile");
+    assert!(phi(0.0).abs() < 1e-9 && (phi(5.0) - PI).abs() < 1e-9 && (phi(10.0) - TAU).abs() < 1e-9);
+    let d = 1e-3;
+    let mut first_integral = Vec::new();
+    for k in 0..=40 {
+        let x = 1.0 + 0.2 * k as f64;
+        let second = (phi(x + d) - 2.0 * phi(x) + phi(x - d)) / (d * d);
+        let residual = (1.0 - c * c) * second - phi(x).sin();
+        assert!(residual.abs() < 1e-5, "x = {x}: ODE residual {residual:e}");
+        let slope = (phi(x + d) - phi(x - d)) / (2.0 * d);
+        first_integral.push((1.0 - c * c) * slope * slope / 2.0 + phi(x).cos());
+    }
+    let (lo, hi) = first_integral
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
+    assert!(hi - lo < 1e-5, "first integral varies by {:e}", hi - lo);
+}
