@@ -131,17 +131,20 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
         .collect();
     if !momenta.is_empty() {
         // Forces break the symmetries: then the momentum maps change, and the
-        // plot says so rather than calling the change an error.
+        // plot says so rather than calling the change an error. A momentum
+        // conserved exactly (every |J − J₀| = 0) has nothing to show on a log
+        // scale: it is drawn on a linear one and the title says so.
+        let exact = momenta.iter().all(|(_, y)| y.iter().all(|v| *v == 0.0));
         let fig = Figure {
-            title: if work.is_some() {
-                "Momentum-map changes (forced system)"
-            } else {
-                "Momentum-map errors"
+            title: match (work.is_some(), exact) {
+                (true, _) => "Momentum-map changes (forced system)",
+                (false, true) => "Momentum-map errors: exactly 0 at every row",
+                (false, false) => "Momentum-map errors",
             },
             x_label: "time t",
             y_label: "|J(t) − J(0)|",
             x_scale: Scale::Linear,
-            y_scale: Scale::Log,
+            y_scale: if exact { Scale::Linear } else { Scale::Log },
             series: momenta
                 .iter()
                 .map(|(name, y)| Series { label: name, x: &t, y })

@@ -1045,3 +1045,23 @@ fn newton_controls_reach_the_iteration() {
         assert!(err.contains(key), "{bad}: {err}");
     }
 }
+
+/// A momentum conserved exactly (a free particle's translation momentum) is
+/// drawn on a linear scale with a title that says so, not as an empty log plot.
+#[test]
+fn exactly_conserved_momentum_is_plotted_visibly() {
+    let dir = temp_dir("exact-momentum");
+    let text = "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2\"\n\
+                symmetries = { translation = [\"1\"] }\n[method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 20\n\
+                [initial]\nq = [0.0]\np = [0.75]\n";
+    let file = scenario(&dir, text);
+    let out = dir.join("out");
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .assert()
+        .success();
+    let svg = std::fs::read_to_string(out.join("momentum_error.svg")).expect("svg");
+    assert!(svg.contains("exactly 0 at every row"), "title");
+}
