@@ -253,8 +253,9 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
     /// Take the last (up to three) states of an earlier run as the history
     /// the next step's starting values are interpolated from, as if this
     /// integrator had computed them; the next step must start from the last of
-    /// them. Resuming a stored trajectory this way takes the same path as
-    /// continuing it.
+    /// them. A stored trajectory resumed this way takes the continuing start
+    /// (with the momentum block evaluated afresh if this integrator holds
+    /// none); to resume bit for bit, use the checkpoint carry instead.
     pub fn seed_history(&mut self, states: &[SemState<N>]) {
         self.history.clear();
         for s in states.iter().rev().take(3).rev() {
