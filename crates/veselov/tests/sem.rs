@@ -375,3 +375,70 @@ fn step_passes_agree_with_the_full_derivatives() {
     let driven = SemAction::new(DrivenOscillator, SemRule::Trapezoid).expect("valid");
     check(&driven, Vector2::new(0.5, -0.3), Vector2::new(0.52, -0.25));
 }
+
+/// Seed 001 (3.8)/(3.15), θ⁻ + θ⁺ = dS on the extended space `x = (t, q)`:
+/// the one-form components the integrator uses — `∂S/∂t₀|_{t₁} = E⁻`,
+/// `∂S/∂q₀ = −p₀`, `∂S/∂t₁ = −E⁺`, `∂S/∂q₁ = p₁` — are the partial
+/// derivatives of the action `S(t₀, q₀, t₁, q₁)`, checked against fourth-order
+/// central differences of the action itself (step 1e-3·h; error ≲ 1e-9 of
+/// the terms), on a time-dependent Lagrangian and two rules.
+#[test]
+fn one_forms_are_the_differential_of_the_action() {
+    for rule in [SemRule::Midpoint, SemRule::Averaged(2)] {
+        let action = SemAction::new(DrivenOscillator, rule).expect("valid");
+        let (t0, t1) = (0.3, 0.37);
+        let (q0, q1) = (Vector2::new(0.5, -0.3), Vector2::new(0.52, -0.25));
+        let s = |t0: f64, q0: &Vector2<f64>, t1: f64, q1: &Vector2<f64>| action.action(t0, q0, q1, t1 - t0);
+        let d = action.derivatives(t0, &q0, &q1, t1 - t0);
+        let delta = 1e-3 * (t1 - t0);
+        // f'(0) by the five-point stencil.
+        let diff = |f: &dyn Fn(f64) -> f64| {
+            (8.0 * (f(delta) - f(-delta)) - (f(2.0 * delta) - f(-2.0 * delta))) / (12.0 * delta)
+        };
+        let scale = 1.0 + d.q0.amax() + d.q1.amax() + d.h.abs();
+        let close = |fd: f64, exact: f64, what: &str| {
+            assert!((fd - exact).abs() <= 1e-9 * scale, "{rule:?} {what}: {fd} vs {exact}");
+        };
+        close(diff(&|e| s(t0 + e, &q0, t1, &q1)), d.t0 - d.h, "∂S/∂t₀ = E⁻");
+        close(diff(&|e| s(t0, &q0, t1 + e, &q1)), d.h, "∂S/∂t₁ = −E⁺");
+        for i in 0..2 {
+            let unit = Vector2::from_fn(|j, _| if i == j { 1.0 } else { 0.0 });
+            close(diff(&|e| s(t0, &(q0 + unit * e), t1, &q1)), d.q0[i], "∂S/∂q₀ = −p₀");
+            close(diff(&|e| s(t0, &q0, t1, &(q1 + unit * e))), d.q1[i], "∂S/∂q₁ = p₁");
+        }
+    }
+}
+
+/// Seed 001 (3.4) with a time-dependent Lagrangian (note 001 §2.1): the step
+/// makes the energies continuous at every node (`E⁻_k = E⁺_k`), and the
+/// energy then changes over a step by the discrete analogue of
+/// `dE/dt = −∂L/∂t`: `E_{k+1} − E_k = −∂S/∂t₀|_h` (both times shifted),
+/// to round-off; the change is not small, so the test can fail.
+#[test]
+fn time_dependent_energy_balance_holds_step_by_step() {
+    let action = SemAction::new(DrivenOscillator, SemRule::Midpoint).expect("valid");
+    let mut sem = SemIntegrator::new(action.clone());
+    let run = run_sem(
+        &mut sem,
+        0.0,
+        Vector2::new(1.0, 0.0),
+        Vector2::new(0.0, 0.5),
+        0.05,
+        f64::INFINITY,
+        400,
+        false,
+    );
+    assert!(run.failure.is_none(), "{:?}", run.failure);
+    let (mut worst, mut moved) = (0.0_f64, 0.0_f64);
+    for w in run.states.windows(2).skip(1) {
+        let (a, b) = (&w[0], &w[1]);
+        let d = action.derivatives(a.t, &a.q, &b.q, b.t - a.t);
+        // E⁻ at the node equals the energy carried there (the step's equation).
+        assert!((d.t0 - d.h - a.energy).abs() <= 1e-12 * (1.0 + a.energy.abs()));
+        let balance = b.energy - a.energy + d.t0;
+        worst = worst.max(balance.abs() / (1.0 + a.energy.abs() + d.t0.abs()));
+        moved = moved.max((b.energy - run.states[1].energy).abs());
+    }
+    assert!(worst <= 1e-12, "energy balance off by {worst:e}");
+    assert!(moved > 1e-2, "the driven energy should change: {moved:e}");
+}
