@@ -442,3 +442,80 @@ fn time_dependent_energy_balance_holds_step_by_step() {
     assert!(worst <= 1e-12, "energy balance off by {worst:e}");
     assert!(moved > 1e-2, "the driven energy should change: {moved:e}");
 }
+
+/// `L = ½(1 + 0.2 sin t) v² − ½(1 + 0.3 cos t) q²` in one dimension.
+#[derive(Debug, Clone)]
+struct DrivenOscillator1;
+
+impl veselov::mechanics::Lagrangian<1> for DrivenOscillator1 {
+    fn lagrangian<D: veselov::ad::Scalar>(&self, t: D, q: &SVector<D, 1>, v: &SVector<D, 1>) -> D {
+        let (m, k) = (D::from(1.0) + t.sin() * 0.2, D::from(1.0) + t.cos() * 0.3);
+        (m * v[0] * v[0] - k * q[0] * q[0]) * 0.5
+    }
+}
+
+/// Seed 001 (3.16)–(3.17): the SEM step is symplectic on the extended phase
+/// space `(t, q, p_t = −E, p)` — with a time-dependent Lagrangian, where the
+/// energy is not conserved. The Jacobian of `(t₀, q₀, −E₀, p₀) ↦ (t₁, q₁,
+/// −E₁, p₁)` comes from the implicit function theorem on the step equations
+/// with the exact Hessian of `S(t₀, q₀, q₁, h)`; `JᵀΩJ = Ω` to round-off of
+/// `|J|²`. Carrying the energy over unchanged instead (`E₁ = E₀`) is not
+/// symplectic here, so the check can fail.
+#[test]
+fn step_is_symplectic_in_the_extended_phase_space() {
+    use nalgebra::{Matrix2, Matrix2x4, Matrix4, Vector4};
+    use num_dual::Dual2SVec64;
+    let action = SemAction::new(DrivenOscillator1, SemRule::Midpoint).expect("valid");
+    let mut sem = SemIntegrator::new(action.clone());
+    let (_, mut s) = sem
+        .start(0.2, Vector1::new(0.8), Vector1::new(0.3), 0.05)
+        .expect("start");
+    for _ in 0..25 {
+        s = sem.step(1, &s).expect("step").0;
+    }
+    let (next, info) = sem.step(1, &s).expect("step");
+    let (t0, q0, q1, h) = (s.t, s.q[0], next.q[0], info.h);
+    let (_, _, hs) = num_dual::hessian(
+        |x: SVector<Dual2SVec64<4>, 4>| action.action(x[0], &SVector::from([x[1]]), &SVector::from([x[2]]), x[3]),
+        &Vector4::new(t0, q0, q1, h),
+    );
+    // Indices: 0 = t₀, 1 = q₀, 2 = q₁, 3 = h. Unknowns y = (q₁, h); data
+    // x = (t₀, q₀, p_t = −E₀, p₀); R₁ = p₀ + S_q₀, R₂ = S_t₀ − S_h − E₀.
+    let ry = Matrix2::new(hs[(1, 2)], hs[(1, 3)], hs[(0, 2)] - hs[(3, 2)], hs[(0, 3)] - hs[(3, 3)]);
+    let rx = Matrix2x4::new(
+        hs[(1, 0)],
+        hs[(1, 1)],
+        0.0,
+        1.0,
+        hs[(0, 0)] - hs[(3, 0)],
+        hs[(0, 1)] - hs[(3, 1)],
+        1.0, // R₂ = S_t₀ − S_h + p_t
+        0.0,
+    );
+    let dy = -ry.try_inverse().expect("regular step") * rx;
+    let jacobian = |conserve_energy: bool| {
+        let e = |i: usize| Vector4::from_fn(|j, _| if i == j { 1.0 } else { 0.0 }).transpose();
+        let (dq1, dh) = (dy.row(0).into_owned(), dy.row(1).into_owned());
+        let dt1 = e(0) + dh;
+        let dp1 = e(0) * hs[(2, 0)] + e(1) * hs[(2, 1)] + dq1 * hs[(2, 2)] + dh * hs[(2, 3)];
+        // p_t₁ = −E₁ = S_h.
+        let dpt1 = if conserve_energy {
+            e(2)
+        } else {
+            e(0) * hs[(3, 0)] + e(1) * hs[(3, 1)] + dq1 * hs[(3, 2)] + dh * hs[(3, 3)]
+        };
+        Matrix4::from_rows(&[dt1, dq1, dpt1, dp1])
+    };
+    let omega = Matrix4::new(
+        0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0,
+    );
+    let defect = |j: Matrix4<f64>| (j.transpose() * omega * j - omega).amax() / j.amax().powi(2);
+    let exact = defect(jacobian(false));
+    println!(
+        "extended symplecticity defect {exact:e}, with E carried over {:e}",
+        defect(jacobian(true))
+    );
+    assert!(exact < 1e-13, "extended symplecticity defect {exact:e}");
+    let wrong = defect(jacobian(true));
+    assert!(wrong > 1e-6, "carrying E over unchanged should break it: {wrong:e}");
+}
