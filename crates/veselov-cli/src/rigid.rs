@@ -555,6 +555,13 @@ where
     x0.check().map_err(|e| loaded.key_error("initial", e.to_string()))?;
     let s = &loaded.scenario;
     let steps = step_count(&s.time, s.method.dt);
+    // Checked before the session opens its output directory.
+    let at_steps = if s.output.times.is_empty() {
+        Vec::new()
+    } else {
+        let dt = step_length(&s.time, s.method.dt);
+        s.output.steps_at_times(&loaded.path, x0.t, dt, steps, job.quiet)?
+    };
     let header = header_of::<N>(conserved);
     let (mut session, positions, words) = open_table_session(
         &job,
@@ -577,7 +584,8 @@ where
         Box::new(move |x: &GroupState<G, N>, _| row_of(l, x, conserved)),
         sink,
         s.output.every,
-    );
+    )
+    .at_steps(at_steps);
     table.track("energy", Acc::Dev);
     for (name, _) in conserved {
         table.track(name, Acc::Dev);

@@ -147,6 +147,13 @@ fn run_fixed<const N: usize>(
     let scheme = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?;
     let steps = scenario.steps();
     let header = trajectory_header(&system);
+    // Checked before the session opens its output directory.
+    let out = &scenario.scenario.output;
+    let at_steps = if out.times.is_empty() {
+        Vec::new()
+    } else {
+        out.steps_at_times(&scenario.path, x0.t, dt, steps, job.quiet)?
+    };
     let (mut session, positions, words) = open_table_session(
         job,
         &scenario.path,
@@ -155,7 +162,6 @@ fn run_fixed<const N: usize>(
         header.len(),
         "mechanics",
     )?;
-    let out = &scenario.scenario.output;
     let sink = TableSink::create(
         &session.dir,
         "trajectory",
@@ -170,7 +176,8 @@ fn run_fixed<const N: usize>(
         Box::new(move |x: &PhaseState<N>, w| trajectory_row(system, x, w)),
         sink,
         out.every,
-    );
+    )
+    .at_steps(at_steps);
     table.track("energy", Acc::Dev);
     for (name, _) in &system.momenta {
         table.track(&format!("J_{name}"), Acc::Dev);
@@ -270,6 +277,12 @@ fn run_variable<const N: usize>(
     } else {
         max_steps as f64
     };
+    if !s.output.times.is_empty() {
+        return Err(scenario.key_error(
+            "output.times",
+            "a variable-step run does not know its step times in advance; use `every`",
+        ));
+    }
     let mut header = trajectory_header(&system);
     header.push("h".into());
     header.push("discrete_energy".into());

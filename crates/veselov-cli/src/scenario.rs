@@ -133,6 +133,48 @@ pub struct OutputSpec {
     /// run ends, interrupted or not; `--resume` continues from the last one).
     #[serde(default)]
     pub checkpoint_every: u64,
+    /// Times at which to write rows, instead of every `every`-th step (fixed-step
+    /// runs: the step nearest each time, with a note when it is not on the
+    /// grid; the first and last states are always written).
+    #[serde(default)]
+    pub times: Vec<f64>,
+}
+
+impl OutputSpec {
+    /// The steps at which `times` asks for rows, for a run of `steps` steps of
+    /// `dt` from `t0` (sorted, without repeats); a note for each time off the
+    /// grid unless `quiet`. An error names `output.times` for a time that is
+    /// not finite or lies outside `[t0, t0 + steps·dt]`, or when `every` is
+    /// given too.
+    pub fn steps_at_times(&self, file: &Path, t0: f64, dt: f64, steps: u64, quiet: bool) -> Result<Vec<u64>, CliError> {
+        if self.every != 1 {
+            return Err(key_error(
+                file,
+                "output.times",
+                "give either `times` or `every`, not both",
+            ));
+        }
+        let end = t0 + steps as f64 * dt;
+        let mut out = Vec::with_capacity(self.times.len());
+        for &t in &self.times {
+            if !(t.is_finite() && t >= t0 - 1e-9 * dt && t <= end + 1e-9 * dt) {
+                return Err(key_error(
+                    file,
+                    "output.times",
+                    format!("{t} is not a time of the run, which spans [{t0}, {end}]"),
+                ));
+            }
+            let k = ((t - t0) / dt).round().clamp(0.0, steps as f64) as u64;
+            let on_grid = t0 + k as f64 * dt;
+            if !quiet && (on_grid - t).abs() > 1e-9 * dt {
+                println!("note: output.times: {t} written at the nearest step, t = {on_grid}");
+            }
+            out.push(k);
+        }
+        out.sort_unstable();
+        out.dedup();
+        Ok(out)
+    }
 }
 
 fn one() -> u64 {
@@ -157,6 +199,7 @@ impl Default for OutputSpec {
             plots: true,
             plot_format: default_plot_format(),
             checkpoint_every: 0,
+            times: Vec::new(),
         }
     }
 }

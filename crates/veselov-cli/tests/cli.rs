@@ -1065,3 +1065,35 @@ fn exactly_conserved_momentum_is_plotted_visibly() {
     let svg = std::fs::read_to_string(out.join("momentum_error.svg")).expect("svg");
     assert!(svg.contains("exactly 0 at every row"), "title");
 }
+
+/// `[output] times` writes rows at the steps nearest the times asked for
+/// (with a note off the grid) besides the first and last states; a time
+/// outside the run, `times` with `every`, or `times` on a variable-step run
+/// are refused naming the key, before any output directory is made.
+#[test]
+fn output_at_chosen_times() {
+    let dir = temp_dir("output-times");
+    let base = "[model]\nname = \"pendulum\"\n[method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nt_end = 1.0\n\
+                [initial]\nq = [1.0]\np = [0.0]\n[output]\n";
+    let file = scenario(&dir, &format!("{base}times = [0.5, 0.25, 0.7]\n"));
+    let out = dir.join("out");
+    let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
+    let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    assert!(said.contains("0.25 written at the nearest step"), "{said}");
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
+    let times: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().expect("t").parse().expect("number"))
+        .collect();
+    let want = [0.0, 0.3, 0.5, 0.7, 1.0];
+    assert_eq!(times.len(), want.len(), "{csv}");
+    assert!(times.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12), "{times:?}");
+    for (bad, name) in [("times = [1.5]\n", "late"), ("times = [0.5]\nevery = 2\n", "both")] {
+        let err = failing(&format!("times-{name}"), &format!("{base}{bad}"));
+        assert!(err.contains("output.times"), "{bad}: {err}");
+    }
+    let sem = base.replace("midpoint", "sem-midpoint");
+    let err = failing("times-sem", &format!("{sem}times = [0.5]\n"));
+    assert!(err.contains("output.times") && err.contains("variable-step"), "{err}");
+}

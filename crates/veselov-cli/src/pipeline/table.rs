@@ -86,6 +86,8 @@ pub struct TableObserver<'a, S> {
     row_of: RowFn<'a, S>,
     sink: TableSink,
     every: u64,
+    /// If not empty, the steps whose rows are written (sorted), instead of `every`.
+    at_steps: Vec<u64>,
     /// Trackers over written rows, by column.
     pub columns: Vec<(usize, Tracker)>,
     /// Trackers over every state.
@@ -106,6 +108,7 @@ impl<'a, S: Clone> TableObserver<'a, S> {
             row_of,
             sink,
             every: every.max(1),
+            at_steps: Vec::new(),
             columns: Vec::new(),
             states: Vec::new(),
             balance: None,
@@ -114,6 +117,12 @@ impl<'a, S: Clone> TableObserver<'a, S> {
             written: u64::MAX,
             error: None,
         }
+    }
+
+    /// Write rows only at `steps` (sorted), besides the first and last states.
+    pub fn at_steps(mut self, steps: Vec<u64>) -> Self {
+        self.at_steps = steps;
+        self
     }
 
     /// Track `acc` of the column called `name` (if there is one).
@@ -249,7 +258,12 @@ impl<S: Clone> Observer<S> for TableObserver<'_, S> {
             t.push(f(state));
         }
         self.last = Some((step, state.clone()));
-        if step.is_multiple_of(self.every) {
+        let due = if self.at_steps.is_empty() {
+            step.is_multiple_of(self.every)
+        } else {
+            self.at_steps.binary_search(&step).is_ok()
+        };
+        if due {
             if let Err(e) = self.write(step, state) {
                 return Control::Fail(e);
             }
