@@ -2,35 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
-
-fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// A fresh, empty temporary directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("veselov-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
-}
-
-fn veselov() -> Command {
-    Command::cargo_bin("veselov").expect("binary built")
-}
-
-/// Write `text` as a scenario file in `dir` and return its path.
-fn scenario(dir: &Path, text: &str) -> PathBuf {
-    let p = dir.join("scenario.toml");
-    std::fs::write(&p, text).expect("write scenario");
-    p
-}
-
-fn summary(dir: &Path) -> serde_json::Value {
-    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
-    serde_json::from_str(&text).expect("valid JSON")
-}
+mod common;
+use common::{scenario, summary, temp_dir, veselov, workspace_root};
 
 /// Replace the `[time]` table of an example with a short horizon.
 /// The example `examples/<name>.toml` cut to `steps` steps, written into `dir`.

@@ -8,20 +8,11 @@ use std::time::{Duration, Instant};
 
 use veselov_cli::output::Table;
 
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("veselov-interrupt-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
-}
+mod common;
+use common::{summary, temp_dir};
 
 fn binary() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_veselov"))
-}
-
-fn summary(dir: &Path) -> serde_json::Value {
-    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
-    serde_json::from_str(&text).expect("valid JSON")
 }
 
 /// Rows in the shape of an NPY file's header, and the data bytes after it.

@@ -2,85 +2,8 @@
 //! outputs, momentum balances read back from the files, the step limit and
 //! errors naming the key.
 
-use std::path::{Path, PathBuf};
-
-use assert_cmd::Command;
-
-fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("veselov-rod-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
-}
-
-fn example(name: &str) -> String {
-    std::fs::read_to_string(workspace_root().join("examples").join(name)).expect("example")
-}
-
-/// Replace `key = …` in the text (the first occurrence of the key at the
-/// start of a line).
-fn set(text: &str, key: &str, value: &str) -> String {
-    let mut done = false;
-    text.lines()
-        .map(|l| {
-            if !done && l.trim_start().starts_with(&format!("{key} =")) {
-                done = true;
-                format!("{key} = {value}")
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
-}
-
-/// Run `text`; returns (success, stderr, output directory).
-fn run(name: &str, text: &str) -> (bool, String, PathBuf) {
-    let dir = temp_dir(name);
-    let file = dir.join("scenario.toml");
-    std::fs::write(&file, text).expect("write");
-    let out = dir.join("out");
-    let o = Command::cargo_bin("veselov")
-        .expect("binary")
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .output()
-        .expect("run");
-    (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned(), out)
-}
-
-fn summary(dir: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).expect("summary")).expect("json")
-}
-
-fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).expect("csv");
-    let mut lines = text.lines();
-    let header = lines.next().expect("header").split(',').map(str::to_string).collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|v| v.trim().parse::<f64>().expect("number")).collect())
-        .collect();
-    (header, rows)
-}
-
-/// The shape in the header of an NPY file.
-fn npy_shape(path: &Path) -> Vec<usize> {
-    let bytes = std::fs::read(path).expect("npy");
-    assert!(bytes.starts_with(b"\x93NUMPY"));
-    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-    let header = String::from_utf8_lossy(&bytes[10..10 + len]).into_owned();
-    let inner = &header[header.find("'shape': (").expect("shape") + 10..];
-    inner[..inner.find(')').expect("end")]
-        .split(',')
-        .filter(|s| !s.trim().is_empty())
-        .map(|s| s.trim().parse().expect("dim"))
-        .collect()
-}
+mod common;
+use common::{csv, example, npy_shape, run, set, summary};
 
 #[test]
 fn free_rod_writes_its_outputs_and_keeps_its_momenta() {

@@ -1,0 +1,99 @@
+//! Helpers shared by the command-line tests: scratch directories, the
+//! binary, scenario files, and readers of the outputs.
+#![allow(dead_code)] // each test crate uses its own subset
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+/// The repository root (for `examples/`).
+pub fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A fresh, empty temporary directory for one test.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("veselov-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// The `veselov` binary.
+pub fn veselov() -> Command {
+    Command::cargo_bin("veselov").expect("binary built")
+}
+
+/// Write `text` as a scenario file in `dir` and return its path.
+pub fn scenario(dir: &Path, text: &str) -> PathBuf {
+    let p = dir.join("scenario.toml");
+    std::fs::write(&p, text).expect("write scenario");
+    p
+}
+
+/// The text of `examples/<file>`.
+pub fn example(file: &str) -> String {
+    std::fs::read_to_string(workspace_root().join("examples").join(file)).expect("example")
+}
+
+/// `summary.json` of a run directory.
+pub fn summary(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    serde_json::from_str(&text).expect("valid JSON")
+}
+
+/// Replace the first line starting with `key =` by `key = value`.
+pub fn set(text: &str, key: &str, value: &str) -> String {
+    let mut done = false;
+    text.lines()
+        .map(|l| {
+            if !done && l.trim_start().starts_with(&format!("{key} =")) {
+                done = true;
+                format!("{key} = {value}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Run the scenario `text` quietly in a fresh directory `name`; returns
+/// (success, stderr, output directory).
+pub fn run(name: &str, text: &str) -> (bool, String, PathBuf) {
+    let dir = temp_dir(name);
+    let file = scenario(&dir, text);
+    let out = dir.join("out");
+    let o = veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .output()
+        .expect("run");
+    (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned(), out)
+}
+
+/// A CSV file's header names and rows.
+pub fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).expect("csv");
+    let mut lines = text.lines();
+    let header = lines.next().expect("header").split(',').map(str::to_string).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.trim().parse::<f64>().expect("number")).collect())
+        .collect();
+    (header, rows)
+}
+
+/// The shape in the header of an NPY file.
+pub fn npy_shape(path: &Path) -> Vec<usize> {
+    let bytes = std::fs::read(path).expect("npy");
+    assert!(bytes.starts_with(b"\x93NUMPY"));
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = String::from_utf8_lossy(&bytes[10..10 + len]).into_owned();
+    let inner = &header[header.find("'shape': (").expect("shape") + 10..];
+    inner[..inner.find(')').expect("end")]
+        .split(',')
+        .filter(|s| !s.trim().is_empty())
+        .map(|s| s.trim().parse().expect("dim"))
+        .collect()
+}
