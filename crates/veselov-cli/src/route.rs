@@ -33,10 +33,7 @@ pub fn read(path: &Path) -> Result<String, CliError> {
 
 /// The kind of the scenario in `text` (attributed to `path`).
 pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
-    let table: toml::Table = toml::from_str(text).map_err(|e| CliError::Parse {
-        file: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
+    let table: toml::Table = crate::scenario::parse_toml(path, text)?;
     let name = table.get("model").and_then(|m| m.get("name")).and_then(|n| n.as_str());
     Ok(match name {
         Some(n) if crate::rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,

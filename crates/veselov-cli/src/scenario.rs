@@ -323,8 +323,21 @@ pub fn key_error(file: &Path, key: &str, message: impl Into<String>) -> CliError
 pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Result<T, CliError> {
     toml::from_str(text).map_err(|e| CliError::Parse {
         file: file.to_path_buf(),
-        message: e.to_string(),
+        message: clip_lines(&e.to_string(), 200),
     })
+}
+
+/// `message` with every line cut to `width` characters (then `…`): a parse
+/// error quotes the offending line, which must not echo a huge input.
+pub fn clip_lines(message: &str, width: usize) -> String {
+    message
+        .lines()
+        .map(|l| match l.char_indices().nth(width) {
+            Some((cut, _)) => format!("{}…", &l[..cut]),
+            None => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// `v` if it is finite, else an error naming `key`.

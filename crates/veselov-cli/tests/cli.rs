@@ -1070,3 +1070,27 @@ fn output_at_chosen_times() {
     let err = failing("times-sem", &format!("{sem}times = [0.5]\n"));
     assert!(err.contains("output.times") && err.contains("variable-step"), "{err}");
 }
+
+/// A huge input is not echoed back: a TOML syntax error on a 3 MB line and an
+/// expression error in a 8 MB Lagrangian both give messages of a few hundred
+/// bytes that still say where the fault is.
+#[test]
+fn errors_about_huge_inputs_stay_short() {
+    let unquoted = format!(
+        "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = {}\n",
+        "x".repeat(3_000_000)
+    );
+    let err = failing("huge-toml", &unquoted);
+    assert!(err.len() < 2000 && err.contains("line 4"), "{} bytes", err.len());
+    let bad_expression = format!(
+        "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"{}foo(x)\"\n[method]\nname = \"midpoint\"\n\
+         dt = 0.1\n[time]\nsteps = 1\n[initial]\nq = [0.0]\np = [0.0]\n",
+        "x + ".repeat(2_000_000)
+    );
+    let err = failing("huge-expression", &bad_expression);
+    assert!(
+        err.len() < 2000 && err.contains("model.lagrangian") && err.contains("unknown function `foo`"),
+        "{} bytes",
+        err.len()
+    );
+}

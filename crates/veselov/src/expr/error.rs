@@ -45,17 +45,26 @@ pub enum ExprErrorKind {
     TooDeep,
 }
 
+/// A name or token as a message shows it: at most 40 characters, then `…`.
+fn clip(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        Some((cut, _)) => format!("{}…", &text[..cut]),
+        None => text.to_string(),
+    }
+}
+
 impl fmt::Display for ExprErrorKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Empty => write!(f, "empty expression"),
-            Self::UnknownVariable(n) => write!(f, "unknown variable `{n}`"),
+            Self::UnknownVariable(n) => write!(f, "unknown variable `{}`", clip(n)),
             Self::UnknownFunction(n) => write!(
                 f,
-                "unknown function `{n}` (the functions are {})",
+                "unknown function `{}` (the functions are {})",
+                clip(n),
                 super::ops::FUNCTIONS.join(", ")
             ),
-            Self::NotCalled(n) => write!(f, "`{n}` is a function: call it as `{n}(...)`"),
+            Self::NotCalled(n) => write!(f, "`{n}` is a function: call it as `{n}(...)`", n = clip(n)),
             Self::WrongArity {
                 function,
                 expected,
@@ -64,14 +73,14 @@ impl fmt::Display for ExprErrorKind {
                 let s = if *expected == 1 { "" } else { "s" };
                 write!(f, "`{function}` takes {expected} argument{s}, found {found}")
             }
-            Self::InvalidNumber(t) => write!(f, "invalid number `{t}`"),
+            Self::InvalidNumber(t) => write!(f, "invalid number `{}`", clip(t)),
             Self::ExpectedOperand(None) => write!(f, "expected a number, name or `(`, found the end of the input"),
             Self::ExpectedOperand(Some(c)) => write!(f, "expected a number, name or `(`, found `{c}`"),
             Self::UnclosedParen => write!(f, "unclosed `(`"),
             Self::UnmatchedParen => write!(f, "unmatched `)`"),
             Self::Unexpected { expected, found } => write!(f, "expected {expected}, found `{found}`"),
-            Self::DuplicateSymbol(n) => write!(f, "`{n}` is declared twice"),
-            Self::InvalidName(n) => write!(f, "`{n}` is not a valid name"),
+            Self::DuplicateSymbol(n) => write!(f, "`{}` is declared twice", clip(n)),
+            Self::InvalidName(n) => write!(f, "`{}` is not a valid name", clip(n)),
             Self::TooDeep => write!(f, "expression nested too deeply"),
         }
     }
@@ -107,8 +116,13 @@ impl ExprError {
     }
 }
 
+/// Characters of the offending line shown before and after the fault.
+const CONTEXT: (usize, usize) = (60, 30);
+
 impl fmt::Display for ExprError {
-    /// The message, then the offending line with a caret under the fault.
+    /// The message, then the offending line (at most 60 characters before
+    /// the fault and 30 after it, elided with `…`: a huge input is not
+    /// echoed) with a caret under the fault.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.source.contains('\n') {
             writeln!(f, "{} at line {}, column {}", self.kind, self.line, self.column)?;
@@ -116,12 +130,24 @@ impl fmt::Display for ExprError {
             writeln!(f, "{} at column {}", self.kind, self.column)?;
         }
         let text = self.source.lines().nth(self.line.saturating_sub(1)).unwrap_or("");
-        let pad: String = text
+        let at = self.column.saturating_sub(1);
+        let first = at.saturating_sub(CONTEXT.0);
+        let shown: String = text.chars().skip(first).take(at - first + CONTEXT.1).collect();
+        let (lead, tail) = (
+            if first > 0 { "…" } else { "" },
+            if text.chars().count() > at + CONTEXT.1 {
+                "…"
+            } else {
+                ""
+            },
+        );
+        let pad: String = lead
             .chars()
-            .take(self.column.saturating_sub(1))
+            .chain(shown.chars())
+            .take(at - first + lead.chars().count())
             .map(|c| if c == '\t' { '\t' } else { ' ' })
             .collect();
-        writeln!(f, "  {text}")?;
+        writeln!(f, "  {lead}{shown}{tail}")?;
         write!(f, "  {pad}^")
     }
 }

@@ -271,6 +271,30 @@ mod tests {
     use crate::expr::test_support::{error, table, value};
     use num_dual::Dual2SVec64;
 
+    /// A huge expression is not echoed: the message shows at most 60
+    /// characters before the fault and 30 after it, and clips long names,
+    /// with the caret still under the fault.
+    #[test]
+    fn messages_about_huge_inputs_stay_short() {
+        let huge = format!("{}+ foo(x)", "x + ".repeat(250_000));
+        let message = error(&huge).to_string();
+        assert!(message.len() < 400, "{} bytes", message.len());
+        assert!(message.contains("column 1000003"), "{message}");
+        let lines: Vec<&str> = message.lines().collect();
+        let caret = lines[2].chars().count() - 1;
+        assert_eq!(lines[1].chars().nth(caret), Some('f'), "{message}");
+        let name = "y".repeat(10_000);
+        let message = error(&format!("x + {name}")).to_string();
+        assert!(
+            message.len() < 400 && message.contains("yyy…"),
+            "{} bytes",
+            message.len()
+        );
+        // A short expression is shown whole, caret under the fault.
+        let message = error("2 + foo(x)").to_string();
+        assert!(message.ends_with("  2 + foo(x)\n      ^"), "{message}");
+    }
+
     /// `pi` and `e` are built in unless a declared name takes them; an unknown
     /// function's error lists the functions there are, each of which parses.
     #[test]
