@@ -519,3 +519,68 @@ fn step_is_symplectic_in_the_extended_phase_space() {
     let wrong = defect(jacobian(true));
     assert!(wrong > 1e-6, "carrying E over unchanged should break it: {wrong:e}");
 }
+
+/// Seed 001 §3 (Lee's discrete mechanics): the boundary-value solutions are
+/// symplectic. With both ends `x₀ = (t₀, q₀)`, `x_K = (t_K, q_K)` fixed, the
+/// end momenta `P₀ = −∂S/∂x₀` (first segment) and `P_K = ∂S/∂x_K` (last
+/// segment) are the gradient of the total action 𝕊(x₀, x_K), so the map from
+/// the ends to the end momenta has a symmetric Jacobian in the sense
+/// `∂P_K/∂x₀ = −(∂P₀/∂x_K)ᵀ`, `∂P₀/∂x₀ = (∂P₀/∂x₀)ᵀ`, `∂P_K/∂x_K = (∂P_K/∂x_K)ᵀ`
+/// (central differences of re-solved problems, step 1e-5: error ≲ 1e-8).
+/// The cross block is far from zero, so a wrong sign would fail.
+#[test]
+fn lee_boundary_value_solutions_are_symplectic() {
+    use nalgebra::{Matrix2, Vector2 as V2};
+    let pendulum = Pendulum::default();
+    let action = SemAction::new(pendulum.system(), SemRule::Midpoint).expect("valid");
+    let mut sem = SemIntegrator::new(action.clone());
+    let run = run_sem(
+        &mut sem,
+        0.0,
+        Vector1::new(1.0),
+        Vector1::new(0.5),
+        0.1,
+        f64::INFINITY,
+        10,
+        false,
+    );
+    assert!(run.failure.is_none());
+    let base: Vec<(f64, SVector<f64, 1>)> = run.states.iter().map(|s| (s.t, s.q)).collect();
+    let k = base.len() - 1;
+    // End momenta (p_t = −E, p) of the solution with ends moved by `d0`, `dk`.
+    let ends = |d0: V2<f64>, dk: V2<f64>| -> (V2<f64>, V2<f64>) {
+        let mut guess = base.clone();
+        guess[0] = (base[0].0 + d0[0], base[0].1 + Vector1::new(d0[1]));
+        guess[k] = (base[k].0 + dk[0], base[k].1 + Vector1::new(dk[1]));
+        let sol = solve_lee_bvp(&action, &guess, 50).expect("converges");
+        let (a, b) = (&sol[0], &sol[1]);
+        let first = action.derivatives(a.0, &a.1, &b.1, b.0 - a.0);
+        let (y, z) = (&sol[k - 1], &sol[k]);
+        let last = action.derivatives(y.0, &y.1, &z.1, z.0 - y.0);
+        (-V2::new(first.t0 - first.h, first.q0[0]), V2::new(last.h, last.q1[0]))
+    };
+    let delta = 1e-5;
+    let mut blocks = [Matrix2::<f64>::zeros(); 4]; // ∂P₀/∂x₀, ∂P₀/∂x_K, ∂P_K/∂x₀, ∂P_K/∂x_K
+    for j in 0..2 {
+        let e = V2::from_fn(|i, _| if i == j { delta } else { 0.0 });
+        let z = V2::zeros();
+        let (p0_plus, pk_plus) = ends(e, z);
+        let (p0_minus, pk_minus) = ends(-e, z);
+        blocks[0].set_column(j, &((p0_plus - p0_minus) / (2.0 * delta)));
+        blocks[2].set_column(j, &((pk_plus - pk_minus) / (2.0 * delta)));
+        let (p0_plus, pk_plus) = ends(z, e);
+        let (p0_minus, pk_minus) = ends(z, -e);
+        blocks[1].set_column(j, &((p0_plus - p0_minus) / (2.0 * delta)));
+        blocks[3].set_column(j, &((pk_plus - pk_minus) / (2.0 * delta)));
+    }
+    let scale = blocks.iter().map(|b| b.amax()).fold(0.0, f64::max);
+    let asym = |m: &Matrix2<f64>| (m - m.transpose()).amax() / scale;
+    let cross = (blocks[2] + blocks[1].transpose()).amax() / scale;
+    println!(
+        "Lee BVP: |∂P₀/∂x₀ asym| {:.1e}, |∂P_K/∂x_K asym| {:.1e}, |∂P_K/∂x₀ + (∂P₀/∂x_K)ᵀ| {cross:.1e} (of {scale:.2})",
+        asym(&blocks[0]),
+        asym(&blocks[3])
+    );
+    assert!(asym(&blocks[0]) < 1e-7 && asym(&blocks[3]) < 1e-7 && cross < 1e-7);
+    assert!(blocks[2].amax() > 1e-2 * scale, "the cross block must not vanish");
+}
