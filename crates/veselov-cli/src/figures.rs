@@ -18,17 +18,23 @@ pub(crate) fn plot_err(e: crate::plot::PlotError) -> CliError {
 pub(crate) fn draw_energy_error(path: &Path, title: &str, t: &[f64], e: &[f64]) -> Result<(), CliError> {
     let e0 = e.first().copied().unwrap_or(0.0);
     let err: Vec<f64> = e.iter().map(|x| (x - e0).abs()).collect();
+    draw_log_error(path, (title, "|E(t) − E(0)|", "energy"), t, &err)
+}
+
+/// One error curve against time on a log scale: (title, y label, legend).
+fn draw_log_error(
+    path: &Path,
+    (title, y_label, label): (&str, &str, &str),
+    t: &[f64],
+    y: &[f64],
+) -> Result<(), CliError> {
     let fig = Figure {
         title,
         x_label: "time t",
-        y_label: "|E(t) − E(0)|",
+        y_label,
         x_scale: Scale::Linear,
         y_scale: Scale::Log,
-        series: vec![Series {
-            label: "energy",
-            x: t,
-            y: &err,
-        }],
+        series: vec![Series { label, x: t, y }],
         markers: false,
         equal_aspect: false,
     };
@@ -90,21 +96,16 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
         (Some(e), Some(w)) => {
             let e0 = e.first().copied().unwrap_or(0.0);
             let balance: Vec<f64> = e.iter().zip(w).map(|(e, w)| (e - e0 - w).abs()).collect();
-            let fig = Figure {
-                title: "Energy balance error (forced system)",
-                x_label: "time t",
-                y_label: "|E(t) − E(0) − W(t)|",
-                x_scale: Scale::Linear,
-                y_scale: Scale::Log,
-                series: vec![Series {
-                    label: "energy balance",
-                    x: &t,
-                    y: &balance,
-                }],
-                markers: false,
-                equal_aspect: false,
-            };
-            draw(&file("energy_balance"), &fig).map_err(plot_err)?;
+            draw_log_error(
+                &file("energy_balance"),
+                (
+                    "Energy balance error (forced system)",
+                    "|E(t) − E(0) − W(t)|",
+                    "energy balance",
+                ),
+                &t,
+                &balance,
+            )?;
             let change: Vec<f64> = e.iter().map(|e| e - e0).collect();
             draw_curves(
                 &file("energy_change"),

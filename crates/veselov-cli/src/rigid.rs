@@ -554,14 +554,9 @@ where
 {
     x0.check().map_err(|e| loaded.key_error("initial", e.to_string()))?;
     let s = &loaded.scenario;
-    let steps = step_count(&s.time, s.method.dt);
+    let (steps, dt) = (step_count(&s.time, s.method.dt), step_length(&s.time, s.method.dt));
     // Checked before the session opens its output directory.
-    let at_steps = if s.output.times.is_empty() {
-        Vec::new()
-    } else {
-        let dt = step_length(&s.time, s.method.dt);
-        s.output.steps_at_times(&loaded.path, x0.t, dt, steps, job.quiet)?
-    };
+    let at_steps = s.output.steps_at_times(&loaded.path, x0.t, dt, steps, job.quiet)?;
     let header = header_of::<N>(conserved);
     let (mut session, positions, words) = open_table_session(
         &job,
@@ -596,7 +591,7 @@ where
     let outcome = start_or_resume(&mut session, &mut stepper, &mut x, &mut table, &words, steps)?;
     let iterations = totals(&session, &outcome).iterations;
     let wall = session.wall_seconds();
-    let t_final = t_of(outcome.last_step, x0.t, step_length(&s.time, s.method.dt));
+    let t_final = t_of(outcome.last_step, x0.t, dt);
     let orthogonality =
         |t: &TableObserver<'_, GroupState<G, N>>| t.column("orthogonality_defect").map_or(0.0, |c| c.value.max(0.0));
     finish(
@@ -616,7 +611,7 @@ where
                 "method": method,
                 "retraction": s.method.retraction,
                 "order": 2,
-                "dt": step_length(&s.time, s.method.dt),
+                "dt": dt,
                 "steps_requested": steps,
                 "energy_initial": energy.map(|c| c.first),
                 "energy_error_max": energy.map_or(0.0, |c| c.value),

@@ -149,11 +149,7 @@ fn run_fixed<const N: usize>(
     let header = trajectory_header(&system);
     // Checked before the session opens its output directory.
     let out = &scenario.scenario.output;
-    let at_steps = if out.times.is_empty() {
-        Vec::new()
-    } else {
-        out.steps_at_times(&scenario.path, x0.t, dt, steps, job.quiet)?
-    };
+    let at_steps = out.steps_at_times(&scenario.path, x0.t, dt, steps, job.quiet)?;
     let (mut session, positions, words) = open_table_session(
         job,
         &scenario.path,

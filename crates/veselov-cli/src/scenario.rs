@@ -142,11 +142,14 @@ pub struct OutputSpec {
 
 impl OutputSpec {
     /// The steps at which `times` asks for rows, for a run of `steps` steps of
-    /// `dt` from `t0` (sorted, without repeats); a note for each time off the
+    /// `dt` from `t0` (sorted, without repeats; none without `times`); a note for each time off the
     /// grid unless `quiet`. An error names `output.times` for a time that is
     /// not finite or lies outside `[t0, t0 + steps·dt]`, or when `every` is
     /// given too.
     pub fn steps_at_times(&self, file: &Path, t0: f64, dt: f64, steps: u64, quiet: bool) -> Result<Vec<u64>, CliError> {
+        if self.times.is_empty() {
+            return Ok(Vec::new());
+        }
         if self.every != 1 {
             return Err(key_error(
                 file,
@@ -419,9 +422,16 @@ pub fn check_time_and_output(file: &Path, time: &TimeSpec, dt: f64, output: &Out
 pub fn step_count(time: &TimeSpec, dt: f64) -> u64 {
     match (time.steps, time.t_end) {
         (Some(n), _) => n,
-        (None, Some(t_end)) => ((t_end - time.t0) / dt).round().max(1.0) as u64,
+        (None, Some(t_end)) => landing_steps(t_end - time.t0, dt) as u64,
         (None, None) => 1,
     }
+}
+
+/// The steps of about `dt` that cover `span` exactly: `round(span/dt)`, at
+/// least one (as a float: callers check it against their limits before
+/// counting with it). The one rule of fixed-step runs and of `verify`.
+pub fn landing_steps(span: f64, dt: f64) -> f64 {
+    (span / dt).round().max(1.0)
 }
 
 /// The step a fixed-step run takes: `dt`, or with `t_end` (and no `steps`)

@@ -15,7 +15,7 @@ use crate::error::CliError;
 use crate::figures::draw_convergence;
 use crate::output::{Table, prepare_dir, write_json};
 use crate::run::{resolve_initial, resolve_method};
-use crate::scenario::LoadedScenario;
+use crate::scenario::{LoadedScenario, landing_steps, note_step_length};
 use crate::systems::{Job, System};
 
 /// Options of `veselov verify`.
@@ -66,7 +66,7 @@ pub fn study_steps(file: &std::path::Path, dts: &[f64], span: f64) -> Result<(Ve
         if !(dt.is_finite() && dt > 0.0) {
             return Err(bad(format!("{dt} is not a positive step")));
         }
-        let n = (span / dt).round().max(1.0);
+        let n = landing_steps(span, dt);
         if n > MAX_VERIFY_STEPS {
             return Err(bad(format!(
                 "{dt:e} asks for {n:e} steps over t_end − t0 = {span}; at most {MAX_VERIFY_STEPS:e} per run"
@@ -82,9 +82,7 @@ pub fn study_steps(file: &std::path::Path, dts: &[f64], span: f64) -> Result<(Ve
 /// relative 1e-12).
 pub fn note_adjusted(requested: &[f64], taken: &[f64], quiet: bool) {
     for (&r, &t) in requested.iter().zip(taken) {
-        if !quiet && (r - t).abs() > 1e-12 * r {
-            println!("note: dt = {r:e} adjusted to {t:.12e} so that the run ends at t_end");
-        }
+        note_step_length(r, t, quiet);
     }
 }
 
@@ -245,8 +243,8 @@ impl Job for VerifyJob {
             t_end,
             scale: reference.q.amax().max(reference.p.amax()).max(1.0),
         };
+        let options = scenario.scenario.method.newton_options();
         study.run(&dir, &dts, &steps, self.quiet, |n| {
-            let options = scenario.scenario.method.newton_options();
             let mut map =
                 (system.make_map)(method, span / n as f64, options).map_err(|e| CliError::Setup(e.to_string()))?;
             Ok(run_to(map.as_mut(), x0, n).map(|x| (x.q - reference.q).amax().max((x.p - reference.p).amax())))

@@ -240,11 +240,15 @@ fn degenerate_cases_are_typed_errors() {
     assert!(!run.flagged_steps.is_empty());
 }
 
-/// Lee's boundary-value form reproduces an initial-value run, with increasing times.
-#[test]
-fn lee_bvp_reproduces_an_initial_value_run() {
-    let pendulum = Pendulum::default();
-    let action = SemAction::new(pendulum.system(), SemRule::Midpoint).expect("valid");
+/// The pendulum's midpoint SEM action and the points `(t_k, q_k)` of a
+/// `steps`-step initial-value run from `q = 1, p = 0.5` with `h₀ = 0.1`.
+fn pendulum_ivp(
+    steps: usize,
+) -> (
+    SemAction<impl veselov::mechanics::Lagrangian<1> + Clone, 1>,
+    Vec<(f64, SVector<f64, 1>)>,
+) {
+    let action = SemAction::new(Pendulum::default().system(), SemRule::Midpoint).expect("valid");
     let mut sem = SemIntegrator::new(action.clone());
     let run = run_sem(
         &mut sem,
@@ -253,11 +257,18 @@ fn lee_bvp_reproduces_an_initial_value_run() {
         Vector1::new(0.5),
         0.1,
         f64::INFINITY,
-        20,
+        steps,
         false,
     );
     assert!(run.failure.is_none());
-    let ivp: Vec<(f64, SVector<f64, 1>)> = run.states.iter().map(|s| (s.t, s.q)).collect();
+    let points = run.states.iter().map(|s| (s.t, s.q)).collect();
+    (action, points)
+}
+
+/// Lee's boundary-value form reproduces an initial-value run, with increasing times.
+#[test]
+fn lee_bvp_reproduces_an_initial_value_run() {
+    let (action, ivp) = pendulum_ivp(20);
     // Guess: uniform times between the endpoints, IVP positions.
     let k = ivp.len() - 1;
     let (t0, t1) = (ivp[0].0, ivp[k].0);
@@ -531,21 +542,7 @@ fn step_is_symplectic_in_the_extended_phase_space() {
 #[test]
 fn lee_boundary_value_solutions_are_symplectic() {
     use nalgebra::{Matrix2, Vector2 as V2};
-    let pendulum = Pendulum::default();
-    let action = SemAction::new(pendulum.system(), SemRule::Midpoint).expect("valid");
-    let mut sem = SemIntegrator::new(action.clone());
-    let run = run_sem(
-        &mut sem,
-        0.0,
-        Vector1::new(1.0),
-        Vector1::new(0.5),
-        0.1,
-        f64::INFINITY,
-        10,
-        false,
-    );
-    assert!(run.failure.is_none());
-    let base: Vec<(f64, SVector<f64, 1>)> = run.states.iter().map(|s| (s.t, s.q)).collect();
+    let (action, base) = pendulum_ivp(10);
     let k = base.len() - 1;
     // End momenta (p_t = −E, p) of the solution with ends moved by `d0`, `dk`.
     let ends = |d0: V2<f64>, dk: V2<f64>| -> (V2<f64>, V2<f64>) {

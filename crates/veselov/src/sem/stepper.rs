@@ -276,13 +276,13 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
                 iterations: self.options.newton.max_iterations,
                 reason: "fixed-step momentum equation did not converge".into(),
             })?;
-        let d = self.action.derivatives(state.t, &state.q, &q1, h);
+        let (p1, e1) = self.action.arrival(state.t, &state.q, &q1, h);
         Ok((
             SemState {
                 t: state.t + h,
                 q: q1,
-                p: d.q1,
-                energy: -d.h,
+                p: p1,
+                energy: e1,
                 h,
             },
             it,
@@ -315,14 +315,8 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
             h: h0,
         };
         let (s1, _) = self.fixed_step(&s0, h0)?;
-        let d = self.action.derivatives(t0, &q0, &s1.q, h0);
-        Ok((
-            SemState {
-                energy: d.t0 - d.h,
-                ..s0
-            },
-            s1,
-        ))
+        let (_, _, e_minus) = self.action.leaving(t0, &q0, &s1.q, h0);
+        Ok((SemState { energy: e_minus, ..s0 }, s1))
     }
 
     /// Evaluate the exact Jacobian of the step equations at `(q₁, h)` in the
@@ -490,8 +484,7 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
     /// The energy residual `f(h) = E⁻(q, q₁(h), h) − E` and `q₁(h)`.
     fn energy_residual(&self, s: &SemState<N>, h: f64, guess: SVector<f64, N>) -> Option<(f64, SVector<f64, N>)> {
         let (q1, _) = self.solve_position(s.t, &s.q, &s.p, h, guess)?;
-        let d = self.action.derivatives(s.t, &s.q, &q1, h);
-        let f = d.t0 - d.h - s.energy;
+        let f = self.action.leaving(s.t, &s.q, &q1, h).2 - s.energy;
         f.is_finite().then_some((f, q1))
     }
 
