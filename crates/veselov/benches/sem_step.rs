@@ -7,9 +7,10 @@ use criterion::{Criterion, criterion_group, criterion_main};
 
 mod common;
 use common::bench_steps;
-use nalgebra::Vector1;
+use nalgebra::{SVector, Vector1, Vector2};
+use veselov::ad::Scalar;
 use veselov::mechanics::Lagrangian;
-use veselov::models::{Kepler, Pendulum};
+use veselov::models::{DoublePendulum, Kepler, Pendulum};
 use veselov::sem::{SemAction, SemIntegrator, SemRule, SemState};
 
 fn bench<L: Lagrangian<N>, const N: usize>(
@@ -44,14 +45,37 @@ fn sem(c: &mut Criterion) {
             .expect("start");
         bench(c, &format!("sem/kepler-e0.5/{name}"), sem, s1, 20_000);
     }
+    // The general passes (a Lagrangian that does not declare the form
+    // ½ vᵀMv − V): the same Kepler problem, and the double pendulum.
+    let sem = SemIntegrator::new(SemAction::new(Undeclared(kepler.system()), SemRule::Midpoint).expect("valid"));
+    let (_, s1) = sem
+        .start(0.0, x0.q, x0.p, 2.0 * std::f64::consts::PI / 1000.0)
+        .expect("start");
+    bench(c, "sem/kepler-e0.5-general/midpoint", sem, s1, 20_000);
+    let double = DoublePendulum::default();
+    let sem = SemIntegrator::new(SemAction::new(double, SemRule::Midpoint).expect("valid"));
+    let (_, s1) = sem
+        .start(0.0, Vector2::new(0.5, -0.3), Vector2::new(0.0, 0.0), 0.01)
+        .expect("start");
+    bench(c, "sem/double-pendulum/midpoint", sem, s1, 20_000);
+}
+
+/// A Lagrangian that hides its separable form: the SEM step takes the
+/// general passes over the whole action.
+struct Undeclared<L>(L);
+
+impl<L: Lagrangian<2>> Lagrangian<2> for Undeclared<L> {
+    fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, 2>, v: &SVector<D, 2>) -> D {
+        self.0.lagrangian(t, q, v)
+    }
 }
 
 /// The passes a step is made of, on Kepler (N = 2) at a pericentre step:
 /// the residual (two first-order passes), the part of the exact step
 /// Jacobian updated every step (three small hyper-dual passes), the momentum
-/// block evaluated with a whole Jacobian and in the momentum-equation Newton
-/// (one hyper-dual pass), the momentum residual alone (one gradient pass) and
-/// the arrival momentum and energy.
+/// block evaluated with a whole Jacobian (closed form: one second-order pass
+/// over `V` per node), the momentum residual alone and the arrival momentum
+/// and energy (closed forms: first-order passes over `V`).
 fn parts(c: &mut Criterion) {
     let kepler = Kepler::new(0.5).expect("valid");
     let x0 = kepler.initial_state();
@@ -66,7 +90,7 @@ fn parts(c: &mut Criterion) {
         b.iter(|| action.step_jacobian_along(0.0, black_box(&x0.q), black_box(&q1), h))
     });
     c.bench_function(&format!("{name}/momentum-block"), |b| {
-        b.iter(|| action.momentum_derivatives(0.0, black_box(&x0.q), black_box(&q1), h))
+        b.iter(|| action.momentum_block(0.0, black_box(&x0.q), black_box(&q1), h))
     });
     c.bench_function(&format!("{name}/momentum-residual"), |b| {
         b.iter(|| action.leaving_momentum(0.0, black_box(&x0.q), black_box(&q1), h))

@@ -31,11 +31,33 @@ use crate::solve::dense::solve_small;
 pub trait Lagrangian<const N: usize> {
     /// The Lagrangian `L(t, q, v)`.
     fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D;
+
+    /// `Some(M)` when `L = ½ vᵀMv − V(t, q)` with a constant mass matrix `M`
+    /// (then `V(t, q) = −L(t, q, 0)`), so that an integrator may use formulas
+    /// that evaluate only `V` and its derivatives. An implementation that
+    /// returns `Some` promises this form; the default `None` selects the
+    /// general formulas, which are right for every `L`.
+    fn constant_mass(&self) -> Option<SMatrix<f64, N, N>> {
+        None
+    }
+
+    /// `V(t, q) = −L(t, q, 0)`, the potential of a Lagrangian with
+    /// [`Lagrangian::constant_mass`]; an implementation may give it directly
+    /// (the default evaluates `L` at zero velocity).
+    fn potential_energy<D: Scalar>(&self, t: D, q: &SVector<D, N>) -> D {
+        -self.lagrangian(t, q, &SVector::zeros())
+    }
 }
 
 impl<const N: usize, L: Lagrangian<N>> Lagrangian<N> for &L {
     fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
         (**self).lagrangian(t, q, v)
+    }
+    fn constant_mass(&self) -> Option<SMatrix<f64, N, N>> {
+        (**self).constant_mass()
+    }
+    fn potential_energy<D: Scalar>(&self, t: D, q: &SVector<D, N>) -> D {
+        (**self).potential_energy(t, q)
     }
 }
 

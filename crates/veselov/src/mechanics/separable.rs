@@ -90,6 +90,13 @@ impl<V: Potential<N>, const N: usize> Lagrangian<N> for SeparableLagrangian<V, N
         let m: SMatrix<D, N, N> = self.mass.map(D::from);
         (m * v).dot(v) * 0.5 - self.potential.potential(t, q)
     }
+    fn constant_mass(&self) -> Option<SMatrix<f64, N, N>> {
+        Some(self.mass)
+    }
+    #[inline]
+    fn potential_energy<D: Scalar>(&self, t: D, q: &SVector<D, N>) -> D {
+        self.potential.potential(t, q)
+    }
 }
 
 /// Fast integrator for separable Lagrangians (fixed-point stage iteration with

@@ -23,6 +23,7 @@ pub struct DampedOscillator<const N: usize> {
 pub struct Stiffness<const N: usize>(pub SMatrix<f64, N, N>);
 
 impl<const N: usize> Potential<N> for Stiffness<N> {
+    #[inline]
     fn potential<D: Scalar>(&self, _t: D, q: &SVector<D, N>) -> D {
         let k = self.0.map(D::from);
         (k * q).dot(q) * 0.5

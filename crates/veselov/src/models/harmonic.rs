@@ -47,6 +47,7 @@ impl HarmonicOscillator {
 }
 
 impl Potential<1> for HarmonicOscillator {
+    #[inline]
     fn potential<D: Scalar>(&self, _t: D, q: &SVector<D, 1>) -> D {
         q[0] * q[0] * (0.5 * self.mass * self.omega * self.omega)
     }

@@ -27,6 +27,7 @@ impl HenonHeiles {
 }
 
 impl Potential<2> for HenonHeiles {
+    #[inline]
     fn potential<D: Scalar>(&self, _t: D, q: &SVector<D, 2>) -> D {
         let (x, y) = (q[0], q[1]);
         (x * x + y * y) * 0.5 + x * x * y - y * y * y / 3.0

@@ -61,6 +61,7 @@ impl Kepler {
 }
 
 impl Potential<2> for Kepler {
+    #[inline]
     fn potential<D: Scalar>(&self, _t: D, q: &SVector<D, 2>) -> D {
         -(q[0] * q[0] + q[1] * q[1]).sqrt().recip()
     }

@@ -75,6 +75,7 @@ impl Pendulum {
 }
 
 impl Potential<1> for Pendulum {
+    #[inline]
     fn potential<D: Scalar>(&self, _t: D, q: &SVector<D, 1>) -> D {
         -q[0].cos() * (self.mass * self.gravity * self.length)
     }

@@ -43,6 +43,7 @@ impl SplitReducedLagrangian<Rotations, 3> for FreeRigidBody {
     fn inertia(&self) -> SMatrix<f64, 3, 3> {
         self.inertia
     }
+    #[inline]
     fn potential<D: Scalar>(&self, _g: &SO3<D>) -> D {
         D::zero()
     }
@@ -87,6 +88,7 @@ impl SplitReducedLagrangian<Rotations, 3> for HeavyTop {
     fn inertia(&self) -> SMatrix<f64, 3, 3> {
         self.inertia
     }
+    #[inline]
     fn potential<D: Scalar>(&self, g: &SO3<D>) -> D {
         let r = g.matrix();
         let c = &self.centre_of_mass;
@@ -122,6 +124,7 @@ impl SplitReducedLagrangian<RigidMotions, 6> for FreeRigidBodySE3 {
             .copy_from(&(Matrix3::identity() * self.mass));
         m
     }
+    #[inline]
     fn potential<D: Scalar>(&self, _g: &SE3<D>) -> D {
         D::zero()
     }

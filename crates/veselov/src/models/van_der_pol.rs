@@ -80,6 +80,7 @@ impl VanDerPol {
 }
 
 impl Potential<2> for VanDerPol {
+    #[inline]
     fn potential<D: Scalar>(&self, _t: D, q: &SVector<D, 2>) -> D {
         let d = q[0] - q[1];
         (q[0] * q[0] + q[1] * q[1] * (1.0 + self.rho)) * 0.5 + d * d * self.lambda

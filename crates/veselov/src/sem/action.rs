@@ -18,6 +18,7 @@ use num_dual::{
     second_partial_derivative,
 };
 
+use super::separable;
 use crate::ad::{Scalar, lift};
 use crate::error::{Error, Result};
 use crate::mechanics::Lagrangian;
@@ -82,12 +83,21 @@ pub struct ActionDerivatives<const N: usize> {
 }
 
 /// The SEM action `S` of a Lagrangian with a quadrature rule.
+///
+/// For a Lagrangian of the form `½ vᵀMv − V(t, q)`
+/// ([`Lagrangian::constant_mass`]) the step's passes (`leaving`, `arrival`,
+/// `step_jacobian_along`, `momentum_block`) use closed forms that evaluate
+/// only `V` and its derivatives at the rule's nodes (module `separable`);
+/// they agree with the general passes over the whole action to round-off
+/// (tested). [`SemAction::derivatives`] and
+/// [`SemAction::momentum_derivatives`] always take the general passes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SemAction<L, const N: usize> {
     lagrangian: L,
     rule: SemRule,
     nodes: Vec<f64>,
     weights: Vec<f64>,
+    mass: Option<SMatrix<f64, N, N>>,
 }
 
 impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
@@ -106,11 +116,13 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
                 (q.nodes, q.weights)
             }
         };
+        let mass = lagrangian.constant_mass();
         Ok(Self {
             lagrangian,
             rule,
             nodes,
             weights,
+            mass,
         })
     }
 
@@ -180,8 +192,12 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
     /// §2.2; seed 001 (3.3)–(3.4)).
     ///
     /// Two first-order passes: a gradient in `q₀` and one directional
-    /// derivative along `(δt₀, δh) = (1, −1)`, which is `E⁻` itself.
+    /// derivative along `(δt₀, δh) = (1, −1)`, which is `E⁻` itself (for
+    /// `L = ½ vᵀMv − V`: a gradient and a time-derivative pass over `V` per node).
     pub fn leaving(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> (f64, SVector<f64, N>, f64) {
+        if let Some(mass) = &self.mass {
+            return self.segment(mass, t0, q0, q1, h).leaving();
+        }
         let (value, s_q0) = gradient(
             |a: SVector<DualSVec64<N>, N>| self.action(DualSVec64::from(t0), &a, &lift(q1), DualSVec64::from(h)),
             q0,
@@ -196,8 +212,9 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
     /// The second derivatives of the step Jacobian that move along a run, in
     /// the direction `w = (δq₁, δh) = (v̄, 1)` (a longer step at the same mean
     /// velocity `v̄ = (q₁ − q₀)/h`): `∂²S/∂q₀∂w`, `∂E⁻/∂q₁` and `∂E⁻/∂w`, with
-    /// `E⁻ = (∂_{t₀} − ∂_h)S` (three small passes). With `∂²S/∂q₀∂q₁`
-    /// ([`SemAction::momentum_derivatives`]) they make the Jacobian of the
+    /// `E⁻ = (∂_{t₀} − ∂_h)S` (three small passes; for `L = ½ vᵀMv − V`,
+    /// two passes over `V` per node). With `h ∂²S/∂q₀∂q₁`
+    /// ([`SemAction::momentum_block`]) they make the Jacobian of the
     /// step residual `(p + ∂S/∂q₀, E⁻ − E)` in the unknowns `(v̄, u = h²)`.
     pub fn step_jacobian_along(
         &self,
@@ -206,6 +223,9 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
         q1: &SVector<f64, N>,
         h: f64,
     ) -> (SVector<f64, N>, SVector<f64, N>, f64) {
+        if let Some(mass) = &self.mass {
+            return self.segment(mass, t0, q0, q1, h).jacobian_along();
+        }
         let vbar = (q1 - q0) / h;
         let zero = nalgebra::Vector1::new(0.0);
         let (_, _, _, momentum_w) = partial_hessian(
@@ -242,6 +262,9 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
 
     /// The leaving momentum `∂S/∂q₀` alone (one gradient pass).
     pub fn leaving_momentum(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> SVector<f64, N> {
+        if let Some(mass) = &self.mass {
+            return self.segment(mass, t0, q0, q1, h).leaving().1;
+        }
         gradient(
             |a: SVector<DualSVec64<N>, N>| self.action(DualSVec64::from(t0), &a, &lift(q1), DualSVec64::from(h)),
             q0,
@@ -252,6 +275,9 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
     /// The arrival momentum and energy `(p₁, E⁺₁) = (∂S/∂q₁, −∂S/∂h)`: a
     /// gradient in `q₁` and a derivative in `h` (two first-order passes).
     pub fn arrival(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> (SVector<f64, N>, f64) {
+        if let Some(mass) = &self.mass {
+            return self.segment(mass, t0, q0, q1, h).arrival();
+        }
         let (_, s_q1) = gradient(
             |b: SVector<DualSVec64<N>, N>| self.action(DualSVec64::from(t0), &lift(q0), &b, DualSVec64::from(h)),
             q1,
@@ -277,5 +303,36 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
             },
             (q0, q1),
         )
+    }
+
+    /// The momentum block of the step Jacobian, `h ∂²S/∂q₀∂q₁` (`= −M + O(h²)`):
+    /// for `L = ½ vᵀMv − V` the closed form `−M − h² Σᵢ bᵢcᵢ(1 − cᵢ)∇²V(xᵢ)`
+    /// (one second-order pass over `V` per node), else one hyper-dual pass over `S`.
+    pub fn momentum_block(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> SMatrix<f64, N, N> {
+        match &self.mass {
+            Some(mass) => self.segment(mass, t0, q0, q1, h).momentum_block(),
+            None => self.momentum_derivatives(t0, q0, q1, h).3 * h,
+        }
+    }
+
+    /// The segment `(t₀, q₀) → (t₀ + h, q₁)` of a Lagrangian with constant mass `mass`.
+    fn segment<'a>(
+        &'a self,
+        mass: &'a SMatrix<f64, N, N>,
+        t0: f64,
+        q0: &'a SVector<f64, N>,
+        q1: &'a SVector<f64, N>,
+        h: f64,
+    ) -> separable::Segment<'a, L, N> {
+        separable::Segment {
+            lagrangian: &self.lagrangian,
+            mass,
+            nodes: &self.nodes,
+            weights: &self.weights,
+            t0,
+            q0,
+            q1,
+            h,
+        }
     }
 }

@@ -3,9 +3,11 @@
 //! Kane–Marsden–Ortiz; Lee's discrete mechanics).
 
 pub mod action;
+mod bordered;
 pub mod bvp;
 mod predictor;
 pub mod run;
+mod separable;
 pub mod stepper;
 
 pub use action::{ActionDerivatives, SemAction, SemRule};

@@ -15,7 +15,9 @@
 //! onto the momentum equation by a few gradient passes with the momentum
 //! block `h ∂²S/∂q₀∂q₁ = −M + O(h²)` kept along the run (Broyden-corrected);
 //! only the rest of the exact Jacobian is evaluated there (three small
-//! passes). A Jacobian from the previous step does not do: the `h`-direction
+//! passes, or closed forms in `V` for `L = ½ vᵀMv − V`, see
+//! [`SemAction`]). The Jacobian is kept in bordered form and solved by
+//! block elimination through the momentum block (module `bordered`). A Jacobian from the previous step does not do: the `h`-direction
 //! of the step equations is a cancellation of `O(1/h)` entries, which it gets
 //! wrong by `O(1)`. A step that does not continue (the first step, a
 //! restart), or whose first start fails, solves the momentum equation at
@@ -36,6 +38,7 @@ use nalgebra::{SMatrix, SVector};
 use num_dual::Dual2SVec64;
 
 use super::action::SemAction;
+use super::bordered::BorderedLu;
 use super::predictor::StepHistory;
 use crate::ad::lift;
 use crate::error::{Error, Result, check_finite, check_step};
@@ -105,12 +108,11 @@ impl Default for SemOptions {
 pub struct SemIntegrator<L, const N: usize> {
     action: SemAction<L, N>,
     options: SemOptions,
-    /// LU factors of the Jacobian of the step equations in `(v̄, u)`.
-    lu: DenseLu,
+    /// Factors of the Jacobian of the step equations in `(v̄, u)`.
+    jacobian: Option<BorderedLu<N>>,
     /// The momentum rows' `v̄` block of the step Jacobian, `h ∂²S/∂q₀∂q₁`,
     /// kept along a run (and corrected by secants), if one was evaluated.
     momentum_block: Option<SMatrix<f64, N, N>>,
-    rhs: Vec<f64>,
     /// The last points of the run: the predictor when the next step continues it.
     history: StepHistory<N>,
 }
@@ -211,9 +213,8 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
         Self {
             action,
             options,
-            lu: DenseLu::new(N + 1),
+            jacobian: None,
             momentum_block: None,
-            rhs: vec![0.0; N + 1],
             history: StepHistory::default(),
         }
     }
@@ -341,22 +342,18 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
             }
             _ => {
                 count.full += 1;
-                self.action.momentum_derivatives(s.t, &s.q, q1, h).3 * h
+                self.action.momentum_block(s.t, &s.q, q1, h)
             }
         };
         self.momentum_block = Some(block);
         let (momentum_w, energy_q1, energy_w) = self.action.step_jacobian_along(s.t, &s.q, q1, h);
-        let n1 = N + 1;
-        let m = &mut self.lu.matrix;
-        for a in 0..N {
-            for b in 0..N {
-                m[a * n1 + b] = block[(a, b)];
-            }
-            m[a * n1 + N] = momentum_w[a] / (2.0 * h);
-            m[N * n1 + a] = energy_q1[a] * h;
-        }
-        m[N * n1 + N] = energy_w / (2.0 * h);
-        self.lu.factor("SEM step").ok().map(|_| ())
+        self.jacobian = BorderedLu::factor(
+            &block,
+            &(momentum_w / (2.0 * h)),
+            &(energy_q1 * h),
+            energy_w / (2.0 * h),
+        );
+        self.jacobian.map(|_| ())
     }
 
     /// Bring a guess `q₁` near the momentum equation `p + ∂S/∂q₀ = 0` at fixed
@@ -427,17 +424,13 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
             count.residuals += 1;
             let (action, s_q0, e_minus) = self.action.leaving(s.t, &s.q, &q1, h);
             let (r1, r2) = (s.p + s_q0, e_minus - s.energy);
-            for a in 0..N {
-                self.rhs[a] = -r1[a];
-            }
-            self.rhs[N] = -r2;
-            self.lu.solve(&mut self.rhs);
-            if self.rhs.iter().any(|x| !x.is_finite()) {
+            let (dv, du) = self.jacobian?.solve(&-r1, -r2);
+            if dv.iter().any(|x| !x.is_finite()) || !du.is_finite() {
                 return None;
             }
             // The update is in (v̄, u): q₁ = q₀ + h v̄, h = √u (u ≤ 0 fails).
-            let vbar = (q1 - s.q) / h + SVector::<f64, N>::from_fn(|a, _| self.rhs[a]);
-            let u = h * h + self.rhs[N];
+            let vbar = (q1 - s.q) / h + dv;
+            let u = h * h + du;
             if u.is_nan() || u <= 0.0 {
                 return None;
             }

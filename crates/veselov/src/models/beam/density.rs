@@ -76,6 +76,7 @@ impl SplitDensity<RigidMotions, 6> for BeamDensity {
     fn stored<D: Scalar>(&self, eta: &SVector<D, 6>) -> D {
         quadratic(&self.properties.stiffness, eta, &E6)
     }
+    #[inline]
     fn potential<D: Scalar>(&self, g: &SE3<D>) -> D {
         let r = g.translation();
         let m = self.mass_per_length();
