@@ -187,6 +187,7 @@ fn run_fixed<const N: usize>(
     let Totals {
         iterations,
         fallback_steps: fallback,
+        force_evaluations,
         ..
     } = totals(&session, &outcome);
     let wall = session.wall_seconds();
@@ -213,6 +214,9 @@ fn run_fixed<const N: usize>(
                 "energy_error_max": energy,
                 "momentum_error_max": t.deviations(&names),
                 "newton_iterations_mean": iterations as f64 / outcome.last_step.max(1) as f64,
+                // ∇V evaluations per step on the separable path (null on the Newton path).
+                "force_evaluations_mean": (force_evaluations > 0)
+                    .then(|| force_evaluations as f64 / outcome.last_step.max(1) as f64),
                 "fallback_steps": fallback,
             });
             if system.forced {
@@ -371,6 +375,7 @@ fn run_variable<const N: usize>(
         iterations,
         fallback_steps: fallback,
         jacobians,
+        ..
     } = totals(&session, &outcome);
     let wall = session.wall_seconds();
     let t_final = x.t;

@@ -292,6 +292,17 @@ fn custom_kepler_matches_built_in_kepler() {
     // Fixed-point (built-in) and Newton (custom) solve the same equations to
     // round-off; over 300 steps through pericentre the difference stays tiny.
     assert!(worst < 1e-11, "trajectories differ by {worst:e}");
+    // ∇V evaluations are counted on the separable path only: s = 3 per sweep.
+    let (sa, sb) = (summary(&dir.join("a")), summary(&dir.join("b")));
+    let evaluations = sa["force_evaluations_mean"]
+        .as_f64()
+        .expect("counted on the fixed-point path");
+    let sweeps = sa["newton_iterations_mean"].as_f64().expect("number");
+    assert!(
+        (evaluations - 3.0 * sweeps).abs() < 1e-12 && (3.0..20.0).contains(&evaluations),
+        "{sa}"
+    );
+    assert!(sb["force_evaluations_mean"].is_null(), "{sb}");
 }
 
 /// Run a scenario that must fail, returning stderr.

@@ -26,6 +26,8 @@ pub struct Saved {
     pub fallback_steps: u64,
     /// Exact Jacobians evaluated before the checkpoint, where counted.
     pub jacobians: u64,
+    /// Gradient evaluations `∇V` before the checkpoint, where counted.
+    pub force_evaluations: u64,
     /// Wall time spent up to it.
     pub wall_seconds: f64,
     /// State words.
@@ -78,6 +80,7 @@ where
         "iterations": outcome.iterations,
         "fallback_steps": outcome.fallback_steps,
         "jacobians": outcome.jacobians,
+        "force_evaluations": outcome.force_evaluations,
         "wall_seconds": wall_seconds,
         "state": hex(&s),
         "stepper": hex(&c),
@@ -116,6 +119,7 @@ impl Saved {
             fallback_steps: int("fallback_steps")?,
             // Absent from checkpoints written before it was counted.
             jacobians: v["jacobians"].as_u64().unwrap_or(0),
+            force_evaluations: v["force_evaluations"].as_u64().unwrap_or(0),
             wall_seconds: v["wall_seconds"].as_f64().unwrap_or(0.0),
             state: words("state")?,
             stepper: words("stepper")?,

@@ -143,6 +143,7 @@ pub fn empty_outcome(status: Status) -> Outcome {
         iterations: 0,
         fallback_steps: 0,
         jacobians: 0,
+        force_evaluations: 0,
         status,
     }
 }
@@ -156,15 +157,18 @@ pub struct Totals {
     pub fallback_steps: u64,
     /// Exact Jacobians evaluated, where counted.
     pub jacobians: u64,
+    /// Gradient evaluations `∇V`, where counted.
+    pub force_evaluations: u64,
 }
 
-/// Iterations, fallback steps and Jacobians over the whole run, resumed parts included.
+/// Iterations, fallback steps, Jacobians and gradient evaluations over the whole run, resumed parts included.
 pub fn totals(session: &Session, outcome: &Outcome) -> Totals {
     let before = session.resumed.as_ref();
     Totals {
         iterations: before.map_or(0, |s| s.iterations) + outcome.iterations,
         fallback_steps: before.map_or(0, |s| s.fallback_steps) + outcome.fallback_steps,
         jacobians: before.map_or(0, |s| s.jacobians) + outcome.jacobians,
+        force_evaluations: before.map_or(0, |s| s.force_evaluations) + outcome.force_evaluations,
     }
 }
 

@@ -256,6 +256,7 @@ impl Session {
             iterations: 0,
             fallback_steps: 0,
             jacobians: 0,
+            force_evaluations: 0,
             status: Status::Completed,
         };
         let mut last_checkpoint = Instant::now();
@@ -291,6 +292,7 @@ impl Session {
             total.iterations += out.iterations;
             total.fallback_steps += out.fallback_steps;
             total.jacobians += out.jacobians;
+            total.force_evaluations += out.force_evaluations;
             total.status = out.status;
             if due && total.status == Status::Stopped {
                 // Stopped by the clock, not by an observer: a checkpoint is due.

@@ -250,6 +250,7 @@ where
                 fallback: false,
                 work: 0.0,
                 jacobians: 0,
+                force_evaluations: 0,
             },
         ))
     }

@@ -213,6 +213,7 @@ where
                 fallback,
                 work: 0.0,
                 jacobians: 0,
+                force_evaluations: 0,
             },
         ))
     }

@@ -610,6 +610,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
                 fallback: false,
                 work: self.last_work(),
                 jacobians: 0,
+                force_evaluations: 0,
             },
         ))
     }

@@ -147,6 +147,7 @@ impl<M: VariableStepMap<N> + ?Sized, const N: usize> Stepper for SemStepper<'_, 
                 fallback: true,
                 work: 0.0,
                 jacobians: info.jacobian_refreshes + info.jacobian_updates,
+                force_evaluations: 0,
             });
         }
         *state = next;
@@ -155,6 +156,7 @@ impl<M: VariableStepMap<N> + ?Sized, const N: usize> Stepper for SemStepper<'_, 
             fallback: info.fallback,
             work: 0.0,
             jacobians: info.jacobian_refreshes + info.jacobian_updates,
+            force_evaluations: 0,
         })
     }
     fn time(&self, state: &SemState<N>) -> f64 {

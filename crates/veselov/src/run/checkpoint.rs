@@ -51,6 +51,16 @@ impl<'a> Words<'a> {
         Ok(out)
     }
 
+    /// Consume the next word if it is exactly `tag` (a marker of an optional
+    /// section that checkpoints of earlier versions lack).
+    pub fn take_tag(&mut self, tag: f64) -> bool {
+        let found = self.data.get(self.at) == Some(&tag);
+        if found {
+            self.at += 1;
+        }
+        found
+    }
+
     /// The next word.
     ///
     /// # Errors

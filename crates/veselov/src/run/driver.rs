@@ -16,6 +16,9 @@ pub struct StepStats {
     /// Exact Jacobians evaluated in the step, in full or in part (reported by
     /// the variable-step integrators; 0 where not counted).
     pub jacobians: usize,
+    /// Evaluations of the potential's gradient `∇V` (a batch of `s` per
+    /// fixed-point sweep of the separable Galerkin path); 0 where not counted.
+    pub force_evaluations: usize,
     /// Discrete work of the generalised forces over the step,
     /// `h Σᵢ bᵢ F(i)·Yᵢ` (zero for unforced systems and for other families).
     pub work: f64,
@@ -126,6 +129,8 @@ pub struct Outcome {
     pub fallback_steps: u64,
     /// Exact Jacobians evaluated over those steps (where counted).
     pub jacobians: u64,
+    /// Gradient evaluations `∇V` over those steps (where counted).
+    pub force_evaluations: u64,
     /// Why the run ended.
     pub status: Status,
 }
@@ -160,6 +165,7 @@ pub fn drive<S: Stepper + ?Sized>(
         iterations: 0,
         fallback_steps: 0,
         jacobians: 0,
+        force_evaluations: 0,
         status: Status::Completed,
     };
     loop {
@@ -190,6 +196,7 @@ pub fn drive<S: Stepper + ?Sized>(
         out.iterations += stats.iterations as u64;
         out.fallback_steps += u64::from(stats.fallback);
         out.jacobians += stats.jacobians as u64;
+        out.force_evaluations += stats.force_evaluations as u64;
         let mut control = Control::Continue;
         for o in observers.iter_mut() {
             control = o.observe(out.last_step, state, &stats);
