@@ -162,8 +162,9 @@ pub struct SeparableIntegrator<V, const N: usize, F = NoForce> {
     depth: usize,
     /// This step's prediction before correction, and the last step's
     /// prediction error (converged − predicted) with the predictor it came from.
+    /// (Kinds: 1 = one-step, 2 = two-step predictor; an error of kind 0 is none.)
     prediction: ([SVector<f64, N>; MAX_STAGES], usize),
-    prediction_error: Option<([SVector<f64, N>; MAX_STAGES], usize)>,
+    prediction_error: ([SVector<f64, N>; MAX_STAGES], usize),
     previous: Option<(f64, SVector<f64, N>)>,
     compensation: (SVector<f64, N>, SVector<f64, N>),
     max_iterations: usize,
@@ -193,7 +194,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
             older_forces: [SVector::zeros(); MAX_STAGES],
             depth: 0,
             prediction: ([SVector::zeros(); MAX_STAGES], 0),
-            prediction_error: None,
+            prediction_error: ([SVector::zeros(); MAX_STAGES], 0),
             extrap_two: [[0.0; 2 * MAX_STAGES]; MAX_STAGES],
             two_nodes: [(0, 0); 2 * MAX_STAGES],
             n_two: 0,
@@ -263,16 +264,15 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
     }
 
     /// Begin a step: if it continues the previous one, predict the stage forces
-    /// by extrapolating the previous step's; otherwise reset the summation
-    /// compensation and return `None`.
-    fn predicted_forces(&mut self, state: &PhaseState<N>) -> Option<[SVector<f64, N>; MAX_STAGES]> {
+    /// into `g` (see the module documentation) and return `true`; otherwise
+    /// reset the summation compensation and the history and return `false`.
+    fn predicted_forces(&mut self, state: &PhaseState<N>, g: &mut [SVector<f64, N>; MAX_STAGES]) -> bool {
         if !matches!(self.previous, Some((te, qe)) if continues(te, &qe, state.t, &state.q)) {
             self.compensation = (SVector::zeros(), SVector::zeros());
             self.depth = 0;
-            self.prediction_error = None;
-            return None;
+            self.prediction_error.1 = 0;
+            return false;
         }
-        let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
         if self.depth >= 2 && self.n_two > 0 {
             for i in 0..self.s {
                 g[i] = (0..self.n_two).fold(SVector::zeros(), |acc, m| {
@@ -291,15 +291,29 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
             }
         }
         let kind = if self.depth >= 2 && self.n_two > 0 { 2 } else { 1 };
-        self.prediction = (g, kind);
-        if let Some((e, k)) = self.prediction_error
-            && k == kind
-        {
+        self.prediction.0[..self.s].copy_from_slice(&g[..self.s]);
+        self.prediction.1 = kind;
+        if self.prediction_error.1 == kind {
             for i in 0..self.s {
-                g[i] += e[i];
+                g[i] += self.prediction_error.0[i];
             }
         }
-        Some(g)
+        true
+    }
+
+    /// After a converged step with stage forces `g`: shift the force history
+    /// and record the prediction error (converged − predicted).
+    fn remember(&mut self, g: &[SVector<f64, N>; MAX_STAGES]) {
+        let s = self.s;
+        self.older_forces[..s].copy_from_slice(&self.forces[..s]);
+        self.forces[..s].copy_from_slice(&g[..s]);
+        if self.depth > 0 {
+            for i in 0..s {
+                self.prediction_error.0[i] = g[i] - self.prediction.0[i];
+            }
+            self.prediction_error.1 = self.prediction.1;
+        }
+        self.depth = (self.depth + 1).min(2);
     }
 
     /// Forced case: fixed-point iteration on the stage velocities of the
@@ -309,17 +323,16 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
     fn fixed_point_forced(&mut self, state: &PhaseState<N>) -> Option<(PhaseState<N>, usize)> {
         let s = self.s;
         // Total generalised forces gⱼ = −∇V(Qⱼ) + F(Qⱼ, Vⱼ), predicted from the previous step.
-        let predicted = self.predicted_forces(state);
+        let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
+        let predicted = self.predicted_forces(state, &mut g);
         let sys = self.general.lagrangian();
         let force = self.general.force();
         let minv = *sys.mass_inverse();
         let (t, q) = (state.t, state.q);
         let v = minv * state.p;
-        let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
         let mut vel = [v; MAX_STAGES];
         let mut pos = [q; MAX_STAGES];
-        if let Some(predicted) = predicted {
-            g = predicted;
+        if predicted {
             for i in 0..s {
                 let mut acc = SVector::<f64, N>::zeros();
                 for j in 0..s {
@@ -366,16 +379,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
                 let (q_next, cq) = kahan_add(&q, &dq, &self.compensation.0);
                 let (p_next, cp) = kahan_add(&state.p, &dp, &self.compensation.1);
                 self.compensation = (cq, cp);
-                self.older_forces = self.forces;
-                self.forces[..s].copy_from_slice(&g[..s]);
-                if self.depth > 0 {
-                    let mut e = [SVector::<f64, N>::zeros(); MAX_STAGES];
-                    for i in 0..s {
-                        e[i] = g[i] - self.prediction.0[i];
-                    }
-                    self.prediction_error = Some((e, self.prediction.1));
-                }
-                self.depth = (self.depth + 1).min(2);
+                self.remember(&g);
                 self.last_work = work;
                 return Some((PhaseState::new(t + self.h, q_next, p_next), it));
             }
@@ -394,15 +398,17 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
     /// are formed as increments and added with compensated summation.
     fn fixed_point(&mut self, state: &PhaseState<N>) -> Option<(PhaseState<N>, usize)> {
         let s = self.s;
-        let predicted = self.predicted_forces(state);
+        let mut g = [SVector::<f64, N>::zeros(); MAX_STAGES];
+        let predicted = self.predicted_forces(state, &mut g);
         let sys = self.general.lagrangian();
         let minv = *sys.mass_inverse();
         let (t, q) = (state.t, state.q);
         let v = minv * state.p;
-        let mut g = predicted.unwrap_or_else(|| [sys.conservative_force(t, &q); MAX_STAGES]);
+        if !predicted {
+            g[..s].fill(sys.conservative_force(t, &q));
+        }
         // Stage increments from the forces: zᵢ = h cᵢ v + M⁻¹ Σⱼ h²(AĀ)ᵢⱼ gⱼ.
-        let increments = |g: &[SVector<f64, N>; MAX_STAGES]| {
-            let mut z = [SVector::<f64, N>::zeros(); MAX_STAGES];
+        let increments = |g: &[SVector<f64, N>; MAX_STAGES], z: &mut [SVector<f64, N>; MAX_STAGES]| {
             for i in 0..s {
                 let mut acc = SVector::<f64, N>::zeros();
                 for j in 0..s {
@@ -410,21 +416,22 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
                 }
                 z[i] = v * (self.h * self.c[i]) + minv * acc;
             }
-            z
         };
-        let mut z = increments(&g);
+        let mut z = [SVector::<f64, N>::zeros(); MAX_STAGES];
+        let mut next = z;
+        increments(&g, &mut z);
         let scale = q.amax().max(1.0);
         let mut last = f64::INFINITY;
         for it in 1..=self.max_iterations {
             for i in 0..s {
                 g[i] = sys.conservative_force(t + self.c[i] * self.h, &(q + z[i]));
             }
-            let next = increments(&g);
+            increments(&g, &mut next);
             let mut delta = 0.0_f64;
             for i in 0..s {
                 delta = delta.max((next[i] - z[i]).amax());
             }
-            z = next;
+            z[..s].copy_from_slice(&next[..s]);
             let update = delta / scale;
             if !update.is_finite() {
                 return None;
@@ -442,16 +449,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> SeparableIntegrator<V, N, F> 
                 let (q_next, cq) = kahan_add(&q, &dq, &self.compensation.0);
                 let (p_next, cp) = kahan_add(&state.p, &dp, &self.compensation.1);
                 self.compensation = (cq, cp);
-                self.older_forces = self.forces;
-                self.forces[..s].copy_from_slice(&g[..s]);
-                if self.depth > 0 {
-                    let mut e = [SVector::<f64, N>::zeros(); MAX_STAGES];
-                    for i in 0..s {
-                        e[i] = g[i] - self.prediction.0[i];
-                    }
-                    self.prediction_error = Some((e, self.prediction.1));
-                }
-                self.depth = (self.depth + 1).min(2);
+                self.remember(&g);
                 return Some((PhaseState::new(t + self.h, q_next, p_next), it));
             }
             if it > 3 && update > last {
@@ -486,9 +484,10 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
         out.extend(self.older_forces[..self.s].iter().flat_map(|g| g.iter()));
         out.extend(self.prediction.0[..self.s].iter().flat_map(|g| g.iter()));
         out.push(self.prediction.1 as f64);
-        let error = self.prediction_error.map(|(e, kind)| {
+        let (e, kind) = &self.prediction_error;
+        let error = (*kind > 0).then(|| {
             let mut r: Vec<f64> = e[..self.s].iter().flat_map(|g| g.iter().copied()).collect();
-            r.push(kind as f64);
+            r.push(*kind as f64);
             r
         });
         crate::run::save_option(out, error.as_deref(), self.s * N + 1);
@@ -524,20 +523,17 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
                 *g = SVector::from_column_slice(words.take(N)?);
             }
             self.prediction.1 = small(words.one()?, "kind")?;
-            self.prediction_error = match crate::run::restore_option(words, self.s * N + 1)? {
-                Some(r) => {
-                    let mut e = [SVector::<f64, N>::zeros(); MAX_STAGES];
-                    for (i, g) in e[..self.s].iter_mut().enumerate() {
-                        *g = SVector::from_column_slice(&r[i * N..(i + 1) * N]);
-                    }
-                    Some((e, small(r[self.s * N], "kind")?))
+            self.prediction_error.1 = 0;
+            if let Some(r) = crate::run::restore_option(words, self.s * N + 1)? {
+                for (i, g) in self.prediction_error.0[..self.s].iter_mut().enumerate() {
+                    *g = SVector::from_column_slice(&r[i * N..(i + 1) * N]);
                 }
-                None => None,
-            };
+                self.prediction_error.1 = small(r[self.s * N], "kind")?;
+            }
         } else {
             // An earlier version's checkpoint: the one-step predictor resumes.
             self.depth = usize::from(self.previous.is_some());
-            self.prediction_error = None;
+            self.prediction_error.1 = 0;
         }
         self.general.restore_carry(words)
     }
