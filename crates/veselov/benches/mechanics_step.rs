@@ -8,9 +8,12 @@ use criterion::{Criterion, criterion_group, criterion_main};
 
 mod common;
 use common::bench_map;
-use nalgebra::Vector1;
-use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, OneStepMap, PhaseState, SeparableIntegrator};
-use veselov::models::{HenonHeiles, Kepler, Pendulum};
+use nalgebra::{SVector, Vector1, Vector2};
+use veselov::ad::Scalar;
+use veselov::mechanics::{
+    GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, OneStepMap, PhaseState, SeparableIntegrator,
+};
+use veselov::models::{DoublePendulum, HenonHeiles, Kepler, Pendulum};
 
 fn scheme(m: Method) -> GalerkinScheme {
     GalerkinScheme::new(m).expect("valid")
@@ -51,6 +54,11 @@ fn mechanics(c: &mut Criterion) {
             SeparableIntegrator::new(kepler.system(), scheme(m), h).expect("valid"),
             kepler.initial_state(),
         );
+        report_evaluations(
+            &format!("kepler-e0.6/{name}/general"),
+            GalerkinIntegrator::new(kepler.system(), scheme(m), h).expect("valid"),
+            kepler.initial_state(),
+        );
         bench_map(
             c,
             &format!("kepler-e0.6/{name}/general"),
@@ -74,21 +82,75 @@ fn mechanics(c: &mut Criterion) {
     );
 }
 
-/// Print the machine-independent cost beside the timings: mean ∇V
-/// evaluations and fixed-point sweeps per step over 10⁴ continuing steps.
+/// Print the machine-independent cost beside the timings, over 10⁴
+/// continuing steps: iterations (fixed-point sweeps or Newton residuals),
+/// exact Jacobians and ∇V evaluations per step.
 fn report_evaluations<M: OneStepMap<2>>(name: &str, mut map: M, x0: PhaseState<2>) {
-    let (mut x, mut evaluations, mut sweeps) = (x0, 0, 0);
+    let (mut x, mut evaluations, mut iterations, mut jacobians) = (x0, 0, 0, 0);
     let n = 10_000;
     for k in 0..n {
         let (next, stats) = map.step(k, &x).expect("step");
-        (x, evaluations, sweeps) = (next, evaluations + stats.force_evaluations, sweeps + stats.iterations);
+        x = next;
+        evaluations += stats.force_evaluations;
+        iterations += stats.iterations;
+        jacobians += stats.jacobians;
     }
+    let per = |c: usize| c as f64 / n as f64;
     eprintln!(
-        "{name}: {:.3} ∇V evaluations and {:.3} sweeps per step",
-        evaluations as f64 / n as f64,
-        sweeps as f64 / n as f64
+        "{name}: per step {:.3} iterations, {:.3} Jacobians, {:.3} ∇V evaluations",
+        per(iterations),
+        per(jacobians),
+        per(evaluations)
     );
 }
 
-criterion_group!(benches, mechanics);
+/// A charged particle in a uniform magnetic field `B` and a harmonic trap:
+/// `L = ½|v|² + (B/2)(x v_y − y v_x) − ½|q|²` (not separable: the general path).
+struct ChargedParticle {
+    field: f64,
+}
+
+impl Lagrangian<2> for ChargedParticle {
+    fn lagrangian<D: Scalar>(&self, _t: D, q: &SVector<D, 2>, v: &SVector<D, 2>) -> D {
+        let half = D::from(0.5);
+        half * v.dot(v) + D::from(0.5 * self.field) * (q[0] * v[1] - q[1] * v[0]) - half * q.dot(q)
+    }
+}
+
+/// The Newton path on Lagrangians that are not `½vᵀMv − V`.
+fn non_separable(c: &mut Criterion) {
+    let lobatto4 = || scheme(Method::GalerkinLobatto(4));
+    let x0 = PhaseState::new(0.0, Vector2::new(0.5, -0.3), Vector2::new(0.0, 0.0));
+    report_evaluations(
+        "double-pendulum/lobatto-s4/general",
+        GalerkinIntegrator::new(DoublePendulum::default(), lobatto4(), 0.01).expect("valid"),
+        x0,
+    );
+    bench_map(
+        c,
+        "double-pendulum/lobatto-s4/general",
+        GalerkinIntegrator::new(DoublePendulum::default(), lobatto4(), 0.01).expect("valid"),
+        x0,
+    );
+    let particle = || ChargedParticle { field: 2.0 };
+    let x0 = PhaseState::new(0.0, Vector2::new(1.0, 0.0), Vector2::new(0.0, 1.5));
+    for (name, m) in [
+        ("gauss-s2", Method::GalerkinGauss(2)),
+        ("gauss-s4", Method::GalerkinGauss(4)),
+    ] {
+        report_evaluations(
+            &format!("charged-particle/{name}/general"),
+            GalerkinIntegrator::new(particle(), scheme(m), 0.01).expect("valid"),
+            x0,
+        );
+        bench_map(
+            c,
+            &format!("charged-particle/{name}/general"),
+            GalerkinIntegrator::new(particle(), scheme(m), 0.01).expect("valid"),
+            x0,
+        );
+    }
+}
+
+criterion_group!(benches, mechanics, non_separable);
 criterion_main!(benches);

@@ -1,5 +1,5 @@
 //! The general variational integrator of a Galerkin discrete Lagrangian, solved by
-//! Newton's method with the exact Jacobian.
+//! simplified Newton with the exact Jacobian kept across steps.
 //!
 //! With control points `Q⁰ … Qᵐ` (see [`GalerkinScheme`]) and the discrete action
 //! `S(Q) = h Σᵢ bᵢ L(t_k + cᵢh, Xᵢ, Yᵢ)`, `Xᵢ = Σ_ν M_{iν}Q^ν`, `Yᵢ = Σ_ν D_{iν}Q^ν/h`,
@@ -9,7 +9,13 @@
 //! (DESIGN conventions; Marsden & West 2001, eq. (1.5.5)) give the step
 //! `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})`:
 //!
-//! 1. solve `p_k + G₀ = 0`, `G_ν = 0 (ν = 1..m−1)` for `Q¹..Qᵐ` (Newton, exact Hessian of `S`),
+//! 1. solve `p_k + G₀ = 0`, `G_ν = 0 (ν = 1..m−1)` for `Q¹..Qᵐ`: simplified
+//!    Newton ([`crate::solve::solve_simplified_newton`]) whose exact Jacobian
+//!    (the Hessian of `S` from the stage Hessians) is kept from step to step
+//!    and evaluated afresh when the last contraction factor foretells more
+//!    than three further iterations; each iteration needs only the stage
+//!    gradients. If it fails, Newton with line search from the same start.
+//!    The step statistics count the Jacobians evaluated.
 //! 2. `q_{k+1} = Qᵐ`, `p_{k+1} = G_m`.
 //!
 //! With a generalised force `F` (discrete Lagrange–d'Alembert, seed 004 §2 and
@@ -27,7 +33,10 @@ use super::lagrangian::{Hessian, Jet, Lagrangian, hessian, jet, velocity_from_mo
 use super::scheme::{GalerkinScheme, Method};
 use super::state::{FlowJacobian, OneStepMap, PhaseState, StepStats, continues};
 use crate::error::{Error, Result, check_finite, check_step};
-use crate::solve::{DenseLu, LineSearch, NewtonOptions, NewtonReport, NewtonStop, NewtonSystem, solve_newton};
+use crate::solve::{
+    DenseLu, LineSearch, NewtonOptions, NewtonReport, NewtonStop, NewtonSystem, SimplifiedNewtonSystem, solve_newton,
+    solve_simplified_newton,
+};
 
 /// Value and discrete Legendre transforms of `L_d(q₀, q₁)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,6 +76,14 @@ pub struct GalerkinIntegrator<L, const N: usize, F = NoForce> {
     stage_hessians: Vec<Hessian<N>>,
     lu: DenseLu,
     lu_bvp: DenseLu,
+    /// Whether `lu` (step) and `lu_bvp` (boundary value) hold a factored
+    /// Jacobian that the simplified Newton iteration may reuse.
+    jacobian_kept: bool,
+    bvp_jacobian_kept: bool,
+    /// Jacobians evaluated by the last step.
+    last_jacobians: usize,
+    /// The predicted controls, to restart from if the simplified iteration fails.
+    start: Vec<SVector<f64, N>>,
     previous: Option<(f64, SVector<f64, N>)>,
     previous_controls: Vec<SVector<f64, N>>,
 }
@@ -79,6 +96,9 @@ enum Mode {
     /// Unknowns `Q¹..Q^{m−1}`, equations `G₁..G_{m−1} = 0` (endpoints fixed).
     BoundaryValue,
 }
+
+/// Marks the kept Jacobian's part of the checkpoint carry.
+const JACOBIAN_CARRY_TAG: f64 = -3.0;
 
 /// What the Newton iterations of the Galerkin integrators linearise, named in
 /// a singular-Jacobian error.
@@ -110,6 +130,37 @@ impl<L, const N: usize, F> ControlPointEquations<'_, L, N, F> {
     }
 }
 
+impl<L: Lagrangian<N>, const N: usize, F: Force<N>> ControlPointEquations<'_, L, N, F> {
+    /// `−R` into the update `δ`, from the gradient held.
+    fn write_residual(&mut self) {
+        let (row0, unknowns) = self.mode.layout(self.integrator.scheme.intervals());
+        let s = &mut *self.integrator;
+        for (rb, nu) in (row0..row0 + unknowns).enumerate() {
+            let mut g = s.gradient[nu];
+            if self.mode == Mode::Step && nu == 0 {
+                g += self.p;
+            }
+            for a in 0..N {
+                s.delta[rb * N + a] = -g[a];
+            }
+        }
+    }
+}
+
+impl<L: Lagrangian<N>, const N: usize, F: Force<N>> SimplifiedNewtonSystem for ControlPointEquations<'_, L, N, F> {
+    fn residual_only(&mut self) -> f64 {
+        self.integrator.eval_gradient(self.t, false);
+        self.write_residual();
+        self.integrator.residual_norm(self.mode, &self.p)
+    }
+    fn kept_jacobian(&mut self) -> &mut bool {
+        match self.mode {
+            Mode::Step => &mut self.integrator.jacobian_kept,
+            Mode::BoundaryValue => &mut self.integrator.bvp_jacobian_kept,
+        }
+    }
+}
+
 impl<L: Lagrangian<N>, const N: usize, F: Force<N>> NewtonSystem for ControlPointEquations<'_, L, N, F> {
     const LINEARISATION: &'static str = EULER_LAGRANGE_NEWTON_STEP;
 
@@ -120,18 +171,12 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> NewtonSystem for ControlPoin
 
     /// Right-hand side −R and Jacobian rows ν = row0.., columns μ = 1..=col_end.
     fn assemble(&mut self) {
+        self.write_residual();
         let (row0, unknowns) = self.mode.layout(self.integrator.scheme.intervals());
         let col_end = unknowns;
         let dim = N * unknowns;
         let s = &mut *self.integrator;
         for (rb, nu) in (row0..row0 + unknowns).enumerate() {
-            let mut g = s.gradient[nu];
-            if self.mode == Mode::Step && nu == 0 {
-                g += self.p;
-            }
-            for a in 0..N {
-                s.delta[rb * N + a] = -g[a];
-            }
             for (cb, mu) in (1..=col_end).enumerate() {
                 let blk = s.action_hessian_block(nu, mu);
                 for a in 0..N {
@@ -236,6 +281,10 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             stage_hessians: vec![empty_hessian; r],
             lu: DenseLu::new(N * m),
             lu_bvp: DenseLu::new(N * (m - 1)),
+            jacobian_kept: false,
+            bvp_jacobian_kept: false,
+            last_jacobians: 0,
+            start: vec![zero; m + 1],
             previous: None,
             previous_controls: vec![zero; m + 1],
             scheme,
@@ -387,13 +436,38 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             });
         }
         let options = self.options;
+        if mode == Mode::Step {
+            // Simplified Newton with the Jacobian kept across steps; from the
+            // same start, Newton with line search if it fails.
+            self.start.copy_from_slice(&self.controls);
+            let mut equations = ControlPointEquations {
+                integrator: &mut *self,
+                mode,
+                t,
+                p: *p,
+            };
+            if let Ok((report, jacobians)) = solve_simplified_newton(&mut equations, &options, step, t) {
+                self.last_jacobians = jacobians;
+                return Ok(report);
+            }
+            self.controls.copy_from_slice(&self.start);
+        }
         let mut equations = ControlPointEquations {
-            integrator: self,
+            integrator: &mut *self,
             mode,
             t,
             p: *p,
         };
-        solve_newton(&mut equations, &options, LineSearch::Backtracking, step, t)
+        let report = solve_newton(&mut equations, &options, LineSearch::Backtracking, step, t);
+        // Newton overwrote the factors with those of its last iterate: keep them.
+        match mode {
+            Mode::Step => self.jacobian_kept = report.is_ok(),
+            Mode::BoundaryValue => self.bvp_jacobian_kept = false,
+        }
+        if let Ok(r) = &report {
+            self.last_jacobians = r.iterations;
+        }
+        report
     }
 
     /// Initial guess for a step from `(t, q, p)`: extrapolate the previous
@@ -416,6 +490,8 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             return;
         }
         self.compensation = (SVector::zeros(), SVector::zeros());
+        // A new trajectory: no Jacobian kept from another one.
+        self.jacobian_kept = false;
         let v = velocity_from_momentum(&self.lagrangian, t, q, p).unwrap_or_else(|_| SVector::zeros());
         for nu in 0..=m {
             self.controls[nu] = v * (self.scheme.control_nodes()[nu] * self.h);
@@ -506,6 +582,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
                 }
             }
         }
+        self.jacobian_kept = false;
         self.lu.factor("flow Jacobian")?;
         let h_col0: Vec<SMatrix<f64, N, N>> = (0..=m).map(|nu| self.action_hessian_block(nu, 0)).collect();
         let h_last: Vec<SMatrix<f64, N, N>> = (0..=m).map(|mu| self.action_hessian_block(m, mu)).collect();
@@ -589,6 +666,13 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
         crate::run::save_option(out, end.as_deref(), 1 + N);
         out.extend(self.previous_controls.iter().flat_map(|z| z.iter()));
         out.extend(self.compensation.0.iter().chain(self.compensation.1.iter()));
+        // The kept Jacobian's factors, behind a tag (absent from checkpoints
+        // of earlier versions: then none is kept).
+        out.push(JACOBIAN_CARRY_TAG);
+        out.push(f64::from(u8::from(self.jacobian_kept)));
+        if self.jacobian_kept {
+            self.lu.save_factors(out);
+        }
     }
     fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
         self.previous = crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..])));
@@ -599,6 +683,13 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
             SVector::from_column_slice(words.take(N)?),
             SVector::from_column_slice(words.take(N)?),
         );
+        self.jacobian_kept = false;
+        if words.take_tag(JACOBIAN_CARRY_TAG) {
+            self.jacobian_kept = words.flag()?;
+            if self.jacobian_kept {
+                self.lu.restore_factors(words)?;
+            }
+        }
         Ok(())
     }
     fn step(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, StepStats)> {
@@ -609,7 +700,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
                 iterations: report.iterations,
                 fallback: false,
                 work: self.last_work(),
-                jacobians: 0,
+                jacobians: self.last_jacobians,
                 force_evaluations: 0,
             },
         ))

@@ -116,6 +116,35 @@ impl DenseLu {
     pub fn solve(&mut self, b: &mut [f64]) {
         lu_solve_in_place(&self.matrix, self.n, &self.perm, b, &mut self.work);
     }
+
+    /// Append the factors (the matrix, then the row permutation) as checkpoint words.
+    pub fn save_factors(&self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&self.matrix);
+        out.extend(self.perm.iter().map(|&p| p as f64));
+    }
+
+    /// Restore what [`DenseLu::save_factors`] wrote.
+    ///
+    /// # Errors
+    /// If the words run out or the permutation is not one of `0..n`.
+    pub fn restore_factors(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
+        self.matrix.copy_from_slice(words.take(self.n * self.n)?);
+        let perm = words.take(self.n)?;
+        let mut seen = vec![false; self.n];
+        for (slot, &p) in self.perm.iter_mut().zip(perm) {
+            let valid = p >= 0.0 && p.fract() == 0.0 && (p as usize) < self.n && !seen[p as usize];
+            if !valid {
+                return Err(Error::InvalidParameter {
+                    name: "checkpoint".into(),
+                    value: p.to_string(),
+                    reason: format!("not a row permutation of 0..{}", self.n),
+                });
+            }
+            seen[p as usize] = true;
+            *slot = p as usize;
+        }
+        Ok(())
+    }
 }
 
 /// Solve the small fixed-size system `A x = b` by Gaussian elimination with

@@ -170,3 +170,241 @@ pub fn solve_newton<S: NewtonSystem>(
         },
     })
 }
+
+/// A [`NewtonSystem`] that can also evaluate its residual alone (cheaper
+/// than the Jacobian) and keeps a factored Jacobian between solves: what
+/// [`solve_simplified_newton`] needs.
+pub trait SimplifiedNewtonSystem: NewtonSystem {
+    /// Evaluate the residual alone at the current unknowns and write `−R`
+    /// into the update `δ`, leaving the factored Jacobian untouched; returns `‖R‖∞`.
+    fn residual_only(&mut self) -> f64;
+    /// Whether the linear system holds a factored Jacobian that may be reused
+    /// (set by the solver; cleared by whoever overwrites the storage).
+    fn kept_jacobian(&mut self) -> &mut bool;
+}
+
+/// With the kept Jacobian, at most this many more iterations may be
+/// foreseen (from the last contraction factor) before the Jacobian is
+/// evaluated afresh: an exact Jacobian costs a few residuals and then
+/// converges in one or two.
+const MAX_FORESEEN_ITERATIONS: f64 = 3.0;
+
+/// Whether the simplified iteration, contracting by `update / previous`,
+/// would need more than [`MAX_FORESEEN_ITERATIONS`] further iterations to
+/// bring `update` down to `tol`.
+fn slow(update: f64, previous: f64, tol: f64) -> bool {
+    let theta = update / previous;
+    if theta.is_nan() || theta >= 1.0 {
+        return true;
+    }
+    update > tol && (tol / update).ln() / theta.ln() > MAX_FORESEEN_ITERATIONS
+}
+
+/// Simplified Newton's method: `J δ = −R` with the factored Jacobian kept
+/// in `system` from earlier iterations and solves, re-evaluated (exactly, at
+/// the current iterate) only when none is kept or the last contraction
+/// factor foretells more than three further iterations. No line search: a failure (non-finite values, no
+/// convergence) returns an error and clears the kept Jacobian, and the
+/// caller may fall back to [`solve_newton`]. Convergence as in
+/// [`solve_newton`]: the update at `options.tol` relative, or stalled below
+/// `options.stall_threshold`. Returns the report (iterations = residual
+/// evaluations) and the number of Jacobians evaluated.
+///
+/// # Errors
+/// A singular Jacobian, a non-finite residual or update, or no convergence
+/// within `options.max_iterations`.
+pub fn solve_simplified_newton<S: SimplifiedNewtonSystem>(
+    system: &mut S,
+    options: &NewtonOptions,
+    step: usize,
+    t: f64,
+) -> Result<(NewtonReport, usize)> {
+    // A refresh evaluates the residual with the Jacobian (−R already in δ).
+    let refresh = |system: &mut S| -> Result<f64> {
+        *system.kept_jacobian() = false;
+        let residual = system.evaluate();
+        system.assemble();
+        system.linear_system().0.factor(S::LINEARISATION)?;
+        *system.kept_jacobian() = true;
+        Ok(residual)
+    };
+    let mut jacobians = 0;
+    let mut fresh = false;
+    let mut pending = None;
+    if !*system.kept_jacobian() {
+        pending = Some(refresh(system)?);
+        jacobians += 1;
+        fresh = true;
+    }
+    let (mut previous, mut residual) = (f64::INFINITY, f64::INFINITY);
+    for it in 1..=options.max_iterations {
+        residual = match pending.take() {
+            Some(r) => r,
+            None => system.residual_only(),
+        };
+        if !residual.is_finite() {
+            break;
+        }
+        let largest = {
+            let (lu, delta) = system.linear_system();
+            lu.solve(delta);
+            if delta.iter().any(|d| !d.is_finite()) {
+                break;
+            }
+            delta.iter().fold(0.0_f64, |s, d| s.max(d.abs()))
+        };
+        let update = largest / system.scale();
+        system.update(1.0);
+        let converged = update <= options.tol;
+        let stalled = it > 1 && update >= previous && update <= options.stall_threshold;
+        if converged || stalled {
+            let report = NewtonReport {
+                iterations: it,
+                last_update: update,
+                residual: system.accept(),
+                stop: if converged {
+                    NewtonStop::Converged
+                } else {
+                    NewtonStop::RoundOff
+                },
+            };
+            return Ok((report, jacobians));
+        }
+        if !fresh && slow(update, previous, options.tol) {
+            pending = Some(refresh(system)?);
+            jacobians += 1;
+            fresh = true;
+        } else {
+            fresh = false;
+        }
+        previous = update;
+    }
+    *system.kept_jacobian() = false;
+    Err(Error::NewtonFailure {
+        step,
+        t,
+        residual,
+        iterations: options.max_iterations,
+        reason: if residual.is_finite() {
+            "simplified Newton: no convergence within the iteration limit".into()
+        } else {
+            "simplified Newton: non-finite residual or update".into()
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `R(x) = (x₀² + x₁² − 4, x₀ − x₁ + c)`: a circle cut by a line moved by `c`.
+    struct Circle {
+        x: [f64; 2],
+        c: f64,
+        delta: [f64; 2],
+        lu: DenseLu,
+        kept: bool,
+        jacobians: usize,
+        residuals: usize,
+    }
+
+    impl Circle {
+        fn new(x: [f64; 2], c: f64) -> Self {
+            Self {
+                x,
+                c,
+                delta: [0.0; 2],
+                lu: DenseLu::new(2),
+                kept: false,
+                jacobians: 0,
+                residuals: 0,
+            }
+        }
+        fn residual(&self) -> [f64; 2] {
+            let [a, b] = self.x;
+            [a * a + b * b - 4.0, a - b + self.c]
+        }
+    }
+
+    impl NewtonSystem for Circle {
+        const LINEARISATION: &'static str = "circle";
+        fn evaluate(&mut self) -> f64 {
+            self.jacobians += 1;
+            let r = self.residual();
+            r[0].abs().max(r[1].abs())
+        }
+        fn assemble(&mut self) {
+            let r = self.residual();
+            self.delta = [-r[0], -r[1]];
+            let [a, b] = self.x;
+            self.lu.matrix.copy_from_slice(&[2.0 * a, 2.0 * b, 1.0, -1.0]);
+        }
+        fn linear_system(&mut self) -> (&mut DenseLu, &mut [f64]) {
+            (&mut self.lu, &mut self.delta)
+        }
+        fn scale(&self) -> f64 {
+            self.x[0].abs().max(self.x[1].abs()).max(1.0)
+        }
+        fn trial_residual(&mut self, _lambda: f64) -> f64 {
+            unreachable!("no line search in the simplified iteration")
+        }
+        fn update(&mut self, lambda: f64) {
+            self.x[0] += lambda * self.delta[0];
+            self.x[1] += lambda * self.delta[1];
+        }
+        fn accept(&mut self) -> f64 {
+            let r = self.residual();
+            r[0].abs().max(r[1].abs())
+        }
+    }
+
+    impl SimplifiedNewtonSystem for Circle {
+        fn residual_only(&mut self) -> f64 {
+            self.residuals += 1;
+            let r = self.residual();
+            self.delta = [-r[0], -r[1]];
+            r[0].abs().max(r[1].abs())
+        }
+        fn kept_jacobian(&mut self) -> &mut bool {
+            &mut self.kept
+        }
+    }
+
+    /// Converges to round-off; a nearby problem reuses the kept Jacobian
+    /// (no new evaluation); a distant one foresees slow contraction and
+    /// evaluates a fresh Jacobian rather than iterating on.
+    #[test]
+    fn reuses_the_jacobian_while_it_contracts() {
+        let options = NewtonOptions::default();
+        let mut system = Circle::new([1.5, 1.5], 0.1);
+        let (report, jacobians) = solve_simplified_newton(&mut system, &options, 0, 0.0).expect("converges");
+        // From a start 0.1 away the first Jacobian contracts slowly at first: refreshed once or twice.
+        assert!((1..=3).contains(&jacobians), "{jacobians} {report:?}");
+        assert!(report.residual <= 1e-14, "{report:?}");
+        // A slightly moved line, from the last solution: the kept factors do.
+        system.c = 0.1001;
+        let (report, jacobians) = solve_simplified_newton(&mut system, &options, 0, 0.0).expect("converges");
+        assert_eq!(jacobians, 0, "{report:?}");
+        assert!(report.residual <= 1e-14 && report.iterations <= 5, "{report:?}");
+        // A far move: the stale Jacobian contracts too slowly and is refreshed.
+        system.c = 1.0;
+        let (report, jacobians) = solve_simplified_newton(&mut system, &options, 0, 0.0).expect("converges");
+        assert!(jacobians >= 1, "{report:?}");
+        assert!(report.residual <= 1e-14, "{report:?}");
+        let [a, b] = system.x;
+        assert!((a * a + b * b - 4.0).abs() < 1e-14 && (a - b + 1.0).abs() < 1e-14);
+    }
+
+    /// A residual that never vanishes (the line misses the circle) is an
+    /// error, and the kept Jacobian is dropped.
+    #[test]
+    fn failure_clears_the_kept_jacobian() {
+        let options = NewtonOptions {
+            max_iterations: 30,
+            ..NewtonOptions::default()
+        };
+        let mut system = Circle::new([1.5, 1.5], 5.0);
+        assert!(solve_simplified_newton(&mut system, &options, 3, 0.5).is_err());
+        assert!(!system.kept);
+    }
+}
