@@ -13,7 +13,7 @@
 //!    Newton ([`crate::solve::solve_simplified_newton`]) whose exact Jacobian
 //!    (the Hessian of `S` from the stage Hessians) is kept from step to step
 //!    and evaluated afresh when the last contraction factor foretells more
-//!    than three further iterations; each iteration needs only the stage
+//!    than two further iterations; each iteration needs only the stage
 //!    gradients. If it fails, Newton with line search from the same start.
 //!    The step statistics count the Jacobians evaluated.
 //! 2. `q_{k+1} = Qᵐ`, `p_{k+1} = G_m`.
