@@ -142,33 +142,44 @@ pub fn solve_newton<S: NewtonSystem>(
         }
         system.update(lambda);
         let update = lambda * full;
-        let converged = update <= options.tol;
-        let stalled = it > 1 && update >= last_update && update <= options.stall_threshold;
-        if converged || stalled {
+        if let Some(stop) = stopped(it, update, last_update, options) {
             return Ok(NewtonReport {
                 iterations: it,
                 last_update: update,
                 residual: system.accept(),
-                stop: if converged {
-                    NewtonStop::Converged
-                } else {
-                    NewtonStop::RoundOff
-                },
+                stop,
             });
         }
         last_update = update;
     }
-    Err(Error::NewtonFailure {
+    Err(no_convergence(step, t, residual, options, "Newton"))
+}
+
+/// Whether an iteration that just made the relative update `update` (the one
+/// before: `previous`) has converged (`tol`) or stalled at round-off.
+fn stopped(it: usize, update: f64, previous: f64, options: &NewtonOptions) -> Option<NewtonStop> {
+    if update <= options.tol {
+        Some(NewtonStop::Converged)
+    } else if it > 1 && update >= previous && update <= options.stall_threshold {
+        Some(NewtonStop::RoundOff)
+    } else {
+        None
+    }
+}
+
+/// The failure of an iteration named `what` that ended at `residual`.
+fn no_convergence(step: usize, t: f64, residual: f64, options: &NewtonOptions, what: &str) -> Error {
+    Error::NewtonFailure {
         step,
         t,
         residual,
         iterations: options.max_iterations,
         reason: if residual.is_finite() {
-            "no convergence within the iteration limit".into()
+            format!("{what}: no convergence within the iteration limit")
         } else {
-            "non-finite residual".into()
+            format!("{what}: non-finite residual or update")
         },
-    })
+    }
 }
 
 /// A [`NewtonSystem`] that can also evaluate its residual alone (cheaper
@@ -257,18 +268,12 @@ pub fn solve_simplified_newton<S: SimplifiedNewtonSystem>(
         };
         let update = largest / system.scale();
         system.update(1.0);
-        let converged = update <= options.tol;
-        let stalled = it > 1 && update >= previous && update <= options.stall_threshold;
-        if converged || stalled {
+        if let Some(stop) = stopped(it, update, previous, options) {
             let report = NewtonReport {
                 iterations: it,
                 last_update: update,
                 residual: system.accept(),
-                stop: if converged {
-                    NewtonStop::Converged
-                } else {
-                    NewtonStop::RoundOff
-                },
+                stop,
             };
             return Ok((report, jacobians));
         }
@@ -282,17 +287,7 @@ pub fn solve_simplified_newton<S: SimplifiedNewtonSystem>(
         previous = update;
     }
     *system.kept_jacobian() = false;
-    Err(Error::NewtonFailure {
-        step,
-        t,
-        residual,
-        iterations: options.max_iterations,
-        reason: if residual.is_finite() {
-            "simplified Newton: no convergence within the iteration limit".into()
-        } else {
-            "simplified Newton: non-finite residual or update".into()
-        },
-    })
+    Err(no_convergence(step, t, residual, options, "simplified Newton"))
 }
 
 #[cfg(test)]
