@@ -1105,3 +1105,45 @@ fn errors_about_huge_inputs_stay_short() {
         err.len()
     );
 }
+
+/// The scenarios that repeat the mechanics benchmarks as whole `veselov run`
+/// processes (`crates/veselov/benches/scenarios/`, see the README) are valid
+/// and take the path their benchmark measures: shortened to 2000 steps, each
+/// completes, and ∇V evaluations are counted exactly on the built-in
+/// separable models.
+#[test]
+fn benchmark_scenarios_run() {
+    let dir = workspace_root().join("crates/veselov/benches/scenarios");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("scenarios")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 10, "{files:?}");
+    let out = temp_dir("bench-scenarios");
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("read");
+        let dt: f64 = text
+            .lines()
+            .find_map(|l| l.strip_prefix("dt = "))
+            .and_then(|v| v.trim().parse().ok())
+            .expect("dt");
+        let short = common::set(&text, "t_end", &format!("{}", 2000.0 * dt));
+        let name = file.file_stem().expect("stem").to_string_lossy().to_string();
+        let path = scenario(&out, &short);
+        let run_dir = out.join(&name);
+        veselov()
+            .args(["run", "--quiet", "--out"])
+            .arg(&run_dir)
+            .arg(&path)
+            .assert()
+            .success();
+        let s = summary(&run_dir);
+        assert_eq!(s["status"], "ok", "{name}: {s}");
+        assert_eq!(s["steps"], 2000, "{name}: {s}");
+        let counted = !s["force_evaluations_mean"].is_null();
+        let separable = !text.contains("name = \"custom\"") && !text.contains("double-pendulum");
+        assert_eq!(counted, separable, "{name}: {s}");
+    }
+}
