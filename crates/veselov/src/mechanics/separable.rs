@@ -118,6 +118,7 @@ impl<V: Potential<N>, const N: usize> SeparableLagrangian<V, N> {
 }
 
 impl<V: Potential<N>, const N: usize> Lagrangian<N> for SeparableLagrangian<V, N> {
+    #[inline]
     fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
         let m: SMatrix<D, N, N> = self.mass.map(D::from);
         (m * v).dot(v) * 0.5 - self.potential.potential(t, q)
