@@ -37,7 +37,7 @@ pub enum ExprErrorKind {
         /// What was found.
         found: char,
     },
-    /// A name declared twice in a [`SymbolTable`].
+    /// A name declared twice in a [`SymbolTable`](super::SymbolTable).
     DuplicateSymbol(String),
     /// A declared name that expressions could never refer to.
     InvalidName(String),

@@ -99,7 +99,7 @@ impl Op {
     }
 }
 
-/// The names of the built-in functions, as [`builtin`] knows them.
+/// The names of the built-in functions, as the evaluator knows them.
 pub const FUNCTIONS: [&str; 16] = [
     "sin", "cos", "tan", "exp", "log", "ln", "sqrt", "abs", "sinh", "cosh", "tanh", "asin", "acos", "atan", "pow",
     "atan2",

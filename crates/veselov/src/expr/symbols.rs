@@ -58,7 +58,7 @@ impl SymbolTable {
         self.declare(name, Symbol::Constant(value))
     }
 
-    /// Number of declared variables: the length of the array [`Expr::eval`] expects.
+    /// Number of declared variables: the length of the array [`Expr::eval`](super::Expr::eval) expects.
     pub fn len_variables(&self) -> usize {
         self.variables
     }

@@ -2,7 +2,7 @@
 //! scheduler of note 003 §2.4 "general complexes"): a first-order flow Δ
 //! pairs a vertex v with a vertex Δv in a common top cell; when every vertex
 //! of the star of v except Δv is known, EL_v = Leg_v(y_Δv) − μ_v = 0 (4.4)
-//! is solved for y_Δv by [`solve_legendre`], with
+//! is solved for y_Δv by [`solve_legendre`](super::legendre::solve_legendre), with
 //!
 //! * S_v^Δ = the cells of S_v that contain Δv (Def. 4.2),
 //! * μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} ∂L_β/∂y_v (4.2), Leg_v = Σ_{β ∈ S_v^Δ} ∂L_β/∂y_v (4.3).
