@@ -7,12 +7,10 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 
 mod common;
-use common::bench_map;
+use common::{bench_map, report_evaluations};
 use nalgebra::{SVector, Vector1, Vector2};
 use veselov::ad::Scalar;
-use veselov::mechanics::{
-    GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, OneStepMap, PhaseState, SeparableIntegrator,
-};
+use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, PhaseState, SeparableIntegrator};
 use veselov::models::{DoublePendulum, HenonHeiles, Kepler, Pendulum};
 
 fn scheme(m: Method) -> GalerkinScheme {
@@ -79,28 +77,6 @@ fn mechanics(c: &mut Criterion) {
         "henon-heiles/gauss-s3/general",
         GalerkinIntegrator::new(hh.system(), scheme(Method::GalerkinGauss(3)), 0.05).expect("valid"),
         HenonHeiles::initial_state(),
-    );
-}
-
-/// Print the machine-independent cost beside the timings, over 10⁴
-/// continuing steps: iterations (fixed-point sweeps or Newton residuals),
-/// exact Jacobians and ∇V evaluations per step.
-fn report_evaluations<M: OneStepMap<2>>(name: &str, mut map: M, x0: PhaseState<2>) {
-    let (mut x, mut evaluations, mut iterations, mut jacobians) = (x0, 0, 0, 0);
-    let n = 10_000;
-    for k in 0..n {
-        let (next, stats) = map.step(k, &x).expect("step");
-        x = next;
-        evaluations += stats.force_evaluations;
-        iterations += stats.iterations;
-        jacobians += stats.jacobians;
-    }
-    let per = |c: usize| c as f64 / n as f64;
-    eprintln!(
-        "{name}: per step {:.3} iterations, {:.3} Jacobians, {:.3} ∇V evaluations",
-        per(iterations),
-        per(jacobians),
-        per(evaluations)
     );
 }
 

@@ -36,3 +36,26 @@ pub fn bench_steps<S: Copy>(
 pub fn bench_map<const N: usize, M: OneStepMap<N>>(c: &mut Criterion, name: &str, mut map: M, x0: PhaseState<N>) {
     bench_steps(c, name, x0, RESTART, |k, x| map.step(k, x).expect("step").0);
 }
+
+/// Print the machine-independent cost beside the timings, over 10⁴
+/// continuing steps: iterations (fixed-point sweeps or Newton residuals),
+/// exact Jacobians and ∇V evaluations per step.
+#[allow(dead_code)] // not every benchmark binary prints counts
+pub fn report_evaluations<const N: usize, M: OneStepMap<N>>(name: &str, mut map: M, x0: PhaseState<N>) {
+    let (mut x, mut evaluations, mut iterations, mut jacobians) = (x0, 0, 0, 0);
+    let n = 10_000;
+    for k in 0..n {
+        let (next, stats) = map.step(k, &x).expect("step");
+        x = next;
+        evaluations += stats.force_evaluations;
+        iterations += stats.iterations;
+        jacobians += stats.jacobians;
+    }
+    let per = |c: usize| c as f64 / n as f64;
+    eprintln!(
+        "{name}: per step {:.3} iterations, {:.3} Jacobians, {:.3} ∇V evaluations",
+        per(iterations),
+        per(jacobians),
+        per(evaluations)
+    );
+}
