@@ -1121,7 +1121,6 @@ fn benchmark_scenarios_run() {
         .collect();
     files.sort();
     assert!(files.len() >= 10, "{files:?}");
-    let out = temp_dir("bench-scenarios");
     for file in files {
         let text = std::fs::read_to_string(&file).expect("read");
         let dt: f64 = text
@@ -1131,14 +1130,8 @@ fn benchmark_scenarios_run() {
             .expect("dt");
         let short = common::set(&text, "t_end", &format!("{}", 2000.0 * dt));
         let name = file.file_stem().expect("stem").to_string_lossy().to_string();
-        let path = scenario(&out, &short);
-        let run_dir = out.join(&name);
-        veselov()
-            .args(["run", "--quiet", "--out"])
-            .arg(&run_dir)
-            .arg(&path)
-            .assert()
-            .success();
+        let (ok, stderr, run_dir) = common::run(&format!("bench-{name}"), &short);
+        assert!(ok, "{name}: {stderr}");
         let s = summary(&run_dir);
         assert_eq!(s["status"], "ok", "{name}: {s}");
         assert_eq!(s["steps"], 2000, "{name}: {s}");

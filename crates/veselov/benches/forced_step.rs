@@ -3,7 +3,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 
 mod common;
-use common::{bench_map, report_evaluations};
+use common::bench_map;
 use nalgebra::{Matrix2, Vector2};
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, PhaseState, SeparableIntegrator};
 use veselov::models::{DampedOscillator, VanDerPol};
@@ -12,16 +12,6 @@ fn forced(c: &mut Criterion) {
     let vdp = VanDerPol::default();
     let lobatto3 = || GalerkinScheme::new(Method::GalerkinLobatto(3)).expect("valid");
     let h = 0.01;
-    report_evaluations(
-        "van-der-pol/lobatto-s3/separable",
-        SeparableIntegrator::with_force(vdp.system(), vdp.force(), lobatto3(), h).expect("valid"),
-        VanDerPol::initial_state(),
-    );
-    report_evaluations(
-        "van-der-pol/lobatto-s3/general",
-        GalerkinIntegrator::with_force(vdp.system(), vdp.force(), lobatto3(), h).expect("valid"),
-        VanDerPol::initial_state(),
-    );
     bench_map(
         c,
         "van-der-pol/lobatto-s3/separable",

@@ -7,7 +7,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 
 mod common;
-use common::{bench_map, report_evaluations};
+use common::bench_map;
 use nalgebra::{SVector, Vector1, Vector2};
 use veselov::ad::Scalar;
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, PhaseState, SeparableIntegrator};
@@ -41,20 +41,10 @@ fn mechanics(c: &mut Criterion) {
         ("gauss-s6", Method::GalerkinGauss(6)),
         ("lobatto-s3", Method::GalerkinLobatto(3)),
     ] {
-        report_evaluations(
-            &format!("kepler-e0.6/{name}/separable"),
-            SeparableIntegrator::new(kepler.system(), scheme(m), h).expect("valid"),
-            kepler.initial_state(),
-        );
         bench_map(
             c,
             &format!("kepler-e0.6/{name}/separable"),
             SeparableIntegrator::new(kepler.system(), scheme(m), h).expect("valid"),
-            kepler.initial_state(),
-        );
-        report_evaluations(
-            &format!("kepler-e0.6/{name}/general"),
-            GalerkinIntegrator::new(kepler.system(), scheme(m), h).expect("valid"),
             kepler.initial_state(),
         );
         bench_map(
@@ -97,11 +87,6 @@ impl Lagrangian<2> for ChargedParticle {
 fn non_separable(c: &mut Criterion) {
     let lobatto4 = || scheme(Method::GalerkinLobatto(4));
     let x0 = PhaseState::new(0.0, Vector2::new(0.5, -0.3), Vector2::new(0.0, 0.0));
-    report_evaluations(
-        "double-pendulum/lobatto-s4/general",
-        GalerkinIntegrator::new(DoublePendulum::default(), lobatto4(), 0.01).expect("valid"),
-        x0,
-    );
     bench_map(
         c,
         "double-pendulum/lobatto-s4/general",
@@ -114,11 +99,6 @@ fn non_separable(c: &mut Criterion) {
         ("gauss-s2", Method::GalerkinGauss(2)),
         ("gauss-s4", Method::GalerkinGauss(4)),
     ] {
-        report_evaluations(
-            &format!("charged-particle/{name}/general"),
-            GalerkinIntegrator::new(particle(), scheme(m), 0.01).expect("valid"),
-            x0,
-        );
         bench_map(
             c,
             &format!("charged-particle/{name}/general"),

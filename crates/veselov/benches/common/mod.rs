@@ -31,17 +31,18 @@ pub fn bench_steps<S: Copy>(
 }
 
 /// Benchmark one step of `map` along a trajectory from `x0`, restarting
-/// every [`RESTART`] steps to stay on the same orbit.
+/// every [`RESTART`] steps to stay on the same orbit, after printing its
+/// machine-independent cost ([`report_evaluations`]).
 #[allow(dead_code)] // not every benchmark binary steps a `OneStepMap`
 pub fn bench_map<const N: usize, M: OneStepMap<N>>(c: &mut Criterion, name: &str, mut map: M, x0: PhaseState<N>) {
+    report_evaluations(name, &mut map, x0);
     bench_steps(c, name, x0, RESTART, |k, x| map.step(k, x).expect("step").0);
 }
 
 /// Print the machine-independent cost beside the timings, over 10⁴
 /// continuing steps: iterations (fixed-point sweeps or Newton residuals),
 /// exact Jacobians and ∇V evaluations per step.
-#[allow(dead_code)] // not every benchmark binary prints counts
-pub fn report_evaluations<const N: usize, M: OneStepMap<N>>(name: &str, mut map: M, x0: PhaseState<N>) {
+pub fn report_evaluations<const N: usize, M: OneStepMap<N>>(name: &str, map: &mut M, x0: PhaseState<N>) {
     let (mut x, mut evaluations, mut iterations, mut jacobians) = (x0, 0, 0, 0);
     let n = 10_000;
     for k in 0..n {
