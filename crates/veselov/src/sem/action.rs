@@ -263,7 +263,7 @@ impl<L: Lagrangian<N>, const N: usize> SemAction<L, N> {
     /// The leaving momentum `∂S/∂q₀` alone (one gradient pass).
     pub fn leaving_momentum(&self, t0: f64, q0: &SVector<f64, N>, q1: &SVector<f64, N>, h: f64) -> SVector<f64, N> {
         if let Some(mass) = &self.mass {
-            return self.segment(mass, t0, q0, q1, h).leaving().1;
+            return self.segment(mass, t0, q0, q1, h).leaving_momentum();
         }
         gradient(
             |a: SVector<DualSVec64<N>, N>| self.action(DualSVec64::from(t0), &a, &lift(q1), DualSVec64::from(h)),

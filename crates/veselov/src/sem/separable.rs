@@ -34,13 +34,6 @@ pub(super) struct Segment<'a, L, const N: usize> {
     pub h: f64,
 }
 
-/// `V`, `∇V` and `∂ₜV` at one node.
-struct PotentialJet<const N: usize> {
-    value: f64,
-    gradient: SVector<f64, N>,
-    rate: f64,
-}
-
 impl<L: Lagrangian<N>, const N: usize> Segment<'_, L, N> {
     /// `v̄` and `½ v̄ᵀMv̄`.
     fn kinetic(&self) -> (SVector<f64, N>, f64) {
@@ -56,27 +49,30 @@ impl<L: Lagrangian<N>, const N: usize> Segment<'_, L, N> {
         })
     }
 
-    /// `V`, `∇V` and `∂ₜV` at `(t, x)`: a gradient pass in `q` and a
-    /// derivative pass in `t`.
-    fn jet(&self, t: f64, x: &SVector<f64, N>) -> PotentialJet<N> {
-        let (value, gradient) = num_dual::gradient(
-            |q: SVector<DualSVec64<N>, N>| self.lagrangian.potential_energy(DualSVec64::from(t), &q),
-            x,
-        );
-        let (_, rate) = num_dual::first_derivative(|s: Dual64| self.lagrangian.potential_energy(s, &lift(x)), t);
-        PotentialJet { value, gradient, rate }
+    /// `Σ bᵢVᵢ`, `Σ bᵢwᵢ∇Vᵢ` and `Σ bᵢwᵢ∂ₜVᵢ` with `wᵢ = weight(cᵢ)`: a
+    /// gradient pass in `q` per node, and a derivative pass in `t` only when
+    /// `with_rate` (the momentum alone does not need `∂ₜV`).
+    fn weighted_sums(&self, weight: impl Fn(f64) -> f64, with_rate: bool) -> (f64, SVector<f64, N>, f64) {
+        let (mut potential, mut gradient, mut rate) = (0.0, SVector::<f64, N>::zeros(), 0.0);
+        for (b, c, t, x) in self.nodes() {
+            let (value, grad) = num_dual::gradient(
+                |q: SVector<DualSVec64<N>, N>| self.lagrangian.potential_energy(DualSVec64::from(t), &q),
+                &x,
+            );
+            potential += b * value;
+            gradient += grad * (b * weight(c));
+            if with_rate {
+                let (_, dt) = num_dual::first_derivative(|s: Dual64| self.lagrangian.potential_energy(s, &lift(&x)), t);
+                rate += b * weight(c) * dt;
+            }
+        }
+        (potential, gradient, rate)
     }
 
     /// `(S, ∂S/∂q₀, E⁻)`.
     pub(super) fn leaving(&self) -> (f64, SVector<f64, N>, f64) {
         let (vbar, kinetic) = self.kinetic();
-        let (mut potential, mut gradient, mut rate) = (0.0, SVector::<f64, N>::zeros(), 0.0);
-        for (b, c, t, x) in self.nodes() {
-            let jet = self.jet(t, &x);
-            potential += b * jet.value;
-            gradient += jet.gradient * (b * (1.0 - c));
-            rate += b * (1.0 - c) * jet.rate;
-        }
+        let (potential, gradient, rate) = self.weighted_sums(|c| 1.0 - c, true);
         let h = self.h;
         (
             h * (kinetic - potential),
@@ -85,16 +81,17 @@ impl<L: Lagrangian<N>, const N: usize> Segment<'_, L, N> {
         )
     }
 
+    /// `∂S/∂q₀` alone (no time-derivative passes).
+    pub(super) fn leaving_momentum(&self) -> SVector<f64, N> {
+        let (vbar, _) = self.kinetic();
+        let (_, gradient, _) = self.weighted_sums(|c| 1.0 - c, false);
+        -(self.mass * vbar) - gradient * self.h
+    }
+
     /// `(∂S/∂q₁, E⁺)`.
     pub(super) fn arrival(&self) -> (SVector<f64, N>, f64) {
         let (vbar, kinetic) = self.kinetic();
-        let (mut potential, mut gradient, mut rate) = (0.0, SVector::<f64, N>::zeros(), 0.0);
-        for (b, c, t, x) in self.nodes() {
-            let jet = self.jet(t, &x);
-            potential += b * jet.value;
-            gradient += jet.gradient * (b * c);
-            rate += b * c * jet.rate;
-        }
+        let (potential, gradient, rate) = self.weighted_sums(|c| c, true);
         let h = self.h;
         (self.mass * vbar - gradient * h, kinetic + potential + h * rate)
     }
