@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{scenario, summary, temp_dir, veselov, workspace_root};
+use common::{assert_mentions, scenario, succeeds, summary, temp_dir, veselov, workspace_root};
 
 /// Replace the `[time]` table of an example with a short horizon.
 /// The example `examples/<name>.toml` cut to `steps` steps, written into `dir`.
@@ -432,29 +432,31 @@ fn failure_mid_run_keeps_partial_results() {
 
 #[test]
 fn listing_commands_describe_models_and_methods() {
-    let out = veselov().arg("models").assert().success();
-    let text = String::from_utf8_lossy(&out.get_output().stdout).into_owned();
-    for needle in [
-        "kepler",
-        "eccentricity = 0.5",
-        "pendulum",
-        "henon-heiles",
-        "double-pendulum",
-        "custom",
-    ] {
-        assert!(text.contains(needle), "models output lacks {needle}");
-    }
-    let out = veselov().arg("methods").assert().success();
-    let text = String::from_utf8_lossy(&out.get_output().stdout).into_owned();
-    for needle in [
-        "midpoint",
-        "galerkin-gauss",
-        "order 2s",
-        "galerkin-lobatto",
-        "order 2s − 2",
-    ] {
-        assert!(text.contains(needle), "methods output lacks {needle}");
-    }
+    let text = succeeds(veselov().arg("models"));
+    assert_mentions(
+        &text,
+        &[
+            "kepler",
+            "eccentricity = 0.5",
+            "pendulum",
+            "henon-heiles",
+            "double-pendulum",
+            "custom",
+        ],
+        "models output",
+    );
+    let text = succeeds(veselov().arg("methods"));
+    assert_mentions(
+        &text,
+        &[
+            "midpoint",
+            "galerkin-gauss",
+            "order 2s",
+            "galerkin-lobatto",
+            "order 2s − 2",
+        ],
+        "methods output",
+    );
 }
 
 #[test]
@@ -477,13 +479,12 @@ fn verify_measures_the_order() {
     // A step that does not divide the horizon is adjusted to land on t_end,
     // and says so; a step that is not positive, or asks for more steps than a
     // run may take (it would not end), is refused at once, naming the flag.
-    let res = veselov()
-        .args(["verify", "--dt", "0.3", "--out"])
-        .arg(dir.join("w"))
-        .arg(&file)
-        .assert()
-        .success();
-    let stdout = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    let stdout = succeeds(
+        veselov()
+            .args(["verify", "--dt", "0.3", "--out"])
+            .arg(dir.join("w"))
+            .arg(&file),
+    );
     assert!(stdout.contains("adjusted to 2.857142857143e-1"), "{stdout}");
     assert!(stdout.contains("outputs in"), "{stdout}");
     for bad in ["0", "-0.1", "1e-300,1e-301", "nan"] {
@@ -505,13 +506,12 @@ fn verify_measures_the_order() {
 fn verify_runs_the_kepler_example_as_documented() {
     let dir = temp_dir("verify-kepler");
     let out = dir.join("v");
-    let res = veselov()
-        .args(["verify", "--dt", "0.1,0.05,0.025", "--out"])
-        .arg(&out)
-        .arg(workspace_root().join("examples/kepler.toml"))
-        .assert()
-        .success();
-    let stdout = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    let stdout = succeeds(
+        veselov()
+            .args(["verify", "--dt", "0.1,0.05,0.025", "--out"])
+            .arg(&out)
+            .arg(workspace_root().join("examples/kepler.toml")),
+    );
     assert!(
         stdout.contains("fitted order") && stdout.contains("dt from"),
         "{stdout}"
@@ -532,13 +532,12 @@ fn verify_runs_the_kepler_example_as_documented() {
 fn verify_warns_when_the_steps_are_not_asymptotic() {
     let dir = temp_dir("verify-coarse");
     let out = dir.join("top");
-    let res = veselov()
-        .args(["verify", "--dt", "0.01,0.005", "--out"])
-        .arg(&out)
-        .arg(workspace_root().join("examples/heavy_top.toml"))
-        .assert()
-        .success();
-    let stdout = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    let stdout = succeeds(
+        veselov()
+            .args(["verify", "--dt", "0.01,0.005", "--out"])
+            .arg(&out)
+            .arg(workspace_root().join("examples/heavy_top.toml")),
+    );
     assert_eq!(summary(&out)["order_reached"], false, "{stdout}");
     assert!(
         stdout.contains("warning: the claimed order 2 is not reached"),
@@ -548,13 +547,12 @@ fn verify_warns_when_the_steps_are_not_asymptotic() {
                 stages = 2\ndt = 0.1\n[time]\nt_end = 6.283185307179586\n";
     let file = scenario(&dir, text);
     let out = dir.join("kepler");
-    let res = veselov()
-        .args(["verify", "--dt", "0.25,0.2", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert()
-        .success();
-    let stdout = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    let stdout = succeeds(
+        veselov()
+            .args(["verify", "--dt", "0.25,0.2", "--out"])
+            .arg(&out)
+            .arg(&file),
+    );
     assert!(
         stdout.contains("warning: the fitted order is above the claimed 4"),
         "{stdout}"
@@ -862,8 +860,7 @@ fn forced_runs_report_the_energy_balance() {
     let dir = temp_dir("forced-headline");
     let file = example_scenario(&dir, "damped_kepler", 2000);
     let out = dir.join("out");
-    let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
-    let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    let said = succeeds(veselov().args(["run", "--out"]).arg(&out).arg(&file));
     assert!(
         said.contains("max |E − E₀ − W| = ") && said.contains("energy balance"),
         "{said}"
@@ -884,8 +881,7 @@ fn forced_runs_report_the_energy_balance() {
     // Conservative: the energy error plot and headline as before.
     let file = example_scenario(&dir, "kepler", 200);
     let out = dir.join("conservative");
-    let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
-    let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    let said = succeeds(veselov().args(["run", "--out"]).arg(&out).arg(&file));
     assert!(said.contains("max |E − E₀| = "), "{said}");
     assert!(out.join("energy_error.svg").exists() && !out.join("energy_balance.svg").exists());
 }
@@ -895,19 +891,20 @@ fn forced_runs_report_the_energy_balance() {
 /// the functions there are.
 #[test]
 fn expression_language_is_documented_and_helpful() {
-    let res = veselov().arg("expressions").assert().success();
-    let text = String::from_utf8_lossy(&res.get_output().stdout).to_string();
-    for needle in [
-        "<name>_dot",
-        "t ",
-        "pi",
-        "e = 2.718281828459045",
-        "pow(a, b)",
-        "atan2(y, x)",
-        "1 to 6",
-    ] {
-        assert!(text.contains(needle), "lacks {needle}: {text}");
-    }
+    let text = succeeds(veselov().arg("expressions"));
+    assert_mentions(
+        &text,
+        &[
+            "<name>_dot",
+            "t ",
+            "pi",
+            "e = 2.718281828459045",
+            "pow(a, b)",
+            "atan2(y, x)",
+            "1 to 6",
+        ],
+        "`veselov expressions`",
+    );
     for f in veselov::expr::FUNCTIONS {
         assert!(text.contains(f), "lacks {f}");
     }
@@ -977,8 +974,7 @@ fn fixed_step_runs_land_on_t_end() {
         );
         let file = scenario(&dir, &text);
         let out = dir.join(format!("out-{steps}"));
-        let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
-        let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+        let said = succeeds(veselov().args(["run", "--out"]).arg(&out).arg(&file));
         let s = summary(&out);
         assert_eq!(s["steps"], steps, "{s}");
         let t_final = s["t_final"].as_f64().expect("number");
@@ -1061,8 +1057,7 @@ fn output_at_chosen_times() {
                 [initial]\nq = [1.0]\np = [0.0]\n[output]\n";
     let file = scenario(&dir, &format!("{base}times = [0.5, 0.25, 0.7]\n"));
     let out = dir.join("out");
-    let res = veselov().args(["run", "--out"]).arg(&out).arg(&file).assert().success();
-    let said = String::from_utf8_lossy(&res.get_output().stdout).to_string();
+    let said = succeeds(veselov().args(["run", "--out"]).arg(&out).arg(&file));
     assert!(said.contains("0.25 written at the nearest step"), "{said}");
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
     let times: Vec<f64> = csv

@@ -24,6 +24,19 @@ pub fn veselov() -> Command {
     Command::cargo_bin("veselov").expect("binary built")
 }
 
+/// Run `command`, which must succeed, and return its standard output.
+pub fn succeeds(command: &mut Command) -> String {
+    let out = command.assert().success();
+    String::from_utf8_lossy(&out.get_output().stdout).into_owned()
+}
+
+/// Assert that `text` (named `what` in the message) contains every needle.
+pub fn assert_mentions(text: &str, needles: &[&str], what: &str) {
+    for needle in needles {
+        assert!(text.contains(needle), "{what} lacks `{needle}`: {text}");
+    }
+}
+
 /// Write `text` as a scenario file in `dir` and return its path.
 pub fn scenario(dir: &Path, text: &str) -> PathBuf {
     let p = dir.join("scenario.toml");
