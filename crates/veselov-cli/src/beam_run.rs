@@ -250,6 +250,7 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         steps_key: "time.t_end",
         bytes: rows as f64 * (cross as f64 * 12.0 * 8.0 + 11.0 * CSV_BYTES_PER_VALUE),
         bytes_key: "output.every",
+        unit: "levels",
     };
     let spec = OutputSpec {
         dir: s.output.dir.clone(),

@@ -587,6 +587,7 @@ where
         steps_key: "time.t_end",
         bytes: snapshots * cells * 8.0 + (steps + 1.0) * 7.0 * CSV_BYTES_PER_VALUE,
         bytes_key: "output.snapshot_every",
+        unit: "levels",
     };
     let spec = OutputSpec {
         dir: s.output.dir.clone(),

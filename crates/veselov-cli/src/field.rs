@@ -611,6 +611,7 @@ fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f6
         } else {
             "output.energy_every"
         },
+        unit: "levels",
     };
     Session::open(
         &loaded.path,

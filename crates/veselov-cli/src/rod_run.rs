@@ -336,6 +336,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         steps_key: "time.t_end",
         bytes: rows as f64 * (nodes as f64 * 12.0 * 8.0 + 9.0 * CSV_BYTES_PER_VALUE),
         bytes_key: "output.every",
+        unit: "levels",
     };
     let spec = OutputSpec {
         dir: s.output.dir.clone(),

@@ -74,6 +74,7 @@ pub fn open_table_session(
         },
         bytes: table_bytes(rows, columns, &output.formats),
         bytes_key: "output.every",
+        unit: "steps",
     };
     let session = Session::open(
         file,

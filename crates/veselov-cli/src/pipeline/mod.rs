@@ -24,6 +24,7 @@ pub mod stream;
 pub mod summary;
 pub mod table;
 
+use std::cell::Cell;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -33,7 +34,7 @@ use veselov::run::{Checkpoint, Control, Observer, Outcome, Status, StepStats, St
 
 use crate::error::CliError;
 use crate::output::prepare_dir;
-use crate::progress::Progress;
+use crate::progress::{Measure, Progress};
 use crate::scenario::key_error;
 pub use checkpoint::Saved;
 
@@ -77,6 +78,8 @@ pub struct Plan {
     pub bytes: f64,
     /// The key that sets the output size.
     pub bytes_key: &'static str,
+    /// What one step is called on the progress bar (`steps`, `levels`).
+    pub unit: &'static str,
 }
 
 impl Plan {
@@ -217,7 +220,13 @@ impl Session {
             checkpoint_every,
             checkpoint_seconds: checkpoint_seconds.filter(|_| checkpoint_every.is_some()),
             resumed,
-            progress: Progress::new(plan.whole_steps(), job.quiet),
+            progress: Progress::new(
+                Measure::Count {
+                    total: plan.whole_steps(),
+                    unit: plan.unit,
+                },
+                job.quiet,
+            ),
         })
     }
 
@@ -250,6 +259,14 @@ impl Session {
         O: Observer<S::State> + Resumable,
     {
         let stop = self.stop(stop);
+        if let Some(t_end) = stop.t_end {
+            // Stopped by time: the step count is not known in advance.
+            self.progress.measure_in(Measure::Time {
+                t_start: stepper.time(state),
+                t_end,
+            });
+        }
+        let reached = Cell::new(stepper.time(state));
         let mut total = Outcome {
             last_step: first,
             steps: 0,
@@ -264,8 +281,9 @@ impl Session {
             let progress = &mut self.progress;
             let mut due = false;
             let clock = self.checkpoint_seconds;
+            let reached = &reached;
             let mut show = |k: u64, _: &S::State, _: &StepStats| {
-                progress.set(k);
+                progress.set(k, reached.get());
                 match clock {
                     Some(every) if k.is_multiple_of(CLOCK_EVERY) && last_checkpoint.elapsed() >= every => {
                         due = true;
@@ -281,7 +299,10 @@ impl Session {
                 chunk.steps = Some(chunk.steps.map_or(next, |n| n.min(next)));
             }
             let out = drive(
-                stepper,
+                &mut TimeKeeping {
+                    inner: stepper,
+                    reached,
+                },
                 state,
                 total.last_step,
                 &chunk,
@@ -311,6 +332,35 @@ impl Session {
         }
         self.progress.finish();
         Ok(total)
+    }
+}
+
+/// A stepper that notes the time of each new state (for the progress bar of
+/// runs that end at a final time).
+struct TimeKeeping<'a, S> {
+    inner: &'a mut S,
+    reached: &'a Cell<f64>,
+}
+
+impl<S: Stepper> Stepper for TimeKeeping<'_, S> {
+    type State = S::State;
+
+    fn step(&mut self, index: u64, state: &mut S::State) -> veselov::Result<StepStats> {
+        let stats = self.inner.step(index, state)?;
+        self.reached.set(self.inner.time(state));
+        Ok(stats)
+    }
+
+    fn time(&self, state: &S::State) -> f64 {
+        self.inner.time(state)
+    }
+
+    fn non_finite(&self, state: &S::State) -> Option<String> {
+        self.inner.non_finite(state)
+    }
+
+    fn finish(&mut self, state: &mut S::State) {
+        self.inner.finish(state);
     }
 }
 
