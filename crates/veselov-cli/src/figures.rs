@@ -82,11 +82,39 @@ pub(crate) fn draw_changes(
     draw_curves(path, (labels.0, x, labels.1), &curves, false)
 }
 
+/// The coordinate columns of a trajectory table, each with its momentum
+/// column: the columns `c` before `energy` for which `p_c` also exists, or
+/// `q<i>` with `p<i>` (see [`crate::run::trajectory_header`]).
+pub fn coordinate_columns(table: &Table) -> Vec<(String, String)> {
+    let before_energy = table.header.iter().take_while(|h| *h != "energy");
+    let pairs = |p: &dyn Fn(&str) -> Option<String>| -> Vec<(String, String)> {
+        before_energy
+            .clone()
+            .skip(1)
+            .filter_map(|q| {
+                let p = p(q)?;
+                table.header.contains(&p).then(|| (q.clone(), p))
+            })
+            .collect()
+    };
+    let named = pairs(&|q| Some(format!("p_{q}")));
+    if !named.is_empty() {
+        return named;
+    }
+    pairs(&|q| {
+        q.strip_prefix('q')
+            .filter(|i| i.parse::<usize>().is_ok())
+            .map(|i| format!("p{i}"))
+    })
+}
+
 /// Energy error (for a forced system, with a `work` column: the energy
 /// balance error and the energy change beside the work), momentum errors
-/// (changes, when forced), phase portrait, (in 2-D) the orbit and (rigid
-/// bodies) the body angular momentum.
-pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(), CliError> {
+/// (changes, when forced), phase portrait of the first coordinate, (with two
+/// coordinates) the orbit in their plane and (rigid bodies) the body angular
+/// momentum.
+pub fn draw_all(dir: &Path, table: &Table, format: &str) -> Result<(), CliError> {
+    let coordinates = coordinate_columns(table);
     let Some(t) = table.column("t") else { return Ok(()) };
     let file = |name: &str| dir.join(format!("{name}.{format}"));
     // A forced system (a `work` column) does not conserve E: plot the energy
@@ -155,17 +183,20 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
         };
         draw(&file("momentum_error"), &fig).map_err(plot_err)?;
     }
-    if let (Some(q0), Some(p0)) = (table.column("q0"), table.column("p0")) {
+    if let Some((q, p)) = coordinates.first()
+        && let (Some(qs), Some(ps)) = (table.column(q), table.column(p))
+    {
+        let label = format!("({q}, {p})");
         let fig = Figure {
             title: "Phase portrait",
-            x_label: "q0",
-            y_label: "p0",
+            x_label: q,
+            y_label: p,
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
             series: vec![Series {
-                label: "(q0, p0)",
-                x: &q0,
-                y: &p0,
+                label: &label,
+                x: &qs,
+                y: &ps,
             }],
             markers: false,
             equal_aspect: false,
@@ -201,19 +232,19 @@ pub fn draw_all(dir: &Path, table: &Table, n: usize, format: &str) -> Result<(),
         };
         draw(&file("body_momentum"), &fig).map_err(plot_err)?;
     }
-    if n == 2
-        && let (Some(q0), Some(q1)) = (table.column("q0"), table.column("q1"))
+    if let [(a, _), (b, _)] = coordinates.as_slice()
+        && let (Some(qa), Some(qb)) = (table.column(a), table.column(b))
     {
         let fig = Figure {
             title: "Orbit in the configuration plane",
-            x_label: "q0",
-            y_label: "q1",
+            x_label: a,
+            y_label: b,
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
             series: vec![Series {
                 label: "orbit",
-                x: &q0,
-                y: &q1,
+                x: &qa,
+                y: &qb,
             }],
             markers: false,
             equal_aspect: true,

@@ -110,8 +110,7 @@ fn plot_dir(dir: &std::path::Path, format: &str) -> Result<(), CliError> {
         )));
     }
     let table = output::Table::read_csv(&dir.join("trajectory.csv"))?;
-    let n = table.header.iter().filter(|h| h.starts_with('q')).count();
-    figures::draw_all(dir, &table, n, format)
+    figures::draw_all(dir, &table, format)
 }
 
 fn main() -> ExitCode {

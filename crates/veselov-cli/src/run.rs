@@ -74,17 +74,33 @@ pub fn resolve_initial<const N: usize>(
     }
 }
 
-/// Columns `t, q0.., p0.., energy, J_<name>..`, and `work` for forced systems.
+/// Columns `t, <coordinates>.., p_<coordinate>.., energy, J_<name>..`, and
+/// `work` for forced systems: the coordinates under the names the model or
+/// scenario gives them (`x, y, p_x, p_y`). Where a name would clash with
+/// another column (a coordinate called `energy`, or both `x` and `p_x`) or
+/// names are missing, every coordinate is `q<i>` with momentum `p<i>`.
 pub fn trajectory_header<const N: usize>(system: &System<N>) -> Vec<String> {
-    let mut header = vec!["t".to_string()];
-    header.extend((0..N).map(|i| format!("q{i}")));
-    header.extend((0..N).map(|i| format!("p{i}")));
-    header.push("energy".into());
-    header.extend(system.momenta.iter().map(|(n, _)| format!("J_{n}")));
-    if system.forced {
-        header.push("work".into());
+    let named = |q: &dyn Fn(usize) -> String, p: &dyn Fn(usize) -> String| {
+        let mut header = vec!["t".to_string()];
+        header.extend((0..N).map(q));
+        header.extend((0..N).map(p));
+        header.push("energy".into());
+        header.extend(system.momenta.iter().map(|(n, _)| format!("J_{n}")));
+        if system.forced {
+            header.push("work".into());
+        }
+        header
+    };
+    let names = &system.coordinates;
+    if names.len() == N {
+        let header = named(&|i| names[i].clone(), &|i| format!("p_{}", names[i]));
+        let mut sorted: Vec<&String> = header.iter().collect();
+        sorted.sort();
+        if sorted.windows(2).all(|w| w[0] != w[1]) && names.iter().all(|n| !n.is_empty() && !n.contains(',')) {
+            return header;
+        }
     }
-    header
+    named(&|i| format!("q{i}"), &|i| format!("p{i}"))
 }
 
 /// The row of `x` under [`trajectory_header`]; `work` is the cumulative work of the forces.

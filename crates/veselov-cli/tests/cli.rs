@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{assert_mentions, scenario, succeeds, summary, temp_dir, veselov, workspace_root};
+use common::{assert_mentions, csv, run, scenario, succeeds, summary, temp_dir, veselov, workspace_root};
 
 /// Replace the `[time]` table of an example with a short horizon.
 /// The example `examples/<name>.toml` cut to `steps` steps, written into `dir`.
@@ -185,8 +185,10 @@ fn every_example_runs() {
         assert_eq!(s["steps"], 40, "{name}");
         let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("trajectory.csv");
         let rigid = csv.starts_with("t,R00,");
+        let header: Vec<&str> = csv.lines().next().unwrap_or_default().split(',').collect();
+        // The first coordinate's momentum column is `p_<name>`.
         assert!(
-            csv.starts_with("t,q0,") || rigid,
+            header.len() > 2 && header.contains(&format!("p_{}", header[1]).as_str()) || rigid,
             "{name}: {}",
             csv.lines().next().unwrap_or_default()
         );
@@ -219,7 +221,7 @@ fn run_writes_npy_json_and_momentum_columns() {
         .assert()
         .success();
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
-    assert_eq!(csv.lines().next(), Some("t,q0,q1,p0,p1,energy,J_angular"));
+    assert_eq!(csv.lines().next(), Some("t,x,y,p_x,p_y,energy,J_angular"));
     let npy = std::fs::read(out.join("trajectory.npy")).expect("npy");
     assert_eq!(&npy[..6], b"\x93NUMPY");
     let rows = csv.lines().count() - 1;
@@ -1134,4 +1136,32 @@ fn benchmark_scenarios_run() {
         let separable = !text.contains("name = \"custom\"") && !text.contains("double-pendulum");
         assert_eq!(counted, separable, "{name}: {s}");
     }
+}
+
+#[test]
+fn trajectory_columns_carry_the_coordinate_names_unless_they_clash() {
+    let header = |coordinates: &str, lagrangian: &str| {
+        let text = format!(
+            "[model]\nname = \"custom\"\ncoordinates = {coordinates}\nlagrangian = \"{lagrangian}\"\n\
+             [method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 3\n[initial]\nq = [1.0, 0.5]\np = [0.0, 0.1]\n"
+        );
+        let (ok, stderr, out) = run(&format!("columns-{}", coordinates.len()), &text);
+        assert!(ok, "{stderr}");
+        let (header, rows) = csv(&out.join("trajectory.csv"));
+        assert_eq!(rows.len(), 4);
+        assert!(out.join("phase.svg").exists() && out.join("orbit.svg").exists());
+        header
+    };
+    assert_eq!(
+        header(
+            "[\"theta1\", \"theta2\"]",
+            "0.5*(theta1_dot^2 + theta2_dot^2) + cos(theta1) + cos(theta2)"
+        ),
+        ["t", "theta1", "theta2", "p_theta1", "p_theta2", "energy"]
+    );
+    // `x` and `p_x` would give two columns `p_x`: positional names instead.
+    assert_eq!(
+        header("[\"x\", \"p_x\"]", "0.5*(x_dot^2 + p_x_dot^2) - 0.5*x^2"),
+        ["t", "q0", "q1", "p0", "p1", "energy"]
+    );
 }

@@ -37,7 +37,7 @@ def final(results):
     rows = []
     for r in results:
         assert r.status == "ok", r.message
-        rows.append([r["q0"][-1], r["q1"][-1], r["p0"][-1], r["p1"][-1], r["energy"][-1]])
+        rows.append([r["q1"][-1], r["q2"][-1], r["p_q1"][-1], r["p_q2"][-1], r["energy"][-1]])
     return np.array(rows)
 
 

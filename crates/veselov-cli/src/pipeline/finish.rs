@@ -120,8 +120,7 @@ pub fn finish<S: Clone>(
         let rows = table.positions()?;
         let rows = rows.0.rows.max(rows.1.rows);
         let data = table_for_plots(dir, "trajectory", &table.header, rows)?;
-        let n = table.header.iter().filter(|h| h.starts_with('q')).count();
-        figures::draw_all(dir, &data, n, &out.plot_format)?;
+        figures::draw_all(dir, &data, &out.plot_format)?;
     }
     if !session.quiet {
         println!("{}; outputs in {}", report(&table), dir.display());
