@@ -692,7 +692,13 @@ where
         return Err(e);
     }
     if s.output.plots {
-        draw(&dir, setup, snapshot_rows, &s.output.plot_format)?;
+        draw(
+            &dir,
+            (setup.nodes, setup.dx),
+            components(&s.model.name),
+            snapshot_rows,
+            &s.output.plot_format,
+        )?;
     }
     if !session.quiet {
         println!(
@@ -713,9 +719,22 @@ where
     }
 }
 
+/// Values per vertex of the field of `model`: 2 for the complex
+/// Klein–Gordon field, else 1.
+pub fn components(model: &str) -> usize {
+    if model == "klein-gordon-complex" { 2 } else { 1 }
+}
+
 /// Energy error and heat maps (first component) of a few snapshots spread
-/// over the run, read back from the files.
-fn draw(dir: &Path, setup: &Setup, snapshot_rows: u64, format: &str) -> Result<(), CliError> {
+/// over the run, read back from the files: `nodes` per axis with spacing
+/// `dx`, `components` values per vertex.
+pub fn draw(
+    dir: &Path,
+    (nodes, dx): ([usize; 2], f64),
+    components: usize,
+    snapshot_rows: u64,
+    format: &str,
+) -> Result<(), CliError> {
     let energy = Table::read_csv(&dir.join("energy.csv"))?;
     if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
         crate::figures::draw_energy_error(
@@ -725,12 +744,7 @@ fn draw(dir: &Path, setup: &Setup, snapshot_rows: u64, format: &str) -> Result<(
             &e,
         )?;
     }
-    let [nx, ny] = setup.nodes;
-    let components = if setup.scenario.model.name == "klein-gordon-complex" {
-        2
-    } else {
-        1
-    };
+    let [nx, ny] = nodes;
     let width: Vec<String> = (0..nx * ny * components).map(|i| i.to_string()).collect();
     let snaps = rows_for_plots(dir, "snapshots", &width, snapshot_rows, 4)?;
     let times = rows_for_plots(dir, "snapshot_times", &["t".to_string()], snapshot_rows, 4)?;
@@ -744,8 +758,8 @@ fn draw(dir: &Path, setup: &Setup, snapshot_rows: u64, format: &str) -> Result<(
             title: &title,
             x_label: "x",
             y_label: "y",
-            x_range: (0.0, nx as f64 * setup.dx),
-            y_range: (0.0, ny as f64 * setup.dx),
+            x_range: (0.0, nx as f64 * dx),
+            y_range: (0.0, ny as f64 * dx),
             values: &grid,
         };
         crate::heatmap::draw_heatmap(&dir.join(format!("field_{k}.png")), &map).map_err(crate::figures::plot_err)?;

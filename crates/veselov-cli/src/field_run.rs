@@ -387,7 +387,7 @@ fn close<S>(
             &energy,
             &first_component,
             &times,
-            lattice,
+            (lattice.dx(), lattice.length()),
             match (s.model.name.as_str(), info.components) {
                 ("sine-gordon", _) => FieldView::Circle,
                 (_, 1) => FieldView::Real,

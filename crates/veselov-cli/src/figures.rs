@@ -312,38 +312,38 @@ pub enum FieldView {
     RealPart,
 }
 
-/// The figures of a lattice-field run: energy error against time, the final
-/// waveform (in `format`) and the space–time heat map of the stored snapshots
+/// The figures of a lattice-field run with node spacing `dx` over a domain
+/// of `length`: energy error against time, the final waveform (in `format`)
+/// and the space–time heat map of the stored snapshots
 /// (always PNG; sin²(φ/2) for a circle-valued field).
 pub fn draw_field(
     dir: &Path,
     energy: &Table,
     snapshots: &[Vec<f64>],
     times: &[f64],
-    lattice: veselov::field::Lattice,
+    (dx, length): (f64, f64),
     view: FieldView,
     format: &str,
 ) -> Result<(), CliError> {
-    let length = lattice.length();
     let file = |name: &str| dir.join(format!("{name}.{format}"));
     if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
         draw_energy_error(&file("energy_error"), "Discrete energy error", &t, &e)?;
     }
     if let Some(last) = snapshots.last() {
         let n = last.len();
-        let x: Vec<f64> = (0..n).map(|i| lattice.x(i)).collect();
+        let x: Vec<f64> = (0..n).map(|i| i as f64 * dx).collect();
         let title = format!("Waveform at t = {}", times.last().copied().unwrap_or(0.0));
+        let (y_label, label) = match view {
+            FieldView::RealPart => ("Re φ", "Re φ(x)"),
+            FieldView::Real | FieldView::Circle => ("φ", "φ(x)"),
+        };
         let fig = Figure {
             title: &title,
             x_label: "x",
-            y_label: "φ",
+            y_label,
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
-            series: vec![Series {
-                label: "φ(x)",
-                x: &x,
-                y: last,
-            }],
+            series: vec![Series { label, x: &x, y: last }],
             markers: false,
             equal_aspect: false,
         };

@@ -14,7 +14,7 @@ pub const MAX_CELLS: usize = 300;
 /// A heat map of `values[row][column]`: rows run along y (time), columns
 /// along x (space).
 pub struct Heatmap<'a> {
-    /// Title (the colour range is appended).
+    /// Title (the colour bar beside the map gives the value of each colour).
     pub title: &'a str,
     /// x-axis label.
     pub x_label: &'a str,
@@ -46,6 +46,64 @@ pub fn draw_heatmap(path: &Path, map: &Heatmap) -> Result<(), PlotError> {
     })
 }
 
+/// Width in pixels of the colour bar and its labels, right of the map.
+const COLOUR_BAR_AREA: u32 = 110;
+
+/// Colour steps drawn in the colour bar.
+const COLOUR_BAR_STEPS: usize = 128;
+
+/// The colour bar: the viridis scale from `lo` (bottom) to `hi` (top), with
+/// value labels on its right.
+fn draw_colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    (lo, hi): (f64, f64),
+) -> Result<(), String> {
+    let text = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(20)
+        .margin_bottom(70)
+        .margin_left(10)
+        .margin_right(5)
+        .right_y_label_area_size(70)
+        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .map_err(text)?
+        .set_secondary_coord(0.0..1.0, lo..hi);
+    let step = (hi - lo) / COLOUR_BAR_STEPS as f64;
+    chart
+        .draw_series((0..COLOUR_BAR_STEPS).map(|k| {
+            let v0 = lo + k as f64 * step;
+            let colour = ViridisRGB.get_color_normalized(v0 + 0.5 * step, lo, hi);
+            Rectangle::new([(0.0, v0), (1.0, v0 + step)], colour.filled())
+        }))
+        .map_err(text)?;
+    chart
+        .configure_secondary_axes()
+        .y_labels(6)
+        .y_label_formatter(&|v| bar_label(*v, (lo, hi)))
+        .label_style((FONT, 14))
+        .draw()
+        .map_err(text)?;
+    chart
+        .draw_series(std::iter::once(Rectangle::new(
+            [(0.0, lo), (1.0, hi)],
+            BLACK.stroke_width(1),
+        )))
+        .map_err(text)?;
+    Ok(())
+}
+
+/// A colour-bar label: fixed decimals enough to tell labels `(hi − lo)/6`
+/// apart, or scientific notation for very large or very small values.
+fn bar_label(v: f64, (lo, hi): (f64, f64)) -> String {
+    let (span, big) = (hi - lo, lo.abs().max(hi.abs()));
+    if span > 0.0 && (1e-3..1e5).contains(&big) && span >= 1e-4 * big {
+        let decimals = (2.0 - span.log10().floor()).clamp(0.0, 8.0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
 /// `count` indices spread evenly over `0..len` (all of them if `len ≤ count`).
 fn subsample(len: usize, count: usize) -> Vec<usize> {
     if len <= count {
@@ -67,9 +125,11 @@ fn render<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, map
         (lo.min(0.0), lo.max(0.0) + 1.0)
     };
     root.fill(&WHITE).map_err(text)?;
-    let title = format!("{} (colour: {lo:.3} to {hi:.3})", map.title);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 22))
+    let area = root.titled(map.title, (FONT, 22)).map_err(text)?;
+    let (width, _) = area.dim_in_pixel();
+    let (main, bar) = area.split_horizontally(width.saturating_sub(COLOUR_BAR_AREA));
+    draw_colour_bar(&bar, (lo, hi))?;
+    let mut chart = ChartBuilder::on(&main)
         .margin(20)
         .x_label_area_size(50)
         .y_label_area_size(70)
@@ -110,6 +170,14 @@ fn render<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, map
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn colour_bar_labels_are_short_and_tell_values_apart() {
+        assert_eq!(bar_label(0.5, (-0.8, 0.8)), "0.50");
+        assert_eq!(bar_label(12.25, (0.0, 20.0)), "12.2");
+        assert_eq!(bar_label(1.0000005, (1.0, 1.000001)), "1.000e0");
+        assert_eq!(bar_label(3e7, (0.0, 1e8)), "3.000e7");
+    }
 
     #[test]
     fn subsample_keeps_ends_and_count() {

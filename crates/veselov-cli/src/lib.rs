@@ -16,6 +16,7 @@ pub mod output;
 pub mod pipeline;
 pub mod plot;
 pub mod progress;
+pub mod redraw;
 pub mod rigid;
 pub mod rod;
 pub mod rod_run;

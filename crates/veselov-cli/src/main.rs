@@ -7,7 +7,7 @@ use clap::{Parser, Subcommand};
 
 use veselov_cli::error::CliError;
 use veselov_cli::route::{run_scenario, verify_scenario};
-use veselov_cli::{catalog, figures, output, run, verify};
+use veselov_cli::{catalog, redraw, run, verify};
 
 /// Structure-preserving variational integrators.
 #[derive(Parser)]
@@ -68,7 +68,7 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
-    /// Redraw the plots of a run from its trajectory.csv.
+    /// Redraw the plots of a run (any kind) or a verify study from its output files, and list them.
     Plot {
         /// A run's output directory.
         dir: PathBuf,
@@ -104,13 +104,14 @@ fn list_methods() {
 }
 
 fn plot_dir(dir: &std::path::Path, format: &str) -> Result<(), CliError> {
-    if format != "svg" && format != "png" {
-        return Err(CliError::Setup(format!(
-            "--format: unknown plot format `{format}`, expected svg or png"
-        )));
+    let written = redraw::redraw(dir, format)?;
+    if written.is_empty() {
+        println!("{}: nothing to draw", dir.display());
     }
-    let table = output::Table::read_csv(&dir.join("trajectory.csv"))?;
-    figures::draw_all(dir, &table, format)
+    for path in written {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
 }
 
 fn main() -> ExitCode {

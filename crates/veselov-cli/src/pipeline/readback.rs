@@ -75,3 +75,55 @@ pub fn rows_for_plots(dir: &Path, stem: &str, header: &[String], rows: u64, max:
     }
     Ok(table)
 }
+
+/// The shape of the float64 NPY array `path` (rows first), read from its
+/// header.
+pub fn npy_shape(path: &Path) -> Result<Vec<usize>, CliError> {
+    let bad = |m: &str| io(path, format!("not a float64 NPY file written by a run: {m}"));
+    let mut f = BufReader::new(std::fs::File::open(path).map_err(|e| io(path, e))?);
+    let mut pre = [0u8; 10];
+    f.read_exact(&mut pre).map_err(|e| io(path, e))?;
+    if &pre[..6] != b"\x93NUMPY" {
+        return Err(bad("no NPY magic"));
+    }
+    let mut dict = vec![0u8; u16::from_le_bytes([pre[8], pre[9]]) as usize];
+    f.read_exact(&mut dict).map_err(|e| io(path, e))?;
+    let dict = String::from_utf8_lossy(&dict);
+    if !dict.contains("'<f8'") {
+        return Err(bad("its dtype is not '<f8'"));
+    }
+    let shape = dict
+        .split_once("'shape': (")
+        .and_then(|(_, rest)| rest.split_once(')'))
+        .ok_or_else(|| bad("no shape"))?
+        .0;
+    shape
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            s.parse::<usize>()
+                .map_err(|_| bad("a shape entry is not a whole number"))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn npy_shape_reads_back_what_the_header_says() {
+        let dir = std::env::temp_dir().join(format!("veselov-npy-shape-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("a.npy");
+        for shape in [vec![7usize], vec![3, 4], vec![5, 6, 12]] {
+            let mut bytes = crate::output::npy_header_shape(&shape);
+            bytes.extend(std::iter::repeat_n(0u8, 8 * shape.iter().product::<usize>()));
+            std::fs::write(&path, bytes).expect("write");
+            assert_eq!(npy_shape(&path).expect("shape"), shape);
+        }
+        std::fs::write(&path, b"not an npy file at all").expect("write");
+        assert!(npy_shape(&path).is_err());
+    }
+}

@@ -7,7 +7,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::data::{axis_range, equalise, extent, prepare};
+use super::data::{axis_range, equalise, extent, offset, offset_label, prepare};
 use super::ticks::{Ticks, ticks};
 use super::{FONT, Figure, Scale};
 
@@ -133,7 +133,26 @@ pub(super) fn render<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let text = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (xs, ys) = (figure.x_scale, figure.y_scale);
-    let prepared: Vec<(Vec<(f64, f64)>, bool)> = figure.series.iter().map(|s| prepare(s, xs, ys)).collect();
+    let mut prepared: Vec<(Vec<(f64, f64)>, bool)> = figure.series.iter().map(|s| prepare(s, xs, ys)).collect();
+    // Values that differ only far into their digits are drawn as deviations
+    // from a round offset named in the axis label.
+    let all = || prepared.iter().flat_map(|p| p.0.iter());
+    let shift = (
+        offset(extent(all().map(|p| p.0)), xs),
+        offset(extent(all().map(|p| p.1)), ys),
+    );
+    for (points, _) in &mut prepared {
+        for p in points.iter_mut() {
+            p.0 -= shift.0.map_or(0.0, |o| o.0);
+            p.1 -= shift.1.map_or(0.0, |o| o.0);
+        }
+    }
+    let x_desc = shift
+        .0
+        .map_or_else(|| figure.x_label.to_string(), |o| offset_label(figure.x_label, o));
+    let y_desc = shift
+        .1
+        .map_or_else(|| figure.y_label.to_string(), |o| offset_label(figure.y_label, o));
     let data: Vec<Vec<(f64, f64)>> = prepared.iter().map(|p| p.0.clone()).collect();
     let empty = data.iter().all(Vec::is_empty);
 
@@ -183,8 +202,8 @@ pub(super) fn render<DB: DrawingBackend>(
     let y_label = |v: &f64| y_ticks.label(*v);
     chart
         .configure_mesh()
-        .x_desc(figure.x_label)
-        .y_desc(figure.y_label)
+        .x_desc(&x_desc)
+        .y_desc(&y_desc)
         .axis_desc_style((FONT, AXIS_LABEL_SIZE))
         .label_style((FONT, TICK_LABEL_SIZE))
         .x_label_formatter(&x_label)
