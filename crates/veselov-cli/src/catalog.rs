@@ -466,11 +466,13 @@ Functions: {functions}
   powf, with a non-constant b exp(b·ln a), which needs a > 0.
 
 Every derivative the integrators take is exact (automatic differentiation of the
-parsed expression). Limits: {max} coordinates, {nesting} levels of nested
+parsed expression). Limits: {max} coordinates (beyond {fixed}, runs take fixed-step
+methods without forces, and verify is not available), {nesting} levels of nested
 parentheses, signs, powers and calls, and an expression tree {height} levels tall
 (long sums and products are fine). Errors name the key and the column.
 ",
         max = crate::custom::MAX_DIMENSION,
+        fixed = crate::custom::MAX_FIXED_DIMENSION,
         nesting = veselov::expr::MAX_NESTING,
         height = veselov::expr::MAX_HEIGHT,
         constants = constants.join(", "),

@@ -8,14 +8,19 @@
 use nalgebra::SVector;
 use veselov::ad::Scalar;
 use veselov::expr::{Expr, SymbolTable};
-use veselov::mechanics::{Force, Lagrangian, Symmetry};
+use veselov::mechanics::{DynLagrangian, Force, Lagrangian, Symmetry};
 
 use crate::error::CliError;
 use crate::scenario::LoadedScenario;
 
+/// Largest number of coordinates of a custom system integrated with a
+/// dimension fixed at compile time (every method and option); beyond it the
+/// run-time-dimension integrator takes over ([`DynCustomLagrangian`]).
+pub const MAX_FIXED_DIMENSION: usize = 6;
+const MAX_SLOTS: usize = 2 * MAX_FIXED_DIMENSION + 1;
+
 /// Largest number of coordinates of a custom system.
-pub const MAX_DIMENSION: usize = 6;
-const MAX_SLOTS: usize = 2 * MAX_DIMENSION + 1;
+pub const MAX_DIMENSION: usize = 64;
 
 fn symbols(scenario: &LoadedScenario, coordinates: &[String], with_velocities: bool) -> Result<SymbolTable, CliError> {
     let mut table = SymbolTable::new();
@@ -158,5 +163,112 @@ impl<const N: usize> Force<N> for CustomForce<N> {
         vars[N..2 * N].copy_from_slice(v.as_slice());
         vars[2 * N] = t;
         SVector::from_fn(|i, _| self.components[i].eval(&vars[..2 * N + 1]))
+    }
+}
+
+/// Evaluate `expr` on the slots `[q, v, t]` (`v` may be empty: then zeros),
+/// in a stack buffer of `K` slots.
+fn eval_slots<D: Scalar, const K: usize>(expr: &Expr, t: D, q: &[D], v: &[D]) -> D {
+    let n = q.len();
+    let mut vars = [D::from(0.0); K];
+    vars[..n].copy_from_slice(q);
+    vars[n..n + v.len()].copy_from_slice(v);
+    vars[2 * n] = t;
+    expr.eval(&vars[..2 * n + 1])
+}
+
+/// [`eval_slots`] with the smallest buffer that holds `2n + 1` slots.
+fn eval_any<D: Scalar>(expr: &Expr, t: D, q: &[D], v: &[D]) -> D {
+    match 2 * q.len() + 1 {
+        0..=17 => eval_slots::<D, 17>(expr, t, q, v),
+        18..=33 => eval_slots::<D, 33>(expr, t, q, v),
+        34..=65 => eval_slots::<D, 65>(expr, t, q, v),
+        _ => eval_slots::<D, { 2 * MAX_DIMENSION + 1 }>(expr, t, q, v),
+    }
+}
+
+/// A Lagrangian given as an expression in a number of coordinates known at
+/// run time (up to [`MAX_DIMENSION`]).
+#[derive(Debug, Clone)]
+pub struct DynCustomLagrangian {
+    expr: Expr,
+    n: usize,
+}
+
+impl DynCustomLagrangian {
+    /// Parse `[model] lagrangian` over `coordinates` (at most [`MAX_DIMENSION`]).
+    pub fn new(scenario: &LoadedScenario, coordinates: &[String]) -> Result<Self, CliError> {
+        let table = symbols(scenario, coordinates, true)?;
+        let source = scenario.scenario.model.lagrangian.as_deref().unwrap_or_default();
+        let expr = Expr::parse(source, &table).map_err(|e| scenario.key_error("model.lagrangian", format!("\n{e}")))?;
+        Ok(Self {
+            expr,
+            n: coordinates.len().min(MAX_DIMENSION),
+        })
+    }
+}
+
+impl DynLagrangian for DynCustomLagrangian {
+    fn dim(&self) -> usize {
+        self.n
+    }
+    fn lagrangian<D: Scalar>(&self, t: D, q: &[D], v: &[D]) -> D {
+        eval_any(&self.expr, t, q, v)
+    }
+}
+
+/// A symmetry generator `ξ_Q(q)` in a number of coordinates known at run time.
+#[derive(Debug, Clone)]
+pub struct DynCustomSymmetry {
+    /// The name (the column `J_<name>`).
+    pub name: String,
+    components: Vec<Expr>,
+}
+
+impl DynCustomSymmetry {
+    /// Parse `[model] symmetries.<name>`.
+    pub fn new(
+        scenario: &LoadedScenario,
+        name: &str,
+        generator: &[String],
+        coordinates: &[String],
+    ) -> Result<Self, CliError> {
+        let key = format!("model.symmetries.{name}");
+        if generator.len() != coordinates.len() {
+            return Err(scenario.key_error(
+                &key,
+                format!(
+                    "expected {} expressions (one per coordinate), got {}",
+                    coordinates.len(),
+                    generator.len()
+                ),
+            ));
+        }
+        let table = symbols(scenario, coordinates, false)?;
+        let components = generator
+            .iter()
+            .enumerate()
+            .map(|(i, src)| {
+                Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("{key}[{i}]"), format!("\n{e}")))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self {
+            name: name.to_string(),
+            components,
+        })
+    }
+
+    /// `ξ_Q(q)` into `out`.
+    pub fn generator<D: Scalar>(&self, q: &[D], out: &mut [D]) {
+        for (o, c) in out.iter_mut().zip(&self.components) {
+            *o = eval_any(c, D::from(0.0), q, &[]);
+        }
+    }
+
+    /// The Noether momentum map `J(q, p) = p·ξ_Q(q)`.
+    pub fn momentum_map(&self, q: &[f64], p: &[f64]) -> f64 {
+        let mut xi = vec![0.0; q.len()];
+        self.generator(q, &mut xi);
+        p.iter().zip(&xi).map(|(a, b)| a * b).sum()
     }
 }

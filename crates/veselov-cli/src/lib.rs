@@ -7,6 +7,7 @@ pub mod beam_run;
 pub mod catalog;
 pub mod cfk_field;
 pub mod custom;
+pub mod dynamic_run;
 pub mod error;
 pub mod field;
 pub mod field_run;

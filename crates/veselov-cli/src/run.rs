@@ -5,7 +5,7 @@
 use nalgebra::SVector;
 use serde_json::json;
 use veselov::mechanics::{GalerkinScheme, Method, PhaseState};
-use veselov::run::{PhaseStepper, SemStepper, Status, StopWhen, Words};
+use veselov::run::{Checkpoint, PhaseStepper, SemStepper, Status, Stepper, StopWhen, Words};
 use veselov::sem::{SemRule, SemState};
 
 use crate::catalog::{self, Choice};
@@ -14,7 +14,7 @@ use crate::output::Table;
 pub use crate::pipeline::RunJob;
 use crate::pipeline::finish::{Totals, empty_outcome, finish, open_table_session, start_or_resume, t_of, totals};
 use crate::pipeline::stream::TableSink;
-use crate::pipeline::table::{Acc, TableObserver, Tracker};
+use crate::pipeline::table::{Acc, RowFn, TableObserver, Tracker};
 use crate::pipeline::{restore, summary, words_error};
 use crate::scenario::{LoadedScenario, note_step_length, planned_steps};
 use crate::systems::{Job, System};
@@ -80,19 +80,25 @@ pub fn resolve_initial<const N: usize>(
 /// another column (a coordinate called `energy`, or both `x` and `p_x`) or
 /// names are missing, every coordinate is `q<i>` with momentum `p<i>`.
 pub fn trajectory_header<const N: usize>(system: &System<N>) -> Vec<String> {
+    let momenta: Vec<String> = system.momenta.iter().map(|(n, _)| n.clone()).collect();
+    header_of(&system.coordinates, N, &momenta, system.forced)
+}
+
+/// The columns of [`trajectory_header`] for `n` coordinates named `names`,
+/// momentum maps named `momenta`, and a `work` column if `forced`.
+pub fn header_of(names: &[String], n: usize, momenta: &[String], forced: bool) -> Vec<String> {
     let named = |q: &dyn Fn(usize) -> String, p: &dyn Fn(usize) -> String| {
         let mut header = vec!["t".to_string()];
-        header.extend((0..N).map(q));
-        header.extend((0..N).map(p));
+        header.extend((0..n).map(q));
+        header.extend((0..n).map(p));
         header.push("energy".into());
-        header.extend(system.momenta.iter().map(|(n, _)| format!("J_{n}")));
-        if system.forced {
+        header.extend(momenta.iter().map(|m| format!("J_{m}")));
+        if forced {
             header.push("work".into());
         }
         header
     };
-    let names = &system.coordinates;
-    if names.len() == N {
+    if names.len() == n {
         let header = named(&|i| names[i].clone(), &|i| format!("p_{}", names[i]));
         let mut sorted: Vec<&String> = header.iter().collect();
         sorted.sort();
@@ -136,6 +142,10 @@ impl Job for RunJob {
             Choice::Variable(rule) => run_variable(&self, scenario, system, rule),
         }
     }
+
+    fn run_dynamic(self, scenario: &LoadedScenario) -> Result<(), CliError> {
+        crate::dynamic_run::run(&self, scenario)
+    }
 }
 
 fn run_fixed<const N: usize>(
@@ -160,12 +170,77 @@ fn run_fixed<const N: usize>(
     note_step_length(scenario.scenario.method.dt, dt, job.quiet);
     let mut map = (system.make_map)(method, dt, scenario.scenario.method.newton_options())
         .map_err(|e| CliError::Setup(e.to_string()))?;
+    let mut stepper = PhaseStepper::new(map.as_mut(), x0.t);
+    let system = &system;
+    let run = FixedRun {
+        job,
+        scenario,
+        model: &system.model,
+        method,
+        dt,
+        e0,
+        dimension: N,
+        header: trajectory_header(system),
+        momenta: system.momenta.iter().map(|(n, _)| n.clone()).collect(),
+        forced: system.forced,
+        row: Box::new(move |x: &PhaseState<N>, w| trajectory_row(system, x, w)),
+    };
+    run_fixed_table(run, &mut stepper, x0)
+}
+
+/// A fixed-step mechanics run once its integrator is built, for systems of
+/// fixed or run-time dimension: what it reports besides the states.
+pub struct FixedRun<'a, S> {
+    /// The command's options.
+    pub job: &'a RunJob,
+    /// The scenario.
+    pub scenario: &'a LoadedScenario,
+    /// The model's name.
+    pub model: &'a str,
+    /// The method.
+    pub method: Method,
+    /// The step actually taken.
+    pub dt: f64,
+    /// The energy of the initial state.
+    pub e0: f64,
+    /// The number of coordinates.
+    pub dimension: usize,
+    /// The columns of `trajectory.*` ([`header_of`]).
+    pub header: Vec<String>,
+    /// The names of the momentum maps (columns `J_<name>`).
+    pub momenta: Vec<String>,
+    /// Whether forces act (the last column is then the work `W`).
+    pub forced: bool,
+    /// The row of a state given the cumulative work.
+    pub row: RowFn<'a, S>,
+}
+
+/// Run `stepper` from `x0` to the scenario's end, streaming the trajectory,
+/// and close with the summary, the plots and the final line.
+pub fn run_fixed_table<St>(run: FixedRun<'_, St::State>, stepper: &mut St, x0: St::State) -> Result<(), CliError>
+where
+    St: Stepper + Checkpoint,
+    St::State: Checkpoint + Clone,
+{
+    let FixedRun {
+        job,
+        scenario,
+        model,
+        method,
+        dt,
+        e0,
+        dimension,
+        header,
+        momenta,
+        forced,
+        row,
+    } = run;
     let scheme = GalerkinScheme::new(method).map_err(|e| CliError::Setup(e.to_string()))?;
     let steps = scenario.steps();
-    let header = trajectory_header(&system);
+    let t0 = stepper.time(&x0);
     // Checked before the session opens its output directory.
     let out = &scenario.scenario.output;
-    let at_steps = out.steps_at_times(&scenario.path, x0.t, dt, steps, job.quiet)?;
+    let at_steps = out.steps_at_times(&scenario.path, t0, dt, steps, job.quiet)?;
     let (mut session, positions, words) = open_table_session(
         job,
         &scenario.path,
@@ -182,32 +257,25 @@ fn run_fixed<const N: usize>(
         steps / out.every + 2,
         positions,
     )?;
-    let system = &system;
-    let mut table = TableObserver::new(
-        header,
-        Box::new(move |x: &PhaseState<N>, w| trajectory_row(system, x, w)),
-        sink,
-        out.every,
-    )
-    .at_steps(at_steps);
+    let columns = header.len();
+    let mut table = TableObserver::new(header, row, sink, out.every).at_steps(at_steps);
     table.track("energy", Acc::Dev);
-    for (name, _) in &system.momenta {
+    for name in &momenta {
         table.track(&format!("J_{name}"), Acc::Dev);
     }
-    if system.forced {
-        table.balance = Some((1 + 2 * N, table.header.len() - 1, 0.0));
+    if forced {
+        table.balance = Some((1 + 2 * dimension, columns - 1, 0.0));
     }
-    let mut stepper = PhaseStepper::new(map.as_mut(), x0.t);
     let mut x = x0;
-    let outcome = start_or_resume(&mut session, &mut stepper, &mut x, &mut table, &words, steps)?;
+    let outcome = start_or_resume(&mut session, stepper, &mut x, &mut table, &words, steps)?;
     let Totals {
         iterations,
         fallback_steps: fallback,
         force_evaluations,
-        ..
+        jacobians,
     } = totals(&session, &outcome);
     let wall = session.wall_seconds();
-    let t_final = t_of(outcome.last_step, x0.t, dt);
+    let t_final = t_of(outcome.last_step, t0, dt);
     finish(
         &scenario.scenario.output,
         &session,
@@ -215,10 +283,10 @@ fn run_fixed<const N: usize>(
         outcome.status.clone(),
         |t, status| {
             let energy = t.column("energy").map_or(0.0, |c| c.value);
-            let names: Vec<String> = system.momenta.iter().map(|(n, _)| n.clone()).collect();
             let mut own = json!({
                 "scenario": scenario.path.display().to_string(),
-                "model": system.model,
+                "model": model,
+                "coordinates": dimension,
                 "method": method.name(),
                 "method_description": scheme.describe(),
                 "stages": match method { Method::GalerkinLobatto(s) | Method::GalerkinGauss(s) => Some(s), _ => None },
@@ -228,14 +296,16 @@ fn run_fixed<const N: usize>(
                 "steps_requested": steps,
                 "energy_initial": e0,
                 "energy_error_max": energy,
-                "momentum_error_max": t.deviations(&names),
+                "momentum_error_max": t.deviations(&momenta),
                 "newton_iterations_mean": iterations as f64 / outcome.last_step.max(1) as f64,
+                // Exact Jacobians per step on the Newton path (null where not counted).
+                "jacobians_mean": (jacobians > 0).then(|| jacobians as f64 / outcome.last_step.max(1) as f64),
                 // ∇V evaluations per step on the separable path (null on the Newton path).
                 "force_evaluations_mean": (force_evaluations > 0)
                     .then(|| force_evaluations as f64 / outcome.last_step.max(1) as f64),
                 "fallback_steps": fallback,
             });
-            if system.forced {
+            if forced {
                 own["work_of_forces"] = json!(t.work());
                 own["energy_balance_error_max"] = json!(t.balance.map_or(0.0, |b| b.2));
             }

@@ -70,6 +70,9 @@ fn sem_factory<const N: usize, L: Lagrangian<N> + Clone + 'static>(l: Rc<L>, for
 pub trait Job {
     /// Do it.
     fn run<const N: usize>(self, scenario: &LoadedScenario, system: System<N>) -> Result<(), CliError>;
+    /// Do it for a custom model with more than [`crate::custom::MAX_FIXED_DIMENSION`]
+    /// coordinates (the run-time-dimension integrator).
+    fn run_dynamic(self, scenario: &LoadedScenario) -> Result<(), CliError>;
 }
 
 fn general_energy<const N: usize, L: Lagrangian<N> + 'static>(l: Rc<L>) -> StateFn<N> {
@@ -331,7 +334,21 @@ fn check_invariance<const N: usize>(
     lagrangian: &CustomLagrangian<N>,
     symmetry: &CustomSymmetry<N>,
 ) -> Result<(), CliError> {
-    // A fixed pseudo-random sequence: the check is the same on every run.
+    for (t, q, v) in invariance_samples(N) {
+        let (q, v) = (
+            SVector::<f64, N>::from_column_slice(&q),
+            SVector::<f64, N>::from_column_slice(&v),
+        );
+        let (defect, size) = veselov::mechanics::invariance_defect(lagrangian, symmetry, t, &q, &v);
+        check_defect(scenario, name, (defect, size), (t, q.as_slice(), v.as_slice()))?;
+    }
+    Ok(())
+}
+
+/// Eight states `(t, q, v)` in `n` coordinates spread over
+/// `|q_i|, |v_i| ∈ [0.3, 1.3]` (either sign) and `t ∈ [0, 1]`, from a fixed
+/// pseudo-random sequence, so that the check is the same on every run.
+pub(crate) fn invariance_samples(n: usize) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
     let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
     let mut next = || {
         seed = seed
@@ -341,32 +358,39 @@ fn check_invariance<const N: usize>(
         let sign = if seed & 1 == 0 { 1.0 } else { -1.0 };
         (u, sign)
     };
-    for _ in 0..8 {
-        let mut draw = || {
-            let (u, sign) = next();
-            sign * (0.3 + u)
-        };
-        let q = nalgebra::SVector::<f64, N>::from_fn(|_, _| draw());
-        let v = nalgebra::SVector::<f64, N>::from_fn(|_, _| draw());
-        let t = next().0;
-        let (defect, size) = veselov::mechanics::invariance_defect(lagrangian, symmetry, t, &q, &v);
-        if !(defect.is_finite() && size.is_finite()) {
-            continue;
-        }
-        if defect.abs() > 1e-9 * size.max(f64::MIN_POSITIVE) {
-            return Err(scenario.key_error(
-                &format!("model.symmetries.{name}"),
-                format!(
-                    "the Lagrangian is not invariant under this generator: δL = ∂L/∂q·ξ + ∂L/∂v·Dξ·v = {defect:e} \
-                     at t = {t}, q = {:?}, v = {:?}, so its momentum map is not conserved (a quasi-symmetry, \
-                     invariant only up to a total derivative, cannot be declared)",
-                    q.as_slice(),
-                    v.as_slice()
-                ),
-            ));
-        }
+    (0..8)
+        .map(|_| {
+            let mut draw = || {
+                let (u, sign) = next();
+                sign * (0.3 + u)
+            };
+            let q: Vec<f64> = (0..n).map(|_| draw()).collect();
+            let v: Vec<f64> = (0..n).map(|_| draw()).collect();
+            (next().0, q, v)
+        })
+        .collect()
+}
+
+/// Refuse the symmetry `name` if its invariance defect `δL` at `(t, q, v)`
+/// is more than round-off (1e-9) of the `size` of the terms it is made of;
+/// states where either is not finite are skipped.
+pub(crate) fn check_defect(
+    scenario: &LoadedScenario,
+    name: &str,
+    (defect, size): (f64, f64),
+    (t, q, v): (f64, &[f64], &[f64]),
+) -> Result<(), CliError> {
+    if !(defect.is_finite() && size.is_finite()) || defect.abs() <= 1e-9 * size.max(f64::MIN_POSITIVE) {
+        return Ok(());
     }
-    Ok(())
+    Err(scenario.key_error(
+        &format!("model.symmetries.{name}"),
+        format!(
+            "the Lagrangian is not invariant under this generator: δL = ∂L/∂q·ξ + ∂L/∂v·Dξ·v = {defect:e} \
+             at t = {t}, q = {q:?}, v = {v:?}, so its momentum map is not conserved (a quasi-symmetry, \
+             invariant only up to a total derivative, cannot be declared)"
+        ),
+    ))
 }
 
 fn dispatch_custom<J: Job>(scenario: &LoadedScenario, job: J) -> Result<(), CliError> {
@@ -387,6 +411,7 @@ fn dispatch_custom<J: Job>(scenario: &LoadedScenario, job: J) -> Result<(), CliE
         4 => job.run(scenario, custom_system::<4>(scenario)?),
         5 => job.run(scenario, custom_system::<5>(scenario)?),
         6 => job.run(scenario, custom_system::<6>(scenario)?),
+        n if n <= MAX_DIMENSION => job.run_dynamic(scenario),
         n => Err(scenario.key_error(
             "model.coordinates",
             format!("expected between 1 and {MAX_DIMENSION} coordinates, got {n}"),

@@ -250,4 +250,14 @@ impl Job for VerifyJob {
             Ok(run_to(map.as_mut(), x0, n).map(|x| (x.q - reference.q).amax().max((x.p - reference.p).amax())))
         })
     }
+
+    fn run_dynamic(self, scenario: &LoadedScenario) -> Result<(), CliError> {
+        Err(scenario.key_error(
+            "model.coordinates",
+            format!(
+                "verify takes custom models of at most {} coordinates (larger ones run with `veselov run`)",
+                crate::custom::MAX_FIXED_DIMENSION
+            ),
+        ))
+    }
 }

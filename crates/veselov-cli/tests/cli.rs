@@ -903,7 +903,7 @@ fn expression_language_is_documented_and_helpful() {
             "e = 2.718281828459045",
             "pow(a, b)",
             "atan2(y, x)",
-            "1 to 6",
+            "1 to 64",
         ],
         "`veselov expressions`",
     );
@@ -1163,5 +1163,117 @@ fn trajectory_columns_carry_the_coordinate_names_unless_they_clash() {
     assert_eq!(
         header("[\"x\", \"p_x\"]", "0.5*(x_dot^2 + p_x_dot^2) - 0.5*x^2"),
         ["t", "q0", "q1", "p0", "p1", "energy"]
+    );
+}
+
+/// A custom model of `n` coordinates `a, b1..b(n−1)`: an anharmonic
+/// oscillator `a` decoupled from a free chain `b` (nearest-neighbour
+/// quartic springs), whose Lagrangian is invariant under a shift of every `b`.
+fn oscillator_and_chain(n: usize, extra: &str) -> String {
+    let b: Vec<String> = (1..n).map(|i| format!("b{i}")).collect();
+    let kinetic: Vec<String> = b.iter().map(|x| format!("{x}_dot^2")).collect();
+    let springs: Vec<String> = b
+        .windows(2)
+        .map(|w| format!("0.5*({1} - {0})^2 + 0.25*({1} - {0})^4", w[0], w[1]))
+        .collect();
+    let coordinates: Vec<String> = std::iter::once("\"a\"".to_string())
+        .chain(b.iter().map(|x| format!("\"{x}\"")))
+        .collect();
+    let shift: Vec<&str> = std::iter::once("\"0\"").chain(b.iter().map(|_| "\"1\"")).collect();
+    let q: Vec<String> = (0..n).map(|i| format!("{}", 1.0 - 0.3 * i as f64)).collect();
+    let p: Vec<String> = (0..n).map(|i| format!("{}", 0.3 + 0.1 * (i as f64).sin())).collect();
+    format!(
+        "[model]\nname = \"custom\"\ncoordinates = [{}]\n\
+         lagrangian = \"0.5*a_dot^2 - 0.5*a^2 - 0.1*a^4 + 0.5*({}) - ({})\"\n\
+         symmetries = {{ shift = [{}] }}\n\
+         [method]\nname = \"galerkin-gauss\"\nstages = 2\ndt = 0.05\n[time]\nsteps = 200\n\
+         [initial]\nq = [{}]\np = [{}]\n{extra}",
+        coordinates.join(", "),
+        kinetic.join(" + "),
+        springs.join(" + "),
+        shift.join(", "),
+        q.join(", "),
+        p.join(", ")
+    )
+}
+
+#[test]
+fn custom_models_beyond_six_coordinates_run_on_the_run_time_dimension_integrator() {
+    // The oscillator alone, on the fixed-size path.
+    let alone = "[model]\nname = \"custom\"\ncoordinates = [\"a\"]\n\
+                 lagrangian = \"0.5*a_dot^2 - 0.5*a^2 - 0.1*a^4\"\n\
+                 [method]\nname = \"galerkin-gauss\"\nstages = 2\ndt = 0.05\n[time]\nsteps = 200\n\
+                 [initial]\nq = [1.0]\np = [0.3]\n";
+    let (ok, stderr, out_alone) = run("dyn-alone", alone);
+    assert!(ok, "{stderr}");
+    let (h1, rows1) = csv(&out_alone.join("trajectory.csv"));
+    assert_eq!(h1[..3], ["t", "a", "p_a"]);
+    for n in [8, 12] {
+        let (ok, stderr, out) = run(&format!("dyn-{n}"), &oscillator_and_chain(n, ""));
+        assert!(ok, "{n}: {stderr}");
+        let (header, rows) = csv(&out.join("trajectory.csv"));
+        assert_eq!(header.len(), 1 + 2 * n + 2, "{header:?}");
+        assert_eq!((header[1].as_str(), header[n + 1].as_str()), ("a", "p_a"));
+        assert_eq!(header.last().map(String::as_str), Some("J_shift"));
+        assert_eq!(rows.len(), 201);
+        // The decoupled oscillator follows the one-coordinate run (the other
+        // path through the code) to the Newton tolerance.
+        let worst = rows
+            .iter()
+            .zip(&rows1)
+            .map(|(r, r1)| (r[1] - r1[1]).abs().max((r[n + 1] - r1[2]).abs()))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-12, "{n}: the oscillator differs by {worst:e}");
+        let s = summary(&out);
+        assert_eq!(s["status"], "ok");
+        assert_eq!(s["coordinates"], n);
+        // The shift momentum is conserved to round-off, the energy of an
+        // order-4 method with h = 0.05 to its truncation error.
+        let shift = s["momentum_error_max"]["shift"].as_f64().expect("number");
+        assert!(shift < 1e-12, "{n}: shift momentum drifts by {shift:e}");
+        let energy = s["energy_error_max"].as_f64().expect("number");
+        assert!(energy < 1e-4, "{n}: energy error {energy:e}");
+        // The factored Jacobian is kept across steps: fewer than one per step
+        // (full Newton evaluates one per iteration, 3 to 4 per step here).
+        let jacobians = s["jacobians_mean"].as_f64().expect("number");
+        assert!(jacobians < 0.5, "{n}: {jacobians} Jacobians per step");
+        assert!(out.join("phase.svg").exists() && out.join("energy_error.svg").exists());
+    }
+}
+
+#[test]
+fn custom_models_beyond_six_coordinates_refuse_what_they_cannot_do() {
+    let refuse = |name: &str, text: String, needles: &[&str]| {
+        let (ok, stderr, _) = run(name, &text);
+        assert!(!ok, "{name} ran");
+        assert_mentions(&stderr, needles, name);
+    };
+    let base = oscillator_and_chain(8, "");
+    let forced = base.replace(
+        "symmetries =",
+        "force = [\"0\", \"0\", \"0\", \"0\", \"0\", \"0\", \"0\", \"-b7_dot\"]\nsymmetries =",
+    );
+    refuse("dyn-force", forced, &["model.force", "at most 6"]);
+    let sem = base.replace("name = \"galerkin-gauss\"\nstages = 2", "name = \"sem-midpoint\"");
+    refuse("dyn-sem", sem, &["method.name", "sem-midpoint"]);
+    let wrong = base.replace("shift = [\"0\"", "shift = [\"1\"");
+    refuse("dyn-symmetry", wrong, &["model.symmetries.shift", "not invariant"]);
+    refuse(
+        "dyn-65",
+        oscillator_and_chain(65, ""),
+        &["model.coordinates", "between 1 and 64"],
+    );
+    let dir = temp_dir("dyn-verify");
+    let file = scenario(&dir, &base);
+    let o = veselov()
+        .args(["verify", "--quiet", "--dt", "0.1,0.05"])
+        .arg(&file)
+        .output()
+        .expect("verify");
+    assert!(!o.status.success());
+    assert_mentions(
+        &String::from_utf8_lossy(&o.stderr),
+        &["model.coordinates", "at most 6"],
+        "verify",
     );
 }

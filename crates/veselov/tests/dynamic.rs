@@ -95,6 +95,9 @@ fn larger_dynamic_system_conserves_total_momentum() {
     }
     // Order-4 method, h = 0.05: energy error O(h⁴) ≈ 1e-5 relative, no drift.
     assert!(worst_e < 1e-4 * e0, "energy error {worst_e:e}");
+    // The factored Jacobian is kept across steps while the iteration contracts.
+    let jacobians = map.jacobians();
+    assert!((1..200).contains(&jacobians), "{jacobians} Jacobians in 2000 steps");
     // Dimension mismatch is a typed error.
     let mut bad = DynState {
         t: 0.0,

@@ -7,9 +7,14 @@
 //! writing into buffers allocated once, so a step allocates nothing. The
 //! Galerkin equations and discrete Legendre transforms are those of
 //! [`GalerkinIntegrator`](super::GalerkinIntegrator) (see there), on heap
-//! storage sized at construction, and both are solved by the one Newton
-//! iteration [`solve_newton`]; this path takes full Newton steps
-//! ([`LineSearch::Full`]) from a constant-position predictor.
+//! storage sized at construction. Each step is solved from a
+//! constant-position predictor by the library's simplified Newton iteration
+//! ([`solve_simplified_newton`]), which keeps the factored exact Jacobian
+//! across steps while it contracts and refreshes it when it does not: the
+//! Hessian passes, `n(2n+1)` per stage, dominate the cost of a Jacobian,
+//! and a residual needs only `2n` first-order passes per stage. Should the
+//! simplified iteration fail, the step is solved again by the full Newton
+//! iteration [`solve_newton`] (full steps, [`LineSearch::Full`]).
 
 use num_dual::{Dual64, HyperDual64};
 
@@ -17,7 +22,9 @@ use super::galerkin::EULER_LAGRANGE_NEWTON_STEP;
 use super::scheme::GalerkinScheme;
 use crate::ad::Scalar;
 use crate::error::{Error, Result, check_finite, check_step};
-use crate::solve::{DenseLu, LineSearch, NewtonOptions, NewtonSystem, solve_newton};
+use crate::solve::{
+    DenseLu, LineSearch, NewtonOptions, NewtonSystem, SimplifiedNewtonSystem, solve_newton, solve_simplified_newton,
+};
 
 /// A Lagrangian on `Rⁿ` with `n` fixed at run time.
 pub trait DynLagrangian {
@@ -113,6 +120,10 @@ pub struct DynGalerkinIntegrator<L> {
     delta: Vec<f64>,
     buf: Buffers,
     lu: DenseLu,
+    /// Whether `lu` holds a factored Jacobian that may be reused.
+    kept: bool,
+    /// Exact Jacobians evaluated since construction.
+    jacobians: u64,
 }
 
 impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
@@ -147,6 +158,8 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
                 d2: vec![HyperDual64::from(0.0); 2 * n],
             },
             lu: DenseLu::new(m * n),
+            kept: false,
+            jacobians: 0,
             scheme,
         })
     }
@@ -154,6 +167,24 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
     /// The dimension.
     pub fn dim(&self) -> usize {
         self.n
+    }
+
+    /// Exact Jacobians evaluated since construction (full or simplified
+    /// Newton).
+    pub fn jacobians(&self) -> u64 {
+        self.jacobians
+    }
+
+    /// The time step `h`.
+    pub fn step_size(&self) -> f64 {
+        self.h
+    }
+
+    /// The options of each step's Newton iteration (tolerance, iteration
+    /// limit); the default is [`NewtonOptions::default`].
+    pub fn with_newton_options(mut self, options: NewtonOptions) -> Self {
+        self.options = options;
+        self
     }
 
     /// Stage derivatives at the current control points; then `G_ν`.
@@ -244,7 +275,16 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
             t: state.t,
             p: &state.p,
         };
-        let report = solve_newton(&mut equations, &options, LineSearch::Full, index, state.t)?;
+        let iterations = match solve_simplified_newton(&mut equations, &options, index, state.t) {
+            // Jacobians are counted where they are assembled.
+            Ok((report, _)) => report.iterations,
+            Err(_) => {
+                // Start again from the predictor with full Newton steps.
+                equations.integrator.z.fill(0.0);
+                let report = solve_newton(&mut equations, &options, LineSearch::Full, index, state.t)?;
+                report.iterations
+            }
+        };
         // q_{k+1} = q_k + Zᵐ, p_{k+1} = p_k + h Σᵢ bᵢ ∂L/∂q(i) (= G_m at the solution).
         for a in 0..n {
             state.q[a] += self.z[m * n + a];
@@ -255,7 +295,7 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
             state.p[a] += dp;
         }
         state.t += self.h;
-        Ok(report.iterations)
+        Ok(iterations)
     }
 }
 
@@ -277,6 +317,9 @@ impl<L: DynLagrangian> NewtonSystem for DynStepEquations<'_, L> {
 
     fn assemble(&mut self) {
         let s = &mut *self.integrator;
+        // The matrix is overwritten: no factored Jacobian is kept any more.
+        s.kept = false;
+        s.jacobians += 1;
         let (n, m) = (s.n, s.scheme.intervals());
         let dim = m * n;
         for nu in 0..m {
@@ -326,5 +369,23 @@ impl<L: DynLagrangian> NewtonSystem for DynStepEquations<'_, L> {
     fn accept(&mut self) -> f64 {
         self.integrator.evaluate(self.t, false);
         self.integrator.residual_norm(self.p)
+    }
+}
+
+impl<L: DynLagrangian> SimplifiedNewtonSystem for DynStepEquations<'_, L> {
+    fn residual_only(&mut self) -> f64 {
+        let s = &mut *self.integrator;
+        s.evaluate(self.t, false);
+        let n = s.n;
+        for nu in 0..s.scheme.intervals() {
+            for a in 0..n {
+                s.delta[nu * n + a] = -(s.g[nu * n + a] + if nu == 0 { self.p[a] } else { 0.0 });
+            }
+        }
+        s.residual_norm(self.p)
+    }
+
+    fn kept_jacobian(&mut self) -> &mut bool {
+        &mut self.integrator.kept
     }
 }

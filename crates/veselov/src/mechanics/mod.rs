@@ -3,6 +3,7 @@
 
 pub mod duplication;
 pub mod dynamic;
+pub mod dynamic_legendre;
 pub mod force;
 pub mod galerkin;
 pub mod lagrangian;
@@ -13,6 +14,7 @@ pub mod state;
 
 pub use duplication::{DuplicatedLagrangian, FlatRetraction, InverseRetraction};
 pub use dynamic::{DynGalerkinIntegrator, DynLagrangian, DynState};
+pub use dynamic_legendre::{dyn_energy, dyn_momentum, dyn_velocity_from_momentum};
 pub use force::{Force, ForceJet, NoForce, force_jet, force_value};
 pub use galerkin::{DiscreteLagrangianValue, GalerkinIntegrator};
 pub use lagrangian::{

@@ -6,7 +6,7 @@ use super::driver::{StepStats, Stepper};
 use crate::error::Result;
 use crate::lgvi::{GroupState, GroupStepMap};
 use crate::lie::GroupFamily;
-use crate::mechanics::{OneStepMap, PhaseState};
+use crate::mechanics::{DynGalerkinIntegrator, DynLagrangian, DynState, OneStepMap, PhaseState};
 use crate::sem::{SemState, VariableStepMap};
 
 /// The first non-finite quantity among named slices.
@@ -55,6 +55,50 @@ impl<M: OneStepMap<N> + ?Sized, const N: usize> Checkpoint for PhaseStepper<'_, 
     }
     fn restore(&mut self, words: &mut Words<'_>) -> Result<()> {
         self.map.restore_carry(words)
+    }
+}
+
+/// The run-time-dimension Galerkin integrator as a stepper
+/// (`t_k = t₀ + k·h`).
+pub struct DynStepper<'a, L> {
+    integrator: &'a mut DynGalerkinIntegrator<L>,
+    t0: f64,
+}
+
+impl<'a, L: DynLagrangian> DynStepper<'a, L> {
+    /// Step with `integrator` on a run whose state 0 is at time `t0`.
+    pub fn new(integrator: &'a mut DynGalerkinIntegrator<L>, t0: f64) -> Self {
+        Self { integrator, t0 }
+    }
+}
+
+impl<L: DynLagrangian> Stepper for DynStepper<'_, L> {
+    type State = DynState;
+    fn step(&mut self, index: u64, state: &mut DynState) -> Result<StepStats> {
+        let before = self.integrator.jacobians();
+        let iterations = self
+            .integrator
+            .step(usize::try_from(index).unwrap_or(usize::MAX), state)?;
+        state.t = self.t0 + (index + 1) as f64 * self.integrator.step_size();
+        Ok(StepStats {
+            iterations,
+            jacobians: usize::try_from(self.integrator.jacobians() - before).unwrap_or(usize::MAX),
+            ..StepStats::default()
+        })
+    }
+    fn time(&self, state: &DynState) -> f64 {
+        state.t
+    }
+    fn non_finite(&self, x: &DynState) -> Option<String> {
+        first_non_finite([("q", x.q.as_slice()), ("p", x.p.as_slice())])
+    }
+}
+
+impl<L> Checkpoint for DynStepper<'_, L> {
+    /// Nothing: each step starts from its state alone.
+    fn save(&self, _out: &mut Vec<f64>) {}
+    fn restore(&mut self, _words: &mut Words<'_>) -> Result<()> {
+        Ok(())
     }
 }
 

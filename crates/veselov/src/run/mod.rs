@@ -27,7 +27,7 @@ mod checkpoint;
 mod driver;
 mod states;
 
-pub use adapters::{GroupStepper, PhaseStepper, SemStepper};
+pub use adapters::{DynStepper, GroupStepper, PhaseStepper, SemStepper};
 pub use checkpoint::{Checkpoint, Words, save_count};
 pub(crate) use checkpoint::{restore_option, save_option};
 pub use driver::{Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, drive};

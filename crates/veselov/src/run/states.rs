@@ -6,7 +6,7 @@ use super::checkpoint::{Checkpoint, Words};
 use crate::error::Result;
 use crate::lgvi::GroupState;
 use crate::lie::GroupFamily;
-use crate::mechanics::PhaseState;
+use crate::mechanics::{DynState, PhaseState};
 use crate::sem::SemState;
 
 fn vector<const N: usize>(words: &mut Words<'_>) -> Result<SVector<f64, N>> {
@@ -23,6 +23,20 @@ impl<const N: usize> Checkpoint for PhaseState<N> {
         self.t = words.one()?;
         self.q = vector(words)?;
         self.p = vector(words)?;
+        Ok(())
+    }
+}
+
+impl Checkpoint for DynState {
+    /// `t, q, p` (the lengths are those of the state restored into).
+    fn save(&self, out: &mut Vec<f64>) {
+        out.push(self.t);
+        out.extend(self.q.iter().chain(self.p.iter()));
+    }
+    fn restore(&mut self, words: &mut Words<'_>) -> Result<()> {
+        self.t = words.one()?;
+        words.fill(&mut self.q)?;
+        words.fill(&mut self.p)?;
         Ok(())
     }
 }
