@@ -1277,3 +1277,32 @@ fn custom_models_beyond_six_coordinates_refuse_what_they_cannot_do() {
         "verify",
     );
 }
+
+#[test]
+fn every_example_writes_to_its_own_directory() {
+    let mut seen = std::collections::BTreeMap::new();
+    for entry in std::fs::read_dir(workspace_root().join("examples")).expect("examples dir") {
+        let path = entry.expect("entry").path();
+        if path.extension().and_then(|e| e.to_str()) != Some("toml") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).expect("read");
+        let value: toml::Value = toml::from_str(&text).expect("valid TOML");
+        // `[output] dir`, or by default `out/<file stem>`.
+        let dir = value
+            .get("output")
+            .and_then(|o| o.get("dir"))
+            .and_then(|d| d.as_str())
+            .map(PathBuf::from)
+            .unwrap_or_else(|| Path::new("out").join(path.file_stem().expect("stem")));
+        if let Some(other) = seen.insert(dir.clone(), path.clone()) {
+            panic!(
+                "{} and {} both write to {}",
+                other.display(),
+                path.display(),
+                dir.display()
+            );
+        }
+    }
+    assert!(seen.len() >= 20, "only {} examples", seen.len());
+}
