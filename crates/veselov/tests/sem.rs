@@ -581,3 +581,80 @@ fn lee_boundary_value_solutions_are_symplectic() {
     assert!(asym(&blocks[0]) < 1e-7 && asym(&blocks[3]) < 1e-7 && cross < 1e-7);
     assert!(blocks[2].amax() > 1e-2 * scale, "the cross block must not vanish");
 }
+
+/// The discrete equations at node `k` of a grid `t`, sampled on the exact
+/// harmonic-oscillator solution `q = cos t`, in the paper's normalisation:
+/// the Euler–Lagrange residual (3.19) `(∂S_{k−1}/∂q₁ + ∂S_k/∂q₀)/h_k` and the
+/// energy residual (3.21) `(E⁻_k − E⁺_{k−1})/h_k`.
+fn continuum_residuals(rule: SemRule, t: [f64; 3]) -> (f64, f64) {
+    let oscillator = HarmonicOscillator::new(1.0, 1.0).expect("valid");
+    let action = SemAction::new(oscillator.system(), rule).expect("valid");
+    let q = |t: f64| Vector1::new(t.cos());
+    let (h0, h1) = (t[1] - t[0], t[2] - t[1]);
+    let (p_arrive, e_arrive) = action.arrival(t[0], &q(t[0]), &q(t[1]), h0);
+    let (_, p_leave, e_leave) = action.leaving(t[1], &q(t[1]), &q(t[2]), h1);
+    (((p_arrive + p_leave)[0] / h1).abs(), ((e_leave - e_arrive) / h1).abs())
+}
+
+/// Seed 001 (3.19)→(3.20) and (3.21)→(3.22): the discrete equations tend to
+/// the Euler–Lagrange equation and energy conservation. On a smoothly
+/// varying grid `t = s + 0.2 sin s` (`s` uniform), the residuals of exact
+/// solutions vanish at rate 1 for the left-point rule (3.18) and at rate 2
+/// for the midpoint rule. On a grid whose steps alternate `h, 2h` the
+/// left-point residuals do not vanish: with `r = h_{k−1}/h_k` they tend to
+/// `|q̈ ((1 + r)/2 − 1)|` and `|(1 − r)/2 · q̇ · V'(q)|` (note 001 §2.7), the
+/// paper's limits hold only for smoothly varying steps; the midpoint rule is
+/// consistent on both grids (rate 1 on the alternating one).
+#[test]
+fn discrete_equations_tend_to_their_continuum_limits() {
+    let node = 1.0;
+    let steps = [0.04, 0.02, 0.01, 0.005, 0.0025];
+    let smooth = |h: f64| {
+        let s = |k: f64| node + k * h + 0.2 * (node + k * h).sin() - 0.2 * node.sin();
+        [s(-1.0), s(0.0), s(1.0)]
+    };
+    let alternating = |h: f64| [node - h, node, node + 2.0 * h];
+    // Rates: 1 for the left point; for the midpoint rule 2 where the steps
+    // vary smoothly (the O(h²) errors of neighbouring steps cancel to first
+    // order) and 1 where they alternate.
+    for (rule, grid, expected, name) in [
+        (
+            SemRule::LeftPoint,
+            &smooth as &dyn Fn(f64) -> [f64; 3],
+            1.0,
+            "left point, smooth grid",
+        ),
+        (SemRule::Midpoint, &smooth, 2.0, "midpoint, smooth grid"),
+        (SemRule::Midpoint, &alternating, 1.0, "midpoint, alternating grid"),
+    ] {
+        let (del, energy): (Vec<f64>, Vec<f64>) = steps.iter().map(|&h| continuum_residuals(rule, grid(h))).unzip();
+        for (what, r) in [("(3.19)", &del), ("(3.21)", &energy)] {
+            let fit = fit_order(&steps, r, 1e-13).expect("fit");
+            println!("{name} {what}: residuals {r:?}, rate {:.3}", fit.order);
+            assert!(
+                (fit.order - expected).abs() < 0.1,
+                "{name} {what}: rate {:.3}",
+                fit.order
+            );
+        }
+    }
+    // Left point, alternating steps (r = 1/2): O(1) residuals at the derived values.
+    let r = 0.5;
+    let (qdd, qd, v_prime) = (-node.cos(), -node.sin(), node.cos());
+    for &h in &steps {
+        let (del, energy) = continuum_residuals(SemRule::LeftPoint, alternating(h));
+        let (del_limit, energy_limit) = (
+            (qdd * ((1.0 + r) / 2.0 - 1.0)).abs(),
+            ((1.0 - r) / 2.0 * qd * v_prime).abs(),
+        );
+        // The limits are approached at rate 1 in h.
+        assert!(
+            (del - del_limit).abs() < 2.0 * h,
+            "h = {h}: (3.19) residual {del} vs {del_limit}"
+        );
+        assert!(
+            (energy - energy_limit).abs() < 2.0 * h,
+            "h = {h}: (3.21) residual {energy} vs {energy_limit}"
+        );
+    }
+}
