@@ -336,3 +336,66 @@ fn forced_separable_path_equals_general_path() {
         }
     }
 }
+
+/// Seed 004 §4 on the diagonal, for van der Pol (a velocity-dependent force)
+/// at several states:
+/// * Prop. 4.4: the energy of the duplicated Lagrangian is odd under the
+///   swap, `E_𝐋 ∘ ι̃ = −E_𝐋` (anywhere, not only on the diagonal);
+/// * Prop. 4.7: on the diagonal its velocity Hessian is `diag(−W, W)`, `W`
+///   that of `L`, so it is regular there when `L` is;
+/// * Thm. 4.8: on the diagonal its (free) Euler–Lagrange accelerations are
+///   the forced accelerations of `(L, F)` in both copies; off the diagonal
+///   they are not.
+#[test]
+fn duplicated_euler_lagrange_equations_on_the_diagonal_are_the_forced_ones() {
+    use veselov::mechanics::{acceleration, energy, forced_acceleration, hessian};
+    let vdp = VanDerPol::default();
+    let (l, f) = (vdp.system(), vdp.force());
+    let dup = duplicated();
+    let states = [
+        (Vector2::new(0.3, -0.2), Vector2::new(1.0, -0.5)),
+        (Vector2::new(-1.1, 0.7), Vector2::new(0.2, 2.5)),
+        (Vector2::new(0.05, 1.9), Vector2::new(-3.0, 0.4)),
+    ];
+    for (t, (q, v)) in states.iter().enumerate() {
+        let t = 0.3 * t as f64;
+        // Prop. 4.4, off the diagonal.
+        let (x, xdot) = (Dup::join(q, &(q * 0.7)), Dup::join(v, &(v * -1.3)));
+        let (e, e_swapped) = (
+            energy(&dup, t, &x, &xdot),
+            energy(&dup, t, &Dup::swap(&x), &Dup::swap(&xdot)),
+        );
+        assert!((e + e_swapped).abs() <= 1e-14 * e.abs().max(1.0), "{e} vs {e_swapped}");
+        // Prop. 4.7.
+        let (x, xdot) = (Dup::join(q, q), Dup::join(v, v));
+        let w = hessian(&l, t, q, v).vv;
+        let big = hessian(&dup, t, &x, &xdot).vv;
+        for i in 0..4 {
+            for j in 0..4 {
+                let expected = match (i < 2, j < 2) {
+                    (true, true) => -w[(i, j)],
+                    (false, false) => w[(i - 2, j - 2)],
+                    _ => 0.0,
+                };
+                assert!((big[(i, j)] - expected).abs() <= 1e-14, "W[{i}{j}] = {}", big[(i, j)]);
+            }
+        }
+        // Thm. 4.8.
+        let forced = forced_acceleration(&l, &f, t, q, v).expect("regular");
+        let free = acceleration(&l, t, q, v).expect("regular");
+        let a = acceleration(&dup, t, &x, &xdot).expect("regular on the diagonal");
+        let (a_q, a_target) = Dup::split(&a);
+        for copy in [a_q, a_target] {
+            assert!(
+                (copy - forced).amax() <= 1e-13 * forced.amax().max(1.0),
+                "{copy} vs {forced}"
+            );
+        }
+        assert!((forced - free).amax() > 1e-3, "the force must matter at this state");
+        let off = acceleration(&dup, t, &Dup::join(q, &(q * 0.5)), &xdot).expect("regular");
+        assert!(
+            (Dup::split(&off).1 - forced).amax() > 1e-6,
+            "off the diagonal the copies are not forced"
+        );
+    }
+}
