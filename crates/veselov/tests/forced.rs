@@ -22,15 +22,23 @@ fn forced_methods() -> Vec<Method> {
 
 /// Coupled van der Pol (ε, ρ, λ) = (0.5, 0.02, 0.8), q = (−½, −¼), v = (0, 4),
 /// error at t = 1 against an RK4 reference with 40 000 compensated steps
-/// (truncation ≈ h⁴·C ≲ 1e-15 here): fitted orders within ±0.2.
+/// (truncation ≈ h⁴·C ≲ 1e-15 here): fitted orders within ±0.2, for the
+/// state (Diagram 7.1, left) and for the energy `E(q, p)` (Diagrams 7.1,
+/// right, and 7.3: the same order 2s − 2 for Lobatto s = 2..5).
 #[test]
 fn van_der_pol_orders() {
     let vdp = VanDerPol::default();
     let x0 = VanDerPol::initial_state();
     let reference = rk4_reference(&vdp.system(), &vdp.force(), &x0, 1.0, 40_000).expect("reference");
+    let energy_of = |x: &PhaseState<2>| {
+        let v = veselov::mechanics::velocity_from_momentum(&vdp.system(), x.t, &x.q, &x.p).expect("regular");
+        veselov::mechanics::energy(&vdp.system(), x.t, &x.q, &v)
+    };
+    let reference_energy = energy_of(&reference);
     for method in forced_methods() {
         let p = scheme(method).order() as f64;
         let mut table = Vec::new();
+        let mut energy_table = Vec::new();
         for n in [4usize, 6, 8, 11, 16, 23, 32, 45, 64, 91, 128, 181, 256, 362, 512] {
             let mut map = GalerkinIntegrator::with_force(vdp.system(), vdp.force(), scheme(method), 1.0 / n as f64)
                 .expect("valid");
@@ -40,6 +48,7 @@ fn van_der_pol_orders() {
             };
             let err = (x.q - reference.q).amax().max((x.p - reference.p).amax());
             table.push((1.0 / n as f64, err));
+            energy_table.push((1.0 / n as f64, (energy_of(&x) - reference_energy).abs()));
             if err < common::floor(n) {
                 break;
             }
@@ -49,6 +58,14 @@ fn van_der_pol_orders() {
         assert!(
             (fit.order - p).abs() <= 0.2,
             "{method:?}: fitted {:.3}, claimed {p}: {table:?}",
+            fit.order
+        );
+        let fit = common::fit_asymptotic(&energy_table, 1.0, p as usize)
+            .unwrap_or_else(|| panic!("{method:?} energy: {energy_table:?}"));
+        assert!(fit.used.len() >= 3, "{method:?} energy: {energy_table:?}");
+        assert!(
+            (fit.order - p).abs() <= 0.2,
+            "{method:?}: energy order {:.3}, claimed {p}: {energy_table:?}",
             fit.order
         );
     }
@@ -200,13 +217,11 @@ fn duplicated_scheme_stays_on_the_diagonal_and_equals_the_forced_scheme() {
     let vdp = VanDerPol::default();
     let x0 = VanDerPol::initial_state();
     let h = 0.02;
-    for method in [
-        Method::Midpoint,
-        Method::GalerkinLobatto(2),
-        Method::GalerkinLobatto(3),
-        Method::GalerkinLobatto(5),
-        Method::GalerkinGauss(2),
-    ] {
+    // Every Lobatto s of the paper's §7.1 (2..5), the midpoint and a Gauss rule.
+    let methods = [Method::Midpoint, Method::GalerkinGauss(2)]
+        .into_iter()
+        .chain((2..=5).map(Method::GalerkinLobatto));
+    for method in methods {
         let mut forced = GalerkinIntegrator::with_force(vdp.system(), vdp.force(), scheme(method), h).expect("valid");
         let mut dup = GalerkinIntegrator::new(duplicated(), scheme(method), h).expect("valid");
         let (mut x, mut y) = (x0, Dup::diagonal_state(&x0));
