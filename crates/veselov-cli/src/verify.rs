@@ -10,11 +10,13 @@ use std::path::PathBuf;
 use serde_json::json;
 use veselov::diagnostics::{fit_order_auto, local_rates};
 use veselov::mechanics::{GalerkinScheme, Method, OneStepMap, PhaseState, integrate};
+use veselov::sem::run_sem;
 
+use crate::catalog::Choice;
 use crate::error::CliError;
 use crate::figures::draw_convergence;
 use crate::output::{Table, prepare_dir, write_json};
-use crate::run::{resolve_initial, resolve_method};
+use crate::run::{resolve_choice, resolve_initial};
 use crate::scenario::{LoadedScenario, landing_steps, note_step_length};
 use crate::systems::{Job, System};
 
@@ -41,6 +43,10 @@ fn run_to<const N: usize>(
         None => Ok(*traj.last()),
     }
 }
+
+/// A variable-step run may take this many times the steps `(t_end − t0)/dt`
+/// of its first step before it is reported as not reaching `t_end`.
+const SEM_STEP_ALLOWANCE: usize = 100;
 
 /// The most steps one `--dt` may ask for (a guard against `--dt 1e-300`).
 pub const MAX_VERIFY_STEPS: f64 = 1e8;
@@ -204,10 +210,28 @@ impl Study {
 
 impl Job for VerifyJob {
     fn run<const N: usize>(self, scenario: &LoadedScenario, system: System<N>) -> Result<(), CliError> {
-        let method = resolve_method(scenario)?;
-        let order = GalerkinScheme::new(method)
-            .map_err(|e| CliError::Setup(e.to_string()))?
-            .order();
+        let choice = resolve_choice(scenario)?;
+        let (name, order) = match choice {
+            Choice::Fixed(method) => (
+                method.name().to_string(),
+                GalerkinScheme::new(method)
+                    .map_err(|e| CliError::Setup(e.to_string()))?
+                    .order(),
+            ),
+            Choice::Variable(rule) => {
+                if system.make_sem.is_none() {
+                    return Err(scenario.key_error(
+                        "method.name",
+                        format!(
+                            "`{}` conserves energy and cannot integrate the forced model `{}`",
+                            rule.name(),
+                            system.model
+                        ),
+                    ));
+                }
+                (rule.name().to_string(), rule.order())
+            }
+        };
         let x0 = resolve_initial(scenario, &system)?;
         let t0 = x0.t;
         let t_end = match scenario.scenario.time.t_end {
@@ -215,8 +239,16 @@ impl Job for VerifyJob {
             None => t0 + scenario.steps() as f64 * scenario.scenario.method.dt,
         };
         let span = t_end - t0;
-        let (steps, dts) = study_steps(&scenario.path, &self.dts, span)?;
-        note_adjusted(&self.dts, &dts, self.quiet);
+        let (steps, dts) = match choice {
+            Choice::Fixed(_) => {
+                let (steps, dts) = study_steps(&scenario.path, &self.dts, span)?;
+                note_adjusted(&self.dts, &dts, self.quiet);
+                (steps, dts)
+            }
+            // The first step of a variable-step run is taken as given (the
+            // last step lands on t_end); `steps` is the count at that step.
+            Choice::Variable(_) => (study_steps(&scenario.path, &self.dts, span)?.0, self.dts.clone()),
+        };
         let (reference, source) = match system.exact.as_ref().and_then(|f| f(&x0, t_end)) {
             Some(x) => (x, "exact solution".to_string()),
             None => {
@@ -237,18 +269,42 @@ impl Job for VerifyJob {
             self.force,
         )?;
         let study = Study {
-            method: method.name().to_string(),
+            method: name,
             order,
             reference: source,
             t_end,
             scale: reference.q.amax().max(reference.p.amax()).max(1.0),
         };
         let options = scenario.scenario.method.newton_options();
-        study.run(&dir, &dts, &steps, self.quiet, |n| {
-            let mut map =
-                (system.make_map)(method, span / n as f64, options).map_err(|e| CliError::Setup(e.to_string()))?;
-            Ok(run_to(map.as_mut(), x0, n).map(|x| (x.q - reference.q).amax().max((x.p - reference.p).amax())))
-        })
+        let error = |x: &PhaseState<N>| (x.q - reference.q).amax().max((x.p - reference.p).amax());
+        match (choice, &system.make_sem) {
+            (Choice::Variable(rule), Some(make)) => study.run(&dir, &dts, &steps, self.quiet, |n| {
+                // `dt` is the first step; the steps follow from the discrete
+                // energy, and the last is shortened to land on t_end.
+                let mut map = make(rule).map_err(|e| CliError::Setup(e.to_string()))?;
+                let limit = n.saturating_mul(SEM_STEP_ALLOWANCE);
+                let h0 = steps.iter().position(|&m| m == n).map_or(span / n as f64, |i| dts[i]);
+                let run = run_sem(map.as_mut(), t0, x0.q, x0.p, h0, t_end, limit, true);
+                Ok(match (run.failure, run.states.last()) {
+                    (Some(e), _) => Err(e),
+                    (None, Some(s)) if s.t == t_end => Ok(error(&PhaseState::new(s.t, s.q, s.p))),
+                    (None, s) => Err(veselov::Error::InvalidParameter {
+                        name: "--dt".into(),
+                        value: format!("{h0:e}"),
+                        reason: format!(
+                            "the variable steps did not reach t_end = {t_end} within {limit} steps (stopped at t = {})",
+                            s.map_or(t0, |s| s.t)
+                        ),
+                    }),
+                })
+            }),
+            (Choice::Fixed(method), _) => study.run(&dir, &dts, &steps, self.quiet, |n| {
+                let mut map =
+                    (system.make_map)(method, span / n as f64, options).map_err(|e| CliError::Setup(e.to_string()))?;
+                Ok(run_to(map.as_mut(), x0, n).map(|x| error(&x)))
+            }),
+            (Choice::Variable(_), None) => Ok(()),
+        }
     }
 
     fn run_dynamic(self, scenario: &LoadedScenario) -> Result<(), CliError> {

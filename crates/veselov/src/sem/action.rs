@@ -51,6 +51,12 @@ impl SemRule {
     pub fn is_symmetric(&self) -> bool {
         !matches!(self, SemRule::LeftPoint)
     }
+
+    /// The order of the integrator in the first step `h₀` (the later steps
+    /// scale with it): 2 for the symmetric rules, 1 for the left point.
+    pub fn order(&self) -> usize {
+        if self.is_symmetric() { 2 } else { 1 }
+    }
 }
 
 /// All first and second derivatives of `S` needed by the SEM step.
