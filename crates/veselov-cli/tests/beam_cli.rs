@@ -92,3 +92,46 @@ fn bad_beam_input_names_the_key() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+/// The float64 data of an NPY file written by a run.
+fn npy_data(path: &std::path::Path) -> Vec<f64> {
+    let bytes = std::fs::read(path).expect("npy");
+    let header = 10 + u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    bytes[header..]
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+        .collect()
+}
+
+/// `examples/beam_cantilever_damped.toml` as shipped: released straight under
+/// gravity, the critically damped cantilever settles (the tip moves by less
+/// than 1e-9 of its deflection between the last rows) to a deflection just
+/// below Timoshenko's static δ = qL⁴/(8EI) + qL²/(2kGA): gravity is lumped on
+/// the first vertex of each cell, a first-order error in Δs that the library
+/// test `beam_forces` measures converging; at the example's ten cells it is
+/// 10–15 % (bound 20 %), and the run is never above the theory.
+#[test]
+fn damped_cantilever_settles_under_gravity() {
+    let (ok, err, out) = run("damped-cantilever", &example("beam_cantilever_damped.toml"));
+    assert!(ok, "{err}");
+    assert_eq!(summary(&out)["status"], "ok");
+    let shape = npy_shape(&out.join("frames.npy"));
+    let (rows, nodes) = (shape[0], shape[1]);
+    let data = npy_data(&out.join("frames.npy"));
+    let tip = |row: usize| data[(row * nodes + nodes - 1) * 12 + 10];
+    let (last, before) = (tip(rows - 1), tip(rows - 2));
+    assert!(
+        (last - before).abs() <= 1e-9 * last.abs(),
+        "not settled: {before} → {last}"
+    );
+    // The example's data: L = 1, 0.05 m square, ρ = 1000, E = 1.18e8, ν = 0.3, k = 5/6.
+    let (length, side, density, young, poisson) = (1.0_f64, 0.05_f64, 1000.0, 1.18e8, 0.3);
+    let area = side * side;
+    let inertia = side.powi(4) / 12.0;
+    let q = density * area * 9.81;
+    let k_g_a = 5.0 / 6.0 * young / (2.0 * (1.0 + poisson)) * area;
+    let timoshenko = q * length.powi(4) / (8.0 * young * inertia) + q * length * length / (2.0 * k_g_a);
+    let ratio = -last / timoshenko;
+    eprintln!("settled tip deflection {last:.6} m, Timoshenko {timoshenko:.6} m, ratio {ratio:.4}");
+    assert!((0.8..1.0).contains(&ratio), "tip / Timoshenko = {ratio}");
+}
