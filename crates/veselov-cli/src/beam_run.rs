@@ -377,8 +377,9 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     }
 }
 
-/// Centreline snapshots (positions of the frames), momentum-map changes and
-/// energy, read back from the files.
+/// Centreline snapshots (positions of the frames), the centreline animation
+/// (`centerline.gif`), momentum-map changes and energy, read back from the
+/// files.
 pub fn draw_beam(dir: &Path, cross: usize, rows: u64, x: &str, format: &str) -> Result<(), CliError> {
     let width: Vec<String> = (0..cross * 12).map(|i| i.to_string()).collect();
     let snaps = rows_for_plots(dir, "frames", &width, rows, 6)?;
@@ -392,6 +393,14 @@ pub fn draw_beam(dir: &Path, cross: usize, rows: u64, x: &str, format: &str) -> 
         })
         .collect();
     crate::rod_run::draw_centerlines(dir, &points, format)?;
+    crate::animation::animate_run(
+        dir,
+        ("frames", 12),
+        cross,
+        rows,
+        |r, c| [r[12 * c + 9], r[12 * c + 10], r[12 * c + 11]],
+        x,
+    )?;
     let momentum = Table::read_csv(&dir.join("momentum.csv"))?;
     crate::figures::draw_changes(
         &dir.join(format!("momentum.{format}")),

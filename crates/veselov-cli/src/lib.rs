@@ -2,6 +2,7 @@
 //! the run and verify jobs, output writers and plots. The binary in `main.rs`
 //! only parses the command line.
 
+pub mod animation;
 pub mod beam;
 pub mod beam_run;
 pub mod catalog;

@@ -196,7 +196,7 @@ fn redraw_field(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErro
     draw_field(dir, &energy, &first_component, &times, (dx, length), view, format)
 }
 
-/// The figure files (`.svg`, `.png`) in `dir` with their modification times.
+/// The figure files (`.svg`, `.png`, `.gif`) in `dir` with their modification times.
 fn figure_files(dir: &Path) -> Result<BTreeMap<PathBuf, Option<SystemTime>>, CliError> {
     let entries = std::fs::read_dir(dir).map_err(|e| CliError::Io {
         path: dir.to_path_buf(),
@@ -205,7 +205,7 @@ fn figure_files(dir: &Path) -> Result<BTreeMap<PathBuf, Option<SystemTime>>, Cli
     Ok(entries
         .filter_map(Result::ok)
         .map(|e| e.path())
-        .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("svg" | "png")))
+        .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("svg" | "png" | "gif")))
         .map(|p| {
             let modified = std::fs::metadata(&p).and_then(|m| m.modified()).ok();
             (p, modified)

@@ -477,8 +477,8 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     }
 }
 
-/// Centreline snapshots (x–z and y–z), momentum changes and energy, read back
-/// from the files.
+/// Centreline snapshots (x–z and y–z), the centreline animation
+/// (`centerline.gif`), momentum changes and energy, read back from the files.
 pub fn draw_rod(dir: &Path, nodes: usize, rows: u64, format: &str) -> Result<(), CliError> {
     let width: Vec<String> = (0..nodes * 3).map(|i| i.to_string()).collect();
     let snaps = rows_for_plots(dir, "centerline", &width, rows, 6)?;
@@ -488,6 +488,14 @@ pub fn draw_rod(dir: &Path, nodes: usize, rows: u64, format: &str) -> Result<(),
         .map(|r| (0..nodes).map(|p| [r[3 * p], r[3 * p + 1], r[3 * p + 2]]).collect())
         .collect();
     draw_centerlines(dir, &points, format)?;
+    crate::animation::animate_run(
+        dir,
+        ("centerline", 3),
+        nodes,
+        rows,
+        |r, p| [r[3 * p], r[3 * p + 1], r[3 * p + 2]],
+        "t",
+    )?;
     let momentum = Table::read_csv(&dir.join("momentum.csv"))?;
     crate::figures::draw_changes(
         &dir.join(format!("momentum.{format}")),

@@ -13,7 +13,7 @@ fn figures(dir: &Path) -> BTreeSet<String> {
         .expect("dir")
         .filter_map(Result::ok)
         .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".svg") || n.ends_with(".png"))
+        .filter(|n| n.ends_with(".svg") || n.ends_with(".png") || n.ends_with(".gif"))
         .collect()
 }
 
@@ -89,9 +89,13 @@ fn plot_redraws_every_kind_of_run() {
         (
             "beam_free_free",
             &[("t_end", "0.02")],
-            &["centerline_xz.svg", "momentum.svg"],
+            &["centerline_xz.svg", "momentum.svg", "centerline.gif"],
         ),
-        ("rod_helix", &[("t_end", "0.02")], &["centerline_yz.svg", "energy.svg"]),
+        (
+            "rod_helix",
+            &[("t_end", "0.02")],
+            &["centerline_yz.svg", "energy.svg", "centerline.gif"],
+        ),
     ];
     for (name, settings, expected) in cases {
         let dir = temp_dir(&format!("plot-{name}"));

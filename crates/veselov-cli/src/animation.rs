@@ -1,0 +1,169 @@
+//! An animated GIF of a centreline (of the rod or the beam) over a run: one
+//! frame per stored row, at most [`MAX_FRAMES`], drawn in the coordinate
+//! plane in which the centreline moves most, with the same axes (one unit
+//! the same length on both) in every frame, and the time in the title.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use crate::plot::{FONT, PlotError, register_font};
+
+/// Frames kept (rows are subsampled evenly, first and last kept).
+pub const MAX_FRAMES: u64 = 120;
+
+/// Delay between frames in milliseconds.
+const FRAME_DELAY_MS: u32 = 80;
+
+/// Size of the animation in pixels.
+const SIZE: (u32, u32) = (640, 480);
+
+/// The two coordinate axes (0 = x, 1 = y, 2 = z) over which `frames` spread
+/// most, in increasing order, with their common ranges.
+fn plane(frames: &[Vec<[f64; 3]>]) -> ([usize; 2], [(f64, f64); 2]) {
+    let mut ranges = [(f64::INFINITY, f64::NEG_INFINITY); 3];
+    for p in frames.iter().flatten() {
+        for (r, v) in ranges.iter_mut().zip(p) {
+            if v.is_finite() {
+                *r = (r.0.min(*v), r.1.max(*v));
+            }
+        }
+    }
+    let spread = |a: usize| {
+        let (lo, hi) = ranges[a];
+        if hi >= lo { hi - lo } else { 0.0 }
+    };
+    // Drop the axis of least spread.
+    let least = (0..3).min_by(|&a, &b| spread(a).total_cmp(&spread(b))).unwrap_or(1);
+    let axes = match least {
+        0 => [1, 2],
+        1 => [0, 2],
+        _ => [0, 1],
+    };
+    // Equal units, with a 10 % margin, never degenerate.
+    let half = axes.iter().map(|&a| 0.55 * spread(a)).fold(1e-9_f64, f64::max);
+    let range = |a: usize| {
+        let (lo, hi) = ranges[a];
+        let mid = if hi >= lo { 0.5 * (lo + hi) } else { 0.0 };
+        (mid - half, mid + half)
+    };
+    (axes, [range(axes[0]), range(axes[1])])
+}
+
+/// Draw `frames` (each the points of the centreline) at `times` as an
+/// animated GIF at `path`; `time_label` names the evolution parameter (`t`,
+/// or `s` for the beam's space evolution).
+pub fn draw_centerline_animation(
+    path: &Path,
+    frames: &[Vec<[f64; 3]>],
+    times: &[f64],
+    time_label: &str,
+) -> Result<(), PlotError> {
+    let fail = |message: String| PlotError {
+        path: path.to_path_buf(),
+        message,
+    };
+    register_font().map_err(fail)?;
+    let ([a, b], [ra, rb]) = plane(frames);
+    let names = ["x", "y", "z"];
+    let root = BitMapBackend::gif(path, SIZE, FRAME_DELAY_MS)
+        .map_err(|e| fail(e.to_string()))?
+        .into_drawing_area();
+    let text = |e: DrawingAreaErrorKind<_>| fail(e.to_string());
+    for (k, points) in frames.iter().enumerate() {
+        root.fill(&WHITE).map_err(text)?;
+        let title = match times.get(k) {
+            Some(t) => format!("Centreline, {time_label} = {t:.4}"),
+            None => format!("Centreline, frame {k}"),
+        };
+        // A square plotting area keeps one unit the same length on both axes.
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, (FONT, 20))
+            .margin(15)
+            .margin_left(80)
+            .margin_right(80)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(ra.0..ra.1, rb.0..rb.1)
+            .map_err(text)?;
+        chart
+            .configure_mesh()
+            .x_desc(names[a])
+            .y_desc(names[b])
+            .label_style((FONT, 13))
+            .axis_desc_style((FONT, 15))
+            .draw()
+            .map_err(text)?;
+        chart
+            .draw_series(LineSeries::new(
+                points.iter().map(|p| (p[a], p[b])),
+                RGBColor(31, 119, 180).stroke_width(2),
+            ))
+            .map_err(text)?;
+        root.present().map_err(text)?;
+    }
+    Ok(())
+}
+
+/// Read the centreline of every stored row (at most [`MAX_FRAMES`]) from
+/// `dir/<stem>.npy` (rows of `nodes` points of `width` values, the point
+/// given by `point(row, node)`), the times from the column `time` of
+/// `dir/energy.csv` (a row for each stored row), and write
+/// `dir/centerline.gif`.
+pub fn animate_run(
+    dir: &Path,
+    (stem, width): (&str, usize),
+    nodes: usize,
+    rows: u64,
+    point: impl Fn(&[f64], usize) -> [f64; 3],
+    time: &str,
+) -> Result<(), crate::error::CliError> {
+    use crate::pipeline::readback::rows_for_plots;
+    let columns: Vec<String> = (0..nodes * width).map(|i| i.to_string()).collect();
+    let stored = rows_for_plots(dir, stem, &columns, rows, MAX_FRAMES)?;
+    let frames: Vec<Vec<[f64; 3]>> = stored
+        .rows
+        .iter()
+        .map(|r| (0..nodes).map(|p| point(r, p)).collect())
+        .collect();
+    let header = crate::output::Table::read_csv(&dir.join("energy.csv"))?.header;
+    let times = rows_for_plots(dir, "energy", &header, rows, MAX_FRAMES)?
+        .column(time)
+        .unwrap_or_default();
+    draw_centerline_animation(&dir.join("centerline.gif"), &frames, &times, time).map_err(crate::figures::plot_err)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_plane_is_that_of_the_largest_spread() {
+        // A rod along z bending in y: the y–z plane.
+        let frames: Vec<Vec<[f64; 3]>> = (0..3)
+            .map(|k| (0..5).map(|i| [0.0, 0.01 * (k * i) as f64, 0.1 * i as f64]).collect())
+            .collect();
+        let (axes, [ra, rb]) = plane(&frames);
+        assert_eq!(axes, [1, 2]);
+        assert!((ra.1 - ra.0 - (rb.1 - rb.0)).abs() < 1e-12, "equal units");
+        assert!(rb.0 <= 0.0 && rb.1 >= 0.4);
+    }
+
+    #[test]
+    fn writes_an_animated_gif() {
+        let dir = std::env::temp_dir().join(format!("veselov-gif-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("centerline.gif");
+        let frames: Vec<Vec<[f64; 3]>> = (0..4)
+            .map(|k| {
+                (0..10)
+                    .map(|i| [0.1 * i as f64, (0.3 * (k + i) as f64).sin(), 0.0])
+                    .collect()
+            })
+            .collect();
+        draw_centerline_animation(&path, &frames, &[0.0, 0.1, 0.2, 0.3], "t").expect("drawn");
+        let bytes = std::fs::read(&path).expect("gif");
+        assert!(bytes.starts_with(b"GIF89a"), "a GIF file");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
