@@ -21,6 +21,7 @@ pub mod progress;
 pub mod redraw;
 pub mod rigid;
 pub mod rod;
+pub mod rod_motion;
 pub mod rod_run;
 pub mod route;
 pub mod run;

@@ -13,8 +13,8 @@
 //! poisson = 0.5                 # or shear_modulus = … (Pa)
 //! shear_coefficient = 0.9       # κ (default: Cowper's, 6(1+ν)/(7+6ν) circle, 10(1+ν)/(12+11ν) rectangle)
 //! [ends]
-//! start = "clamped"             # free | clamped (held at its initial pose)
-//! end = "free"
+//! start = "clamped"             # free | clamped (held at its initial pose) | driven
+//! end = "free"                  # (driven: [ends.start_motion], see `rod_motion`)
 //! [loads]
 //! gravity = [0.0, 0.0, -9.81]   # m/s²
 //! damping = 0.5                 # c_r: force −c_r ∂_t r per unit length
@@ -53,6 +53,7 @@ use veselov::models::rod::{
 };
 
 use crate::error::CliError;
+use crate::rod_motion::{MotionSpec, driven_end};
 use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value};
 
 /// The model name of the rod kind.
@@ -99,6 +100,8 @@ pub(crate) struct RodModelSpec {
 pub(crate) struct EndsSpec {
     pub start: Option<String>,
     pub end: Option<String>,
+    pub start_motion: Option<MotionSpec>,
+    pub end_motion: Option<MotionSpec>,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -326,13 +329,6 @@ impl RodSetup {
             ));
         }
         let every = scenario.output.rows_every(path, steps)?;
-        let end = |k: &str, v: &Option<String>, at: f64| -> Result<EndCondition, CliError> {
-            match v.as_deref().unwrap_or("free") {
-                "free" => Ok(EndCondition::Free),
-                "clamped" => Ok(EndCondition::Clamped(Shape::Straight.pose(at))),
-                other => Err(key(k, format!("unknown end condition `{other}` (free | clamped)"))),
-            }
-        };
         let i = &scenario.initial;
         let shape = match i.shape.as_deref().unwrap_or("straight") {
             "straight" => Shape::Straight,
@@ -361,17 +357,31 @@ impl RodSetup {
                 ),
             ));
         }
-        // A clamped end holds the initial shape's pose there.
-        let mut ends = RodEnds {
-            start: end("ends.start", &scenario.ends.start, 0.0)?,
-            end: end("ends.end", &scenario.ends.end, length)?,
+        // A clamped end holds the initial shape's pose there; a driven one
+        // moves from it (the march's lattice time Δt is the run's t = 0).
+        let end = |which: &str, v: &Option<String>, motion: &Option<MotionSpec>, at: f64| {
+            let k = format!("ends.{which}");
+            if motion.is_some() && v.as_deref() != Some("driven") {
+                return Err(key(
+                    &format!("ends.{which}_motion"),
+                    format!("given, but `{k}` is not \"driven\""),
+                ));
+            }
+            match v.as_deref().unwrap_or("free") {
+                "free" => Ok(EndCondition::Free),
+                "clamped" => Ok(EndCondition::Clamped(shape.pose(at))),
+                "driven" => driven_end(path, which, &motion.clone().unwrap_or_default(), shape.pose(at), dt),
+                other => Err(key(
+                    &k,
+                    format!("unknown end condition `{other}` (free | clamped | driven)"),
+                )),
+            }
         };
-        if let EndCondition::Clamped(_) = ends.start {
-            ends.start = EndCondition::Clamped(shape.pose(0.0));
-        }
-        if let EndCondition::Clamped(_) = ends.end {
-            ends.end = EndCondition::Clamped(shape.pose(length));
-        }
+        let e = &scenario.ends;
+        let ends = RodEnds {
+            start: end("start", &e.start, &e.start_motion, 0.0)?,
+            end: end("end", &e.end, &e.end_motion, length)?,
+        };
         let l = &scenario.loads;
         let gravity = vector(path, "loads.gravity", l.gravity)?;
         let loads = RodLoads {

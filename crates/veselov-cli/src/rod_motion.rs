@@ -1,0 +1,101 @@
+//! Driven rod ends from the command line: `[ends] start = "driven"` (or
+//! `end`) with `[ends.start_motion]` giving the end's motion as expressions in
+//! the run's time `t` (the expression language of custom models: `t`, `pi`,
+//! `e`, the operators and functions `veselov expressions` lists):
+//!
+//! ```toml
+//! [ends]
+//! start = "driven"
+//! [ends.start_motion]
+//! displacement = ["0", "0.01*sin(20*t)", "0"]   # m, added to the initial position
+//! rotation = ["0", "0", "0.2*sin(10*t)"]        # rad, a rotation vector applied to the initial frame
+//! ```
+//!
+//! The end's pose at time `t` is `(r₀ + Δr(t), exp(θ(t)) R₀)`, `(r₀, R₀)` its
+//! initial pose; `Δr` and `θ` default to zero and must vanish at `t = 0` (the
+//! end starts where the rod is).
+
+use std::path::Path;
+use std::sync::Arc;
+
+use nalgebra::Vector3;
+use serde::Deserialize;
+use veselov::expr::{Expr, SymbolTable};
+use veselov::field::fibre::Pose;
+use veselov::lie::so3;
+use veselov::models::rod::EndCondition;
+
+use crate::error::CliError;
+use crate::scenario::key_error;
+
+/// `[ends.start_motion]` or `[ends.end_motion]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MotionSpec {
+    /// `Δr(t)`, three expressions (m).
+    pub displacement: Option<[String; 3]>,
+    /// `θ(t)`, a spatial rotation vector, three expressions (rad).
+    pub rotation: Option<[String; 3]>,
+}
+
+/// Largest `|Δr(0)|`, `|θ(0)|` accepted as zero.
+const START_TOLERANCE: f64 = 1e-12;
+
+/// Three expressions in `t`, parsed with errors naming `key[i]`.
+fn parse_vector(file: &Path, key: &str, sources: &Option<[String; 3]>) -> Result<Option<[Expr; 3]>, CliError> {
+    let Some(sources) = sources else {
+        return Ok(None);
+    };
+    let mut table = SymbolTable::new();
+    table.variable("t").map_err(|e| key_error(file, key, e.to_string()))?;
+    let parse = |i: usize| {
+        Expr::parse(&sources[i], &table).map_err(|e| key_error(file, &format!("{key}[{i}]"), format!("\n{e}")))
+    };
+    Ok(Some([parse(0)?, parse(1)?, parse(2)?]))
+}
+
+fn evaluate(v: &Option<[Expr; 3]>, t: f64) -> Vector3<f64> {
+    match v {
+        Some(e) => Vector3::new(e[0].eval(&[t]), e[1].eval(&[t]), e[2].eval(&[t])),
+        None => Vector3::zeros(),
+    }
+}
+
+/// The driven end `which` (`start` or `end`) from `spec`, starting at `rest`;
+/// the march's lattice time `t_lattice` is the run's `t_lattice − offset`.
+pub(crate) fn driven_end(
+    file: &Path,
+    which: &str,
+    spec: &MotionSpec,
+    rest: Pose<f64>,
+    offset: f64,
+) -> Result<EndCondition, CliError> {
+    let key = format!("ends.{which}_motion");
+    let displacement = parse_vector(file, &format!("{key}.displacement"), &spec.displacement)?;
+    let rotation = parse_vector(file, &format!("{key}.rotation"), &spec.rotation)?;
+    if displacement.is_none() && rotation.is_none() {
+        return Err(key_error(
+            file,
+            &key,
+            "a driven end needs `displacement` or `rotation` (three expressions in t each)",
+        ));
+    }
+    for (name, v) in [("displacement", &displacement), ("rotation", &rotation)] {
+        let at_start = evaluate(v, 0.0);
+        if at_start.iter().any(|v| !v.is_finite()) || at_start.amax() > START_TOLERANCE {
+            return Err(key_error(
+                file,
+                &format!("{key}.{name}"),
+                format!(
+                    "must vanish at t = 0 (the end starts at the rod's initial pose), got {:?}",
+                    at_start.as_slice()
+                ),
+            ));
+        }
+    }
+    Ok(EndCondition::Driven(Arc::new(move |t_lattice| {
+        let t = t_lattice - offset;
+        let q = so3::exp(&evaluate(&rotation, t));
+        Pose::new(rest.position + evaluate(&displacement, t), q.compose(&rest.rotation))
+    })))
+}
