@@ -23,7 +23,7 @@
 //! end_torque = [0.0, 0.0, 0.0]  # N·m
 //! ramp = 1.0                    # s: the end load grows linearly from 0
 //! [initial]
-//! shape = "straight"            # straight | bent | helix
+//! shape = "straight"            # straight | bent | helix | curve (position = three expressions in s)
 //! curvature = 2.0               # bent: an arc in the x–z plane
 //! helix_radius = 0.1            # helix: radius and pitch (rise per turn)
 //! helix_pitch = 0.2
@@ -53,7 +53,7 @@ use veselov::models::rod::{
 };
 
 use crate::error::CliError;
-use crate::rod_motion::{MotionSpec, driven_end};
+use crate::rod_motion::{Centreline, MotionSpec, driven_end};
 use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value};
 
 /// The model name of the rod kind.
@@ -124,6 +124,7 @@ pub(crate) struct RodInitialSpec {
     pub helix_pitch: Option<f64>,
     pub velocity: Option<[f64; 3]>,
     pub angular_velocity: Option<[f64; 3]>,
+    pub position: Option<[String; 3]>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -143,7 +144,7 @@ pub(crate) struct RodMethodSpec {
 }
 
 /// The initial shape s ↦ (r, R) at rest.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone)]
 pub(crate) enum Shape {
     /// Along e₃.
     Straight,
@@ -151,6 +152,8 @@ pub(crate) enum Shape {
     Bent { curvature: f64 },
     /// A helix about e₃ of the given radius and pitch, by arc length.
     Helix { radius: f64, pitch: f64 },
+    /// A centreline given by expressions in s, framed along its tangent.
+    Curve(Centreline),
 }
 
 impl Shape {
@@ -177,6 +180,10 @@ impl Shape {
                 let tangent = Vector3::new(-radius * phi.sin(), radius * phi.cos(), pitch / turn) * (turn / ell);
                 Pose::new(r, frame_along(&tangent))
             }
+            Shape::Curve(ref curve) => {
+                let tangent = curve.tangent(s);
+                Pose::new(curve.position(s), frame_along(&(tangent / tangent.norm())))
+            }
         }
     }
 }
@@ -187,7 +194,9 @@ fn frame_along(t: &Vector3<f64>) -> veselov::lie::SO3<f64> {
     let axis = e3.cross(t);
     let (sin, cos) = (axis.norm(), e3.dot(t));
     if sin < 1e-15 {
-        return so3::exp(&Vector3::zeros());
+        // Along e₃ (no rotation) or against it (a half turn about e₁).
+        let angle = if cos > 0.0 { 0.0 } else { std::f64::consts::PI };
+        return so3::exp(&Vector3::new(angle, 0.0, 0.0));
     }
     so3::exp(&(axis / sin * sin.atan2(cos)))
 }
@@ -339,14 +348,32 @@ impl RodSetup {
                 radius: positive_value(path, "initial.helix_radius", i.helix_radius.unwrap_or(0.0))?,
                 pitch: finite_value(path, "initial.helix_pitch", i.helix_pitch.unwrap_or(0.0))?,
             },
+            "curve" => {
+                let Some(sources) = &i.position else {
+                    return Err(key(
+                        "initial.position",
+                        "shape = \"curve\" needs three expressions in s".into(),
+                    ));
+                };
+                let points: Vec<f64> = (0..m.nodes)
+                    .map(|k| lattice.length() * k as f64 / (m.nodes - 1) as f64)
+                    .collect();
+                Shape::Curve(Centreline::new(path, "initial.position", sources, &points)?)
+            }
             other => {
                 return Err(key(
                     "initial.shape",
-                    format!("unknown shape `{other}` (straight | bent | helix)"),
+                    format!("unknown shape `{other}` (straight | bent | helix | curve)"),
                 ));
             }
         };
-        if let Shape::Bent { curvature } = shape
+        if i.position.is_some() && !matches!(shape, Shape::Curve(_)) {
+            return Err(key(
+                "initial.position",
+                "given, but `initial.shape` is not \"curve\"".into(),
+            ));
+        }
+        if let Shape::Bent { curvature } = &shape
             && (curvature * length).abs() >= std::f64::consts::PI
         {
             return Err(key(

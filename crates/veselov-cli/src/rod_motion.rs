@@ -1,3 +1,7 @@
+//! Expressions in a rod scenario: an initial centreline `r(s)` in the
+//! material coordinate `s` ([`Centreline`], `[initial] shape = "curve"`),
+//! and driven ends in the run's time `t`.
+//!
 //! Driven rod ends from the command line: `[ends] start = "driven"` (or
 //! `end`) with `[ends.start_motion]` giving the end's motion as expressions in
 //! the run's time `t` (the expression language of custom models: `t`, `pi`,
@@ -43,11 +47,23 @@ const START_TOLERANCE: f64 = 1e-12;
 
 /// Three expressions in `t`, parsed with errors naming `key[i]`.
 fn parse_vector(file: &Path, key: &str, sources: &Option<[String; 3]>) -> Result<Option<[Expr; 3]>, CliError> {
+    parse_in(file, key, sources, "t")
+}
+
+/// Three expressions in the variable `variable`, parsed with errors naming `key[i]`.
+fn parse_in(
+    file: &Path,
+    key: &str,
+    sources: &Option<[String; 3]>,
+    variable: &str,
+) -> Result<Option<[Expr; 3]>, CliError> {
     let Some(sources) = sources else {
         return Ok(None);
     };
     let mut table = SymbolTable::new();
-    table.variable("t").map_err(|e| key_error(file, key, e.to_string()))?;
+    table
+        .variable(variable)
+        .map_err(|e| key_error(file, key, e.to_string()))?;
     let parse = |i: usize| {
         Expr::parse(&sources[i], &table).map_err(|e| key_error(file, &format!("{key}[{i}]"), format!("\n{e}")))
     };
@@ -98,4 +114,53 @@ pub(crate) fn driven_end(
         let q = so3::exp(&evaluate(&rotation, t));
         Pose::new(rest.position + evaluate(&displacement, t), q.compose(&rest.rotation))
     })))
+}
+
+/// An initial centreline `r(s)`, three expressions in the material
+/// coordinate `s` (arc length of the unstressed rod: where `|dr/ds| ≠ 1` the
+/// rod starts stretched or compressed). The frame at `s` is the smallest
+/// rotation taking `e₃` to the unit tangent `r'(s)/|r'(s)|`, the tangent
+/// computed exactly (dual numbers).
+#[derive(Debug, Clone)]
+pub(crate) struct Centreline {
+    position: Arc<[Expr; 3]>,
+}
+
+impl Centreline {
+    /// Parse `[initial] position` and check it at the material points
+    /// `points` (finite, with a non-zero tangent), naming `key`.
+    pub fn new(file: &Path, key: &str, sources: &[String; 3], points: &[f64]) -> Result<Self, CliError> {
+        let Some(position) = parse_in(file, key, &Some(sources.clone()), "s")? else {
+            return Err(key_error(file, key, "three expressions in s are needed"));
+        };
+        let curve = Self {
+            position: Arc::new(position),
+        };
+        for &s in points {
+            let (r, tangent) = (curve.position(s), curve.tangent(s));
+            if r.iter().chain(tangent.iter()).any(|v| !v.is_finite()) || tangent.norm() < 1e-12 {
+                return Err(key_error(
+                    file,
+                    key,
+                    format!(
+                        "at s = {s}: r = {:?}, dr/ds = {:?}; the centreline must be finite with a non-zero tangent",
+                        r.as_slice(),
+                        tangent.as_slice()
+                    ),
+                ));
+            }
+        }
+        Ok(curve)
+    }
+
+    /// `r(s)`.
+    pub fn position(&self, s: f64) -> Vector3<f64> {
+        Vector3::from_fn(|a, _| self.position[a].eval(&[s]))
+    }
+
+    /// `dr/ds` at `s`.
+    pub fn tangent(&self, s: f64) -> Vector3<f64> {
+        use veselov::num_dual::Dual64;
+        Vector3::from_fn(|a, _| self.position[a].eval(&[Dual64::new(s, 1.0)]).eps)
+    }
 }

@@ -200,3 +200,54 @@ fn bad_driven_ends_name_the_key() {
         }
     }
 }
+
+/// The centreline of a rod as expressions in s: the arc of
+/// `rod_free_tumbling.toml` written out, `r(s) = ((1 − cos κs)/κ, 0, sin κs/κ)`,
+/// framed along its tangent, runs as the built-in bent shape does (the two
+/// paths agree to round-off); and bad curves are refused naming the key.
+#[test]
+fn an_initial_centreline_given_by_expressions_in_s() {
+    let built_in = set(&example("rod_free_tumbling.toml"), "t_end", "0.1");
+    let curve = built_in.replace(
+        "shape = \"bent\"\ncurvature = 1.5          # 1/m",
+        "shape = \"curve\"\nposition = [\"(1 - cos(1.5*s))/1.5\", \"0\", \"sin(1.5*s)/1.5\"]",
+    );
+    assert_ne!(curve, built_in, "the example's shape lines changed");
+    let read = |text: &str, name: &str| {
+        let (ok, err, out) = run(name, text);
+        assert!(ok, "{name}: {err}");
+        let bytes = std::fs::read(out.join("centerline.npy")).expect("npy");
+        let header = 10 + u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+        bytes[header..]
+            .chunks_exact(8)
+            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .collect::<Vec<f64>>()
+    };
+    let (a, b) = (read(&built_in, "bent"), read(&curve, "curve"));
+    assert_eq!(a.len(), b.len());
+    let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-12, "the curve differs from the bent shape by {worst:e}");
+    for (text, needle) in [
+        (
+            curve.replace("\"(1 - cos(1.5*s))/1.5\"", "\"log(s)\""),
+            "initial.position",
+        ),
+        (
+            curve
+                .replace("\"sin(1.5*s)/1.5\"", "\"0\"")
+                .replace("\"(1 - cos(1.5*s))/1.5\"", "\"0\""),
+            "non-zero tangent",
+        ),
+        (
+            curve.replace("shape = \"curve\"", "shape = \"straight\""),
+            "not \"curve\"",
+        ),
+        (
+            built_in.replace("shape = \"bent\"", "shape = \"curve\""),
+            "three expressions in s",
+        ),
+    ] {
+        let (ok, err, _) = run("curve-bad", &text);
+        assert!(!ok && err.contains(needle), "{needle}: {err}");
+    }
+}
