@@ -81,51 +81,35 @@ impl<const N: usize> Lagrangian<N> for CustomLagrangian<N> {
     }
 }
 
-/// A symmetry generator `ξ_Q(q)` given as one expression per coordinate.
+/// A symmetry generator `ξ_Q(q)` given as one expression per coordinate, in
+/// `N` coordinates (the parsed generator of [`DynCustomSymmetry`]).
 #[derive(Debug, Clone)]
 pub struct CustomSymmetry<const N: usize> {
-    name: String,
-    components: Vec<Expr>,
+    inner: DynCustomSymmetry,
 }
 
 impl<const N: usize> CustomSymmetry<N> {
-    /// Parse `[model] symmetries.<name>`.
+    /// Parse `[model] symmetries.<name>` (`coordinates` has `N` names).
     pub fn new(
         scenario: &LoadedScenario,
         name: &str,
         generator: &[String],
         coordinates: &[String],
     ) -> Result<Self, CliError> {
-        let key = format!("model.symmetries.{name}");
-        if generator.len() != N {
-            return Err(scenario.key_error(
-                &key,
-                format!("expected {N} expressions (one per coordinate), got {}", generator.len()),
-            ));
-        }
-        let table = symbols(scenario, coordinates, false)?;
-        let components = generator
-            .iter()
-            .enumerate()
-            .map(|(i, src)| {
-                Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("{key}[{i}]"), format!("\n{e}")))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
         Ok(Self {
-            name: name.to_string(),
-            components,
+            inner: DynCustomSymmetry::new(scenario, name, generator, coordinates)?,
         })
     }
 }
 
 impl<const N: usize> Symmetry<N> for CustomSymmetry<N> {
     fn name(&self) -> &str {
-        &self.name
+        &self.inner.name
     }
     fn generator<D: Scalar>(&self, q: &SVector<D, N>) -> SVector<D, N> {
-        let mut vars = [D::from(0.0); MAX_SLOTS];
-        vars[..N].copy_from_slice(q.as_slice());
-        SVector::from_fn(|i, _| self.components[i].eval(&vars[..2 * N + 1]))
+        let mut out = SVector::<D, N>::from_element(D::from(0.0));
+        self.inner.generator(q.as_slice(), out.as_mut_slice());
+        out
     }
 }
 

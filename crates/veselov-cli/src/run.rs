@@ -330,6 +330,25 @@ where
     )
 }
 
+/// The system's variable-step integrator factory, or (for a forced model,
+/// which no energy-conserving step can integrate) an error naming the key.
+pub fn sem_factory<'a, const N: usize>(
+    scenario: &LoadedScenario,
+    system: &'a System<N>,
+    rule: SemRule,
+) -> Result<&'a crate::systems::SemFactory<N>, CliError> {
+    system.make_sem.as_ref().ok_or_else(|| {
+        scenario.key_error(
+            "method.name",
+            format!(
+                "`{}` conserves energy and cannot integrate the forced model `{}`",
+                rule.name(),
+                system.model
+            ),
+        )
+    })
+}
+
 /// A variable-step SEM run: `dt` is the first step, the run stops at the first `t_k ≥ t_end`
 /// (or after `steps` steps).
 fn run_variable<const N: usize>(
@@ -338,16 +357,7 @@ fn run_variable<const N: usize>(
     system: System<N>,
     rule: SemRule,
 ) -> Result<(), CliError> {
-    let Some(make) = &system.make_sem else {
-        return Err(scenario.key_error(
-            "method.name",
-            format!(
-                "`{}` conserves energy and cannot integrate the forced model `{}`",
-                rule.name(),
-                system.model
-            ),
-        ));
-    };
+    let make = sem_factory(scenario, &system, rule)?;
     let x0 = resolve_initial(scenario, &system)?;
     let mut map = make(rule).map_err(|e| CliError::Setup(e.to_string()))?;
     let s = &scenario.scenario;

@@ -16,7 +16,7 @@ use crate::catalog::Choice;
 use crate::error::CliError;
 use crate::figures::draw_convergence;
 use crate::output::{Table, prepare_dir, write_json};
-use crate::run::{resolve_choice, resolve_initial};
+use crate::run::{resolve_choice, resolve_initial, sem_factory};
 use crate::scenario::{LoadedScenario, landing_steps, note_step_length};
 use crate::systems::{Job, System};
 
@@ -219,16 +219,7 @@ impl Job for VerifyJob {
                     .order(),
             ),
             Choice::Variable(rule) => {
-                if system.make_sem.is_none() {
-                    return Err(scenario.key_error(
-                        "method.name",
-                        format!(
-                            "`{}` conserves energy and cannot integrate the forced model `{}`",
-                            rule.name(),
-                            system.model
-                        ),
-                    ));
-                }
+                sem_factory(scenario, &system, rule)?;
                 (rule.name().to_string(), rule.order())
             }
         };
