@@ -55,6 +55,36 @@ fn symbols(scenario: &LoadedScenario, coordinates: &[String], with_velocities: b
     Ok(table)
 }
 
+/// One expression per coordinate (`sources`, the key `key`), over the
+/// coordinates and, `with_velocities`, their velocities and `t`; errors name
+/// `key` or `key[i]`.
+fn components(
+    scenario: &LoadedScenario,
+    key: &str,
+    sources: &[String],
+    coordinates: &[String],
+    with_velocities: bool,
+) -> Result<Vec<Expr>, CliError> {
+    if sources.len() != coordinates.len() {
+        return Err(scenario.key_error(
+            key,
+            format!(
+                "expected {} expressions (one per coordinate), got {}",
+                coordinates.len(),
+                sources.len()
+            ),
+        ));
+    }
+    let table = symbols(scenario, coordinates, with_velocities)?;
+    sources
+        .iter()
+        .enumerate()
+        .map(|(i, src)| {
+            Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("{key}[{i}]"), format!("\n{e}")))
+        })
+        .collect()
+}
+
 /// A Lagrangian given as an expression in `N` coordinates.
 #[derive(Debug, Clone)]
 pub struct CustomLagrangian<const N: usize> {
@@ -122,21 +152,9 @@ pub struct CustomForce<const N: usize> {
 impl<const N: usize> CustomForce<N> {
     /// Parse `[model] force`.
     pub fn new(scenario: &LoadedScenario, force: &[String], coordinates: &[String]) -> Result<Self, CliError> {
-        if force.len() != N {
-            return Err(scenario.key_error(
-                "model.force",
-                format!("expected {N} expressions (one per coordinate), got {}", force.len()),
-            ));
-        }
-        let table = symbols(scenario, coordinates, true)?;
-        let components = force
-            .iter()
-            .enumerate()
-            .map(|(i, src)| {
-                Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("model.force[{i}]"), format!("\n{e}")))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(Self { components })
+        Ok(Self {
+            components: components(scenario, "model.force", force, coordinates, true)?,
+        })
     }
 }
 
@@ -217,25 +235,13 @@ impl DynCustomSymmetry {
         generator: &[String],
         coordinates: &[String],
     ) -> Result<Self, CliError> {
-        let key = format!("model.symmetries.{name}");
-        if generator.len() != coordinates.len() {
-            return Err(scenario.key_error(
-                &key,
-                format!(
-                    "expected {} expressions (one per coordinate), got {}",
-                    coordinates.len(),
-                    generator.len()
-                ),
-            ));
-        }
-        let table = symbols(scenario, coordinates, false)?;
-        let components = generator
-            .iter()
-            .enumerate()
-            .map(|(i, src)| {
-                Expr::parse(src, &table).map_err(|e| scenario.key_error(&format!("{key}[{i}]"), format!("\n{e}")))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let components = components(
+            scenario,
+            &format!("model.symmetries.{name}"),
+            generator,
+            coordinates,
+            false,
+        )?;
         Ok(Self {
             name: name.to_string(),
             components,
