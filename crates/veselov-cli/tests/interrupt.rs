@@ -367,3 +367,28 @@ plots = false
         },
     );
 }
+
+#[test]
+fn run_time_dimension_run_survives_sigterm_and_resumes_bit_for_bit() {
+    // A custom chain of 8 coordinates (beyond the fixed-size path): the kept
+    // Jacobian of its simplified Newton iteration travels in the checkpoint.
+    let names: Vec<String> = (0..8).map(|i| format!("x{i}")).collect();
+    let kinetic: Vec<String> = names.iter().map(|x| format!("{x}_dot^2")).collect();
+    let springs: Vec<String> = names
+        .windows(2)
+        .map(|w| format!("0.5*({1} - {0})^2 + 0.25*({1} - {0})^4", w[0], w[1]))
+        .collect();
+    let quoted: Vec<String> = names.iter().map(|x| format!("\"{x}\"")).collect();
+    let q: Vec<String> = (0..8).map(|i| format!("{}", 0.3 * (i as f64).sin())).collect();
+    let text = format!(
+        "[model]\nname = \"custom\"\ncoordinates = [{}]\nlagrangian = \"0.5*({}) - ({})\"\n\
+         [method]\nname = \"galerkin-gauss\"\nstages = 2\ndt = 0.01\n[time]\nsteps = 60000\n\
+         [initial]\nq = [{}]\np = [0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.1]\n\
+         [output]\nevery = 7\nformats = [\"csv\", \"npy\"]\nplots = false\ncheckpoint_every = 2000\n",
+        quoted.join(", "),
+        kinetic.join(" + "),
+        springs.join(" + "),
+        q.join(", ")
+    );
+    interrupt_and_resume("run-time-dimension", &text, &TRAJECTORY);
+}

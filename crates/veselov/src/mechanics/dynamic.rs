@@ -175,6 +175,28 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
         self.jacobians
     }
 
+    /// Append what the next step depends on besides the state (the kept
+    /// Jacobian's factors, if any) as checkpoint words, so that a resumed run
+    /// repeats the iterations of an uninterrupted one bit for bit.
+    pub fn save_carry(&self, out: &mut Vec<f64>) {
+        out.push(f64::from(u8::from(self.kept)));
+        if self.kept {
+            self.lu.save_factors(out);
+        }
+    }
+
+    /// Restore what [`DynGalerkinIntegrator::save_carry`] wrote.
+    ///
+    /// # Errors
+    /// If the words run out or do not fit this integrator.
+    pub fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
+        self.kept = words.flag()?;
+        if self.kept {
+            self.lu.restore_factors(words)?;
+        }
+        Ok(())
+    }
+
     /// The time step `h`.
     pub fn step_size(&self) -> f64 {
         self.h

@@ -94,11 +94,13 @@ impl<L: DynLagrangian> Stepper for DynStepper<'_, L> {
     }
 }
 
-impl<L> Checkpoint for DynStepper<'_, L> {
-    /// Nothing: each step starts from its state alone.
-    fn save(&self, _out: &mut Vec<f64>) {}
-    fn restore(&mut self, _words: &mut Words<'_>) -> Result<()> {
-        Ok(())
+impl<L: DynLagrangian> Checkpoint for DynStepper<'_, L> {
+    /// The integrator's carry (its kept Jacobian).
+    fn save(&self, out: &mut Vec<f64>) {
+        self.integrator.save_carry(out);
+    }
+    fn restore(&mut self, words: &mut Words<'_>) -> Result<()> {
+        self.integrator.restore_carry(words)
     }
 }
 
