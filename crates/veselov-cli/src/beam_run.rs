@@ -44,6 +44,76 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     }
 }
 
+/// 𝒥 over all the triangles computed so far: the sum, over the nodes on the
+/// boundary of that domain, of the currents `J^k` its triangles put on them.
+/// By the Noether identity (J¹ + J² + J³ = 0 on every triangle of a
+/// symmetric Lagrangian) it equals minus the sum of the discrete
+/// Euler–Lagrange residuals at the interior nodes, so it vanishes on a
+/// solution whatever the ends — the check of the whole march, not only of
+/// its boundary rows. Per band of triangles (between two levels), with
+/// cells 0 … C − 1 and currents `[J^base, J^fwd, J^cross]`:
+/// `𝒥(L) = −𝖩⁻(band 0) − J^base₀ − J^cross_{C−1} (band 0)
+///        + Σ_bands (J^base₀ + J^fwd₀ + J^cross_{C−1}) + 𝖩⁺(band L) − J^fwd₀ (band L)`.
+#[derive(Debug, Clone, Copy, Default)]
+struct DomainCurrent {
+    bottom: [f64; 6],
+    sides: [f64; 6],
+    scale: f64,
+    worst: f64,
+    started: bool,
+}
+
+impl DomainCurrent {
+    /// Add the band between the previous and the current level of `e`.
+    fn add_band<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(&mut self, e: &Beam<R>) {
+        let generators = |g: &SE3<f64>| -> SMatrix<f64, 6, 6> { left_generators(g) };
+        let first = e.cell_currents::<6>(0, generators);
+        let last = e.cell_currents::<6>(e.cross() - 1, generators);
+        if !self.started {
+            let m = e.evolution_momentum::<6>(generators);
+            let bottom = -m.minus - first[0] - last[2];
+            self.bottom.copy_from_slice(bottom.as_slice());
+            self.scale += m.scale;
+            self.started = true;
+        }
+        let side = first[0] + first[1] + last[2];
+        for (s, v) in self.sides.iter_mut().zip(side.iter()) {
+            *s += v;
+        }
+        self.scale += first[0].amax() + first[1].amax() + last[2].amax();
+    }
+
+    /// 𝒥 up to the current level of `e`, whose 𝖩⁺ is `plus` (terms of size
+    /// `plus_scale`), and the largest |𝒥| relative to its terms so far.
+    fn value<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
+        &mut self,
+        e: &Beam<R>,
+        plus: &SVector<f64, 6>,
+        plus_scale: f64,
+    ) -> SVector<f64, 6> {
+        let first = e.cell_currents::<6>(0, |g: &SE3<f64>| -> SMatrix<f64, 6, 6> { left_generators(g) });
+        let total = SVector::<f64, 6>::from(self.bottom) + SVector::<f64, 6>::from(self.sides) + plus - first[1];
+        let size = (self.scale + plus_scale).max(f64::MIN_POSITIVE);
+        self.worst = self.worst.max(total.amax() / size);
+        total
+    }
+
+    fn save(&self, out: &mut Vec<f64>) {
+        out.extend(self.bottom);
+        out.extend(self.sides);
+        out.extend([self.scale, self.worst, f64::from(u8::from(self.started))]);
+    }
+
+    fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
+        w.fill(&mut self.bottom)?;
+        w.fill(&mut self.sides)?;
+        self.scale = w.one()?;
+        self.worst = w.one()?;
+        self.started = w.flag()?;
+        Ok(())
+    }
+}
+
 /// Writes the rows and keeps the momentum drift.
 struct BeamObserver<'a> {
     setup: &'a BeamSetup,
@@ -56,6 +126,10 @@ struct BeamObserver<'a> {
     first: [f64; 6],
     drift: f64,
     started: bool,
+    /// 𝒥 on the whole computed domain (note 000 (58)): the bottom row's
+    /// part, the running sum of the side columns' currents, the size of the
+    /// terms summed, and the largest |𝒥| relative to it so far.
+    domain: DomainCurrent,
     energy_range: [f64; 2],
     row: Vec<f64>,
     error: Option<CliError>,
@@ -105,8 +179,10 @@ impl BeamObserver<'_> {
             // Fibre order: R row by row, then the translation.
             self.row.extend_from_slice(&c);
         }
+        let domain = self.domain.value(e, &j.plus, j.scale);
         let mut m = vec![level as f64, x];
         m.extend_from_slice(j.plus.as_slice());
+        m.extend_from_slice(domain.as_slice());
         let r = self
             .frames
             .row(&self.row)
@@ -119,6 +195,7 @@ impl BeamObserver<'_> {
 
 impl<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static> Observer<Beam<R>> for BeamObserver<'_> {
     fn observe(&mut self, step: u64, state: &Beam<R>, _: &StepStats) -> Control {
+        self.domain.add_band(state);
         if step.is_multiple_of(self.every)
             && let Err(e) = self.record(state)
         {
@@ -144,6 +221,7 @@ impl Resumable for BeamObserver<'_> {
         out.extend(self.first);
         out.extend([self.drift, f64::from(u8::from(self.started))]);
         out.extend(self.energy_range);
+        self.domain.save(out);
         Ok(())
     }
     fn take_error(&mut self) -> Option<CliError> {
@@ -159,7 +237,7 @@ impl BeamObserver<'_> {
         self.drift = w.one()?;
         self.started = w.one()? != 0.0;
         self.energy_range = [w.one()?, w.one()?];
-        Ok(())
+        self.domain.restore(w)
     }
 }
 
@@ -279,13 +357,29 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         frames: NpyStream::create(&dir.join("frames.npy"), &[cross, 12], rows, at[0])?,
         momentum: CsvStream::create(
             &dir.join("momentum.csv"),
-            &names(&["level", x, "J_wx", "J_wy", "J_wz", "J_vx", "J_vy", "J_vz"]),
+            &names(&[
+                "level",
+                x,
+                "J_wx",
+                "J_wy",
+                "J_wz",
+                "J_vx",
+                "J_vy",
+                "J_vz",
+                "Jdomain_wx",
+                "Jdomain_wy",
+                "Jdomain_wz",
+                "Jdomain_vx",
+                "Jdomain_vy",
+                "Jdomain_vz",
+            ]),
             at[1],
         )?,
         energy: CsvStream::create(&dir.join("energy.csv"), &names(&["level", x, "energy"]), at[2])?,
         first: [0.0; 6],
         drift: 0.0,
         started: false,
+        domain: DomainCurrent::default(),
         energy_range: [f64::NAN; 2],
         row: Vec::with_capacity(cross * 12),
         error: None,
@@ -299,7 +393,10 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
             restore(&dir, &mut state, &mut Words::new(&saved.state))?;
             (saved.step, Ok(()))
         }
-        _ => (0, obs.record(&state)),
+        _ => {
+            obs.domain.add_band(&state);
+            (0, obs.record(&state))
+        }
     };
     let outcome = match start {
         Err(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
@@ -342,6 +439,7 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
             json!(setup.clamped.map(|c| if c { "clamped" } else { "free" }))
         },
         "momentum_map_drift": obs.drift,
+        "domain_current_max": obs.domain.worst,
         "energy_min": obs.energy_range[0],
         "energy_max": obs.energy_range[1],
     });

@@ -354,27 +354,46 @@ where
         }
     }
 
+    /// The currents `[J^base, J^fwd, J^cross]` (the cell's vertices on the
+    /// previous level, on the current level, and its neighbour on the
+    /// previous level) of cell `c` between the previous and the current
+    /// level, `J^k = X(y_k)ᵀ ∂ℒ/∂y_k` for the generators `generator(y)` = X(y).
+    pub fn cell_currents<const K: usize>(
+        &self,
+        c: usize,
+        generator: impl Fn(&F::Point<f64>) -> SMatrix<f64, M, K>,
+    ) -> [SVector<f64, K>; 3] {
+        let fwd = self.forward_position();
+        let side = 3 - fwd;
+        let lag = self.marcher.lagrangian();
+        let lattice = self.marcher.complex();
+        let (base, forward, cross) = (self.value(1, c), self.value(0, c), self.value(1, c + 1));
+        let (index, y) = match self.direction {
+            Direction::Time => (c, [base, forward, cross]),
+            Direction::Space => (2 * c, [base, cross, forward]),
+        };
+        let cell = lattice.cell(index);
+        let j = |l: usize| generator(&y[l]).transpose() * vertex_gradient::<F, L, M>(lag, &cell, &y, l).1;
+        [j(0), j(fwd), j(side)]
+    }
+
     /// 𝖩⁺ and 𝖩⁻ of the cell level between the previous and the current
     /// level, for the generators `generator(y)` = X(y) (M × K).
     pub fn evolution_momentum<const K: usize>(
         &self,
         generator: impl Fn(&F::Point<f64>) -> SMatrix<f64, M, K>,
     ) -> EvolutionMomentum<K> {
-        let fwd = self.forward_position();
-        let side = 3 - fwd;
-        let lag = self.marcher.lagrangian();
         let mut out = EvolutionMomentum {
             plus: SVector::zeros(),
             minus: SVector::zeros(),
             scale: 0.0,
         };
-        self.for_each_cell(|_, cell, y| {
-            let j: [SVector<f64, K>; 3] =
-                std::array::from_fn(|l| generator(&y[l]).transpose() * vertex_gradient::<F, L, M>(lag, cell, y, l).1);
-            out.plus += j[fwd];
-            out.minus -= j[0] + j[side];
-            out.scale += j.iter().map(|v| v.amax()).sum::<f64>();
-        });
+        for c in 0..self.cross {
+            let [base, fwd, cross] = self.cell_currents(c, &generator);
+            out.plus += fwd;
+            out.minus -= base + cross;
+            out.scale += base.amax() + fwd.amax() + cross.amax();
+        }
         out
     }
 }
