@@ -316,8 +316,7 @@ impl RigidJob for VerifyJob {
             let dx = (G::translation(&x.g) - G::translation(&reference.g)).amax();
             dr.max(dx).max((x.mu - reference.mu).amax())
         };
-        study.run(&dir, &dts, &steps, self.quiet, |n| {
-            let h = span / n as f64;
+        study.run(&dir, &dts, &steps, self.quiet, |n, h| {
             let setup = |e: veselov::Error| CliError::Setup(e.to_string());
             let traj = if retraction == "exp" {
                 let mut map = SplitLieIntegrator::<G, ExpMap, L, N>::new(l.clone(), h).map_err(setup)?;

@@ -107,7 +107,7 @@ pub struct Study {
 }
 
 impl Study {
-    /// For each `dt` (with `n` steps) measure `error(n)` (an `Err` inside is a
+    /// For each `dt` (with `n` steps) measure `error(n, dt)` (an `Err` inside is a
     /// failed run, reported and recorded as NaN), print the table and the
     /// fitted order, and write `convergence.csv`, `summary.json` and
     /// `convergence.svg` into `dir`.
@@ -117,7 +117,7 @@ impl Study {
         dts: &[f64],
         steps: &[usize],
         quiet: bool,
-        mut error: impl FnMut(usize) -> Result<Result<f64, veselov::Error>, CliError>,
+        mut error: impl FnMut(usize, f64) -> Result<Result<f64, veselov::Error>, CliError>,
     ) -> Result<(), CliError> {
         let order = self.order;
         let mut table = Table {
@@ -130,7 +130,7 @@ impl Study {
         }
         let mut previous: Option<(f64, f64)> = None;
         for (&dt, &n) in dts.iter().zip(steps) {
-            let err = match error(n)? {
+            let err = match error(n, dt)? {
                 Ok(e) => e,
                 Err(e) => {
                     if !quiet {
@@ -268,33 +268,34 @@ impl Job for VerifyJob {
         };
         let options = scenario.scenario.method.newton_options();
         let error = |x: &PhaseState<N>| (x.q - reference.q).amax().max((x.p - reference.p).amax());
-        match (choice, &system.make_sem) {
-            (Choice::Variable(rule), Some(make)) => study.run(&dir, &dts, &steps, self.quiet, |n| {
-                // `dt` is the first step; the steps follow from the discrete
-                // energy, and the last is shortened to land on t_end.
-                let mut map = make(rule).map_err(|e| CliError::Setup(e.to_string()))?;
-                let limit = n.saturating_mul(SEM_STEP_ALLOWANCE);
-                let h0 = steps.iter().position(|&m| m == n).map_or(span / n as f64, |i| dts[i]);
-                let run = run_sem(map.as_mut(), t0, x0.q, x0.p, h0, t_end, limit, true);
-                Ok(match (run.failure, run.states.last()) {
-                    (Some(e), _) => Err(e),
-                    (None, Some(s)) if s.t == t_end => Ok(error(&PhaseState::new(s.t, s.q, s.p))),
-                    (None, s) => Err(veselov::Error::InvalidParameter {
-                        name: "--dt".into(),
-                        value: format!("{h0:e}"),
-                        reason: format!(
-                            "the variable steps did not reach t_end = {t_end} within {limit} steps (stopped at t = {})",
-                            s.map_or(t0, |s| s.t)
-                        ),
-                    }),
+        match choice {
+            Choice::Variable(rule) => {
+                let make = sem_factory(scenario, &system, rule)?;
+                study.run(&dir, &dts, &steps, self.quiet, |n, h0| {
+                    // `h0` is the first step; the steps follow from the discrete
+                    // energy, and the last is shortened to land on t_end.
+                    let mut map = make(rule).map_err(|e| CliError::Setup(e.to_string()))?;
+                    let limit = n.saturating_mul(SEM_STEP_ALLOWANCE);
+                    let run = run_sem(map.as_mut(), t0, x0.q, x0.p, h0, t_end, limit, true);
+                    Ok(match (run.failure, run.states.last()) {
+                        (Some(e), _) => Err(e),
+                        (None, Some(s)) if s.t == t_end => Ok(error(&PhaseState::new(s.t, s.q, s.p))),
+                        (None, s) => Err(veselov::Error::InvalidParameter {
+                            name: "--dt".into(),
+                            value: format!("{h0:e}"),
+                            reason: format!(
+                                "the variable steps did not reach t_end = {t_end} within {limit} steps (stopped at \
+                                 t = {})",
+                                s.map_or(t0, |s| s.t)
+                            ),
+                        }),
+                    })
                 })
-            }),
-            (Choice::Fixed(method), _) => study.run(&dir, &dts, &steps, self.quiet, |n| {
-                let mut map =
-                    (system.make_map)(method, span / n as f64, options).map_err(|e| CliError::Setup(e.to_string()))?;
+            }
+            Choice::Fixed(method) => study.run(&dir, &dts, &steps, self.quiet, |n, dt| {
+                let mut map = (system.make_map)(method, dt, options).map_err(|e| CliError::Setup(e.to_string()))?;
                 Ok(run_to(map.as_mut(), x0, n).map(|x| error(&x)))
             }),
-            (Choice::Variable(_), None) => Ok(()),
         }
     }
 
