@@ -91,23 +91,25 @@ pub struct CustomLagrangian<const N: usize> {
     expr: Expr,
 }
 
+/// `[model] lagrangian`, parsed over `coordinates`, their velocities and `t`.
+fn parse_lagrangian(scenario: &LoadedScenario, coordinates: &[String]) -> Result<Expr, CliError> {
+    let table = symbols(scenario, coordinates, true)?;
+    let source = scenario.scenario.model.lagrangian.as_deref().unwrap_or_default();
+    Expr::parse(source, &table).map_err(|e| scenario.key_error("model.lagrangian", format!("\n{e}")))
+}
+
 impl<const N: usize> CustomLagrangian<N> {
     /// Parse `[model] lagrangian` over `coordinates`.
     pub fn new(scenario: &LoadedScenario, coordinates: &[String]) -> Result<Self, CliError> {
-        let table = symbols(scenario, coordinates, true)?;
-        let source = scenario.scenario.model.lagrangian.as_deref().unwrap_or_default();
-        let expr = Expr::parse(source, &table).map_err(|e| scenario.key_error("model.lagrangian", format!("\n{e}")))?;
-        Ok(Self { expr })
+        Ok(Self {
+            expr: parse_lagrangian(scenario, coordinates)?,
+        })
     }
 }
 
 impl<const N: usize> Lagrangian<N> for CustomLagrangian<N> {
     fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
-        let mut vars = [D::from(0.0); MAX_SLOTS];
-        vars[..N].copy_from_slice(q.as_slice());
-        vars[N..2 * N].copy_from_slice(v.as_slice());
-        vars[2 * N] = t;
-        self.expr.eval(&vars[..2 * N + 1])
+        eval_slots::<D, MAX_SLOTS>(&self.expr, t, q.as_slice(), v.as_slice())
     }
 }
 
@@ -160,23 +162,25 @@ impl<const N: usize> CustomForce<N> {
 
 impl<const N: usize> Force<N> for CustomForce<N> {
     fn force<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> SVector<D, N> {
-        let mut vars = [D::from(0.0); MAX_SLOTS];
-        vars[..N].copy_from_slice(q.as_slice());
-        vars[N..2 * N].copy_from_slice(v.as_slice());
-        vars[2 * N] = t;
+        let vars = slots::<D, MAX_SLOTS>(t, q.as_slice(), v.as_slice());
         SVector::from_fn(|i, _| self.components[i].eval(&vars[..2 * N + 1]))
     }
 }
 
-/// Evaluate `expr` on the slots `[q, v, t]` (`v` may be empty: then zeros),
-/// in a stack buffer of `K` slots.
-fn eval_slots<D: Scalar, const K: usize>(expr: &Expr, t: D, q: &[D], v: &[D]) -> D {
+/// The expression slots `[q, v, t]` (`v` may be empty: then zeros) in a
+/// stack buffer of `K ≥ 2n + 1` slots, the layout of [`symbols`].
+fn slots<D: Scalar, const K: usize>(t: D, q: &[D], v: &[D]) -> [D; K] {
     let n = q.len();
     let mut vars = [D::from(0.0); K];
     vars[..n].copy_from_slice(q);
     vars[n..n + v.len()].copy_from_slice(v);
     vars[2 * n] = t;
-    expr.eval(&vars[..2 * n + 1])
+    vars
+}
+
+/// Evaluate `expr` on the slots `[q, v, t]` in a stack buffer of `K` slots.
+fn eval_slots<D: Scalar, const K: usize>(expr: &Expr, t: D, q: &[D], v: &[D]) -> D {
+    expr.eval(&slots::<D, K>(t, q, v)[..2 * q.len() + 1])
 }
 
 /// [`eval_slots`] with the smallest buffer that holds `2n + 1` slots.
@@ -200,11 +204,8 @@ pub struct DynCustomLagrangian {
 impl DynCustomLagrangian {
     /// Parse `[model] lagrangian` over `coordinates` (at most [`MAX_DIMENSION`]).
     pub fn new(scenario: &LoadedScenario, coordinates: &[String]) -> Result<Self, CliError> {
-        let table = symbols(scenario, coordinates, true)?;
-        let source = scenario.scenario.model.lagrangian.as_deref().unwrap_or_default();
-        let expr = Expr::parse(source, &table).map_err(|e| scenario.key_error("model.lagrangian", format!("\n{e}")))?;
         Ok(Self {
-            expr,
+            expr: parse_lagrangian(scenario, coordinates)?,
             n: coordinates.len().min(MAX_DIMENSION),
         })
     }

@@ -134,9 +134,10 @@ fn initial(scenario: &LoadedScenario, l: &DynCustomLagrangian, coordinates: &[St
 }
 
 /// Refuse `symmetry` if `L` is not invariant under it: the defect
-/// `δL = d/dε L(t, q + εξ, v + ε Dξ·v)|₀` by one dual pass (with `Dξ·v` from
-/// another), against the size of its terms `Σ |∂L/∂q_i ξ_i| + |∂L/∂v_i (Dξ·v)_i|`,
-/// at the same sample states as the fixed-size check.
+/// `δL = Σ ∂L/∂q_i ξ_i + ∂L/∂v_i (Dξ·v)_i` (each term one dual pass of `L`,
+/// `ξ` and `Dξ·v` one dual pass of the generator along `v`) against the
+/// size of its terms `Σ |∂L/∂q_i ξ_i| + |∂L/∂v_i (Dξ·v)_i|`, at the same
+/// sample states as the fixed-size check.
 fn check_invariance(
     scenario: &LoadedScenario,
     l: &DynCustomLagrangian,
