@@ -348,6 +348,7 @@ fn close<S>(
         "path": info.path,
         "nodes": lattice.nodes(),
         "dx": lattice.dx(),
+        "length": lattice.length(),
         "dt": dt,
         "courant": dt / lattice.dx(),
         "levels": levels,
@@ -366,33 +367,11 @@ fn close<S>(
         let mut header = vec!["t".to_string(), "energy".to_string()];
         header.extend(info.charge.map(String::from));
         let energy = table_for_plots(dir, "energy", &header, obs.energy_rows)?;
-        let width = lattice.nodes() * info.components;
-        let fake: Vec<String> = (0..width).map(|i| i.to_string()).collect();
-        let snaps = rows_for_plots(dir, "snapshots", &fake, snapshot_rows, MAX_PLOT_SNAPSHOTS)?;
-        let times = rows_for_plots(
+        draw_field_files(
             dir,
-            "snapshot_times",
-            &["t".to_string()],
-            snapshot_rows,
-            MAX_PLOT_SNAPSHOTS,
-        )?;
-        let first_component: Vec<Vec<f64>> = snaps
-            .rows
-            .iter()
-            .map(|row| row.iter().step_by(info.components).copied().collect())
-            .collect();
-        let times: Vec<f64> = times.rows.iter().map(|r| r[0]).collect();
-        draw_field(
-            dir,
-            &energy,
-            &first_component,
-            &times,
-            (lattice.dx(), lattice.length()),
-            match (s.model.name.as_str(), info.components) {
-                ("sine-gordon", _) => FieldView::Circle,
-                (_, 1) => FieldView::Real,
-                _ => FieldView::RealPart,
-            },
+            (&s.model.name, info.components),
+            (lattice.nodes(), lattice.dx(), lattice.length()),
+            (&energy, snapshot_rows),
             &s.output.plot_format,
         )?;
     }
@@ -415,6 +394,40 @@ fn close<S>(
         Status::Interrupted => Err(CliError::Interrupted { dir: dir.clone() }),
         _ => Ok(()),
     }
+}
+
+/// The figures of a 1+1 lattice run of `model` (`components` values per
+/// node) on `nodes` nodes `dx` apart over `length`, from its `energy` table
+/// and its `snapshot_rows` stored snapshots (first component; a circle-valued
+/// sine-Gordon field as sin²(φ/2), a complex one as Re φ).
+pub fn draw_field_files(
+    dir: &std::path::Path,
+    (model, components): (&str, usize),
+    (nodes, dx, length): (usize, f64, f64),
+    (energy, snapshot_rows): (&Table, u64),
+    format: &str,
+) -> Result<(), CliError> {
+    let width: Vec<String> = (0..nodes * components).map(|i| i.to_string()).collect();
+    let snaps = rows_for_plots(dir, "snapshots", &width, snapshot_rows, MAX_PLOT_SNAPSHOTS)?;
+    let times = rows_for_plots(
+        dir,
+        "snapshot_times",
+        &["t".to_string()],
+        snapshot_rows,
+        MAX_PLOT_SNAPSHOTS,
+    )?;
+    let first_component: Vec<Vec<f64>> = snaps
+        .rows
+        .iter()
+        .map(|row| row.iter().step_by(components).copied().collect())
+        .collect();
+    let times: Vec<f64> = times.rows.iter().map(|r| r[0]).collect();
+    let view = match (model, components) {
+        ("sine-gordon", _) => FieldView::Circle,
+        (_, 1) => FieldView::Real,
+        _ => FieldView::RealPart,
+    };
+    draw_field(dir, energy, &first_component, &times, (dx, length), view, format)
 }
 
 /// The fast path (the scheme's own O(N) solver) on a periodic lattice.

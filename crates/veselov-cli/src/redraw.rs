@@ -22,9 +22,9 @@ use std::time::SystemTime;
 use serde_json::Value;
 
 use crate::error::CliError;
-use crate::figures::{self, FieldView, draw_field};
+use crate::figures;
 use crate::output::Table;
-use crate::pipeline::readback::{MAX_PLOT_SNAPSHOTS, npy_shape, rows_for_plots};
+use crate::pipeline::readback::npy_shape;
 
 /// Redraw the figures of the run or study in `dir` as `format` (`svg` or
 /// `png`); returns the files written, sorted.
@@ -163,37 +163,18 @@ fn redraw_field(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErro
         .and_then(Value::as_u64)
         .filter(|&n| n > 0)
         .ok_or_else(|| summary_key(dir, "nodes", "a node count"))? as usize;
-    let dx = number(dir, summary, "dx")?;
-    let periodic = matches!(
-        summary.get("boundary").and_then(Value::as_str),
-        Some("periodic" | "winding")
-    );
-    let length = if periodic { nodes as f64 } else { nodes as f64 - 1.0 } * dx;
+    let (dx, length) = (number(dir, summary, "dx")?, number(dir, summary, "length")?);
     let energy = Table::read_csv(&dir.join("energy.csv"))?;
     let shape = npy_shape(&dir.join("snapshots.npy"))?;
-    let per_row = shape.iter().skip(1).product::<usize>();
-    let components = (per_row / nodes).max(1);
-    let width: Vec<String> = (0..per_row).map(|i| i.to_string()).collect();
-    let snapshots = rows_for_plots(dir, "snapshots", &width, rows(&shape), MAX_PLOT_SNAPSHOTS)?;
-    let times = rows_for_plots(
+    let components = (shape.iter().skip(1).product::<usize>() / nodes).max(1);
+    let model = summary.get("model").and_then(Value::as_str).unwrap_or_default();
+    crate::field_run::draw_field_files(
         dir,
-        "snapshot_times",
-        &["t".to_string()],
-        rows(&shape),
-        MAX_PLOT_SNAPSHOTS,
-    )?;
-    let first_component: Vec<Vec<f64>> = snapshots
-        .rows
-        .iter()
-        .map(|row| row.iter().step_by(components).copied().collect())
-        .collect();
-    let times: Vec<f64> = times.rows.iter().map(|r| r[0]).collect();
-    let view = match (summary.get("model").and_then(Value::as_str), components) {
-        (Some("sine-gordon"), _) => FieldView::Circle,
-        (_, 1) => FieldView::Real,
-        _ => FieldView::RealPart,
-    };
-    draw_field(dir, &energy, &first_component, &times, (dx, length), view, format)
+        (model, components),
+        (nodes, dx, length),
+        (&energy, rows(&shape)),
+        format,
+    )
 }
 
 /// The figure files (`.svg`, `.png`, `.gif`) in `dir` with their modification times.
