@@ -26,7 +26,6 @@ use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
 use crate::beam::{BeamSetup, BeamStart};
 use crate::error::CliError;
 use crate::output::{Table, write_json};
-use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, summary, words_error};
 use crate::run::RunJob;
@@ -479,25 +478,12 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
 /// (`centerline.gif`), momentum-map changes and energy, read back from the
 /// files.
 pub fn draw_beam(dir: &Path, cross: usize, rows: u64, x: &str, format: &str) -> Result<(), CliError> {
-    let width: Vec<String> = (0..cross * 12).map(|i| i.to_string()).collect();
-    let snaps = rows_for_plots(dir, "frames", &width, rows, 6)?;
-    let points: Vec<Vec<[f64; 3]>> = snaps
-        .rows
-        .iter()
-        .map(|r| {
-            (0..cross)
-                .map(|c| [r[12 * c + 9], r[12 * c + 10], r[12 * c + 11]])
-                .collect()
-        })
-        .collect();
-    crate::rod_run::draw_centerlines(dir, &points, format)?;
-    crate::animation::animate_run(
+    crate::rod_run::draw_centerline_figures(
         dir,
         ("frames", 12),
-        cross,
-        rows,
+        (cross, rows),
         |r, c| [r[12 * c + 9], r[12 * c + 10], r[12 * c + 11]],
-        x,
+        (x, format),
     )?;
     let momentum = Table::read_csv(&dir.join("momentum.csv"))?;
     crate::figures::draw_changes(

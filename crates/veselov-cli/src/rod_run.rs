@@ -480,21 +480,12 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
 /// Centreline snapshots (x–z and y–z), the centreline animation
 /// (`centerline.gif`), momentum changes and energy, read back from the files.
 pub fn draw_rod(dir: &Path, nodes: usize, rows: u64, format: &str) -> Result<(), CliError> {
-    let width: Vec<String> = (0..nodes * 3).map(|i| i.to_string()).collect();
-    let snaps = rows_for_plots(dir, "centerline", &width, rows, 6)?;
-    let points: Vec<Vec<[f64; 3]>> = snaps
-        .rows
-        .iter()
-        .map(|r| (0..nodes).map(|p| [r[3 * p], r[3 * p + 1], r[3 * p + 2]]).collect())
-        .collect();
-    draw_centerlines(dir, &points, format)?;
-    crate::animation::animate_run(
+    draw_centerline_figures(
         dir,
         ("centerline", 3),
-        nodes,
-        rows,
+        (nodes, rows),
         |r, p| [r[3 * p], r[3 * p + 1], r[3 * p + 2]],
-        "t",
+        ("t", format),
     )?;
     let momentum = Table::read_csv(&dir.join("momentum.csv"))?;
     crate::figures::draw_changes(
@@ -514,6 +505,29 @@ pub fn draw_rod(dir: &Path, nodes: usize, rows: u64, format: &str) -> Result<(),
         )?;
     }
     Ok(())
+}
+
+/// The centreline figures of a run from `dir/<stem>.npy` (`rows` rows of
+/// `nodes` points of `width` values, the point given by `point(row, node)`):
+/// six snapshots in the x–z and y–z planes ([`draw_centerlines`]) and the
+/// animation `centerline.gif`, its frames timed by the column `time` of
+/// `energy.csv`.
+pub(crate) fn draw_centerline_figures(
+    dir: &Path,
+    (stem, width): (&str, usize),
+    (nodes, rows): (usize, u64),
+    point: impl Fn(&[f64], usize) -> [f64; 3] + Copy,
+    (time, format): (&str, &str),
+) -> Result<(), CliError> {
+    let columns: Vec<String> = (0..nodes * width).map(|i| i.to_string()).collect();
+    let snaps = rows_for_plots(dir, stem, &columns, rows, 6)?;
+    let points: Vec<Vec<[f64; 3]>> = snaps
+        .rows
+        .iter()
+        .map(|r| (0..nodes).map(|p| point(r, p)).collect())
+        .collect();
+    draw_centerlines(dir, &points, format)?;
+    crate::animation::animate_run(dir, (stem, width), nodes, rows, point, time)
 }
 
 /// Centreline snapshots (each a list of points) in the x–z and y–z planes:
