@@ -52,7 +52,7 @@ use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, summary, words_error};
 use crate::run::RunJob;
-use crate::scenario::{OutputSpec, finite_value, key_error, output_dir, parse_toml, positive_value};
+use crate::scenario::{OutputSpec, check_plot_format, finite_value, key_error, output_dir, parse_toml, positive_value};
 
 /// Whether a field scenario asks for a CFK lattice.
 pub fn is_cfk(text: &str) -> bool {
@@ -243,12 +243,7 @@ impl Setup {
         }
         let t_end = positive_value(path, "time.t_end", scenario.time.t_end)?;
         let o = &scenario.output;
-        if o.plot_format != "svg" && o.plot_format != "png" {
-            return Err(key(
-                "output.plot_format",
-                format!("unknown plot format `{}`", o.plot_format),
-            ));
-        }
+        check_plot_format(path, &o.plot_format)?;
         Ok(Self {
             path: path.to_path_buf(),
             nodes: [l.nodes[0], l.nodes[1]],

@@ -35,7 +35,7 @@ use crate::error::CliError;
 use crate::field_run::{march_fast, march_generic};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Session};
 use crate::run::RunJob;
-use crate::scenario::{finite_value, key_error, output_dir, parse_toml, positive_value};
+use crate::scenario::{check_plot_format, finite_value, key_error, output_dir, parse_toml, positive_value};
 
 /// The lattice-field model names.
 pub const FIELD_MODELS: &[&str] = &["sine-gordon", "wave", "klein-gordon-phi4", "klein-gordon-complex"];
@@ -401,15 +401,7 @@ impl LoadedField {
         if s.output.energy_every == 0 {
             return Err(self.key_error("output.energy_every", "expected an integer ≥ 1"));
         }
-        if s.output.plot_format != "svg" && s.output.plot_format != "png" {
-            return Err(self.key_error(
-                "output.plot_format",
-                format!(
-                    "unknown plot format `{}`, expected \"svg\" or \"png\"",
-                    s.output.plot_format
-                ),
-            ));
-        }
+        check_plot_format(&self.path, &s.output.plot_format)?;
         Ok(solver)
     }
 }

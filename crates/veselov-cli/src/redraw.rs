@@ -29,10 +29,8 @@ use crate::pipeline::readback::npy_shape;
 /// Redraw the figures of the run or study in `dir` as `format` (`svg` or
 /// `png`); returns the files written, sorted.
 pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
-    if format != "svg" && format != "png" {
-        return Err(CliError::Setup(format!(
-            "--format: unknown plot format `{format}`, expected svg or png"
-        )));
+    if let Some(problem) = crate::scenario::plot_format_problem(format) {
+        return Err(CliError::Setup(format!("--format: {problem}")));
     }
     if !dir.is_dir() {
         return Err(CliError::Setup(format!(

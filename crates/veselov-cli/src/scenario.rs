@@ -313,6 +313,20 @@ impl LoadedScenario {
     }
 }
 
+/// The error of an `[output] plot_format` (of the scenario `file`) that is
+/// not a format the figures are drawn in, if it is not one.
+pub fn check_plot_format(file: &Path, format: &str) -> Result<(), CliError> {
+    match plot_format_problem(format) {
+        Some(message) => Err(key_error(file, "output.plot_format", message)),
+        None => Ok(()),
+    }
+}
+
+/// What is wrong with the plot format `format` (`svg` or `png`), if anything.
+pub fn plot_format_problem(format: &str) -> Option<String> {
+    (format != "svg" && format != "png").then(|| format!("unknown plot format `{format}`, expected \"svg\" or \"png\""))
+}
+
 /// An error about `key` in the scenario `file`.
 pub fn key_error(file: &Path, key: &str, message: impl Into<String>) -> CliError {
     CliError::Key {
@@ -403,17 +417,7 @@ pub fn check_time_and_output(file: &Path, time: &TimeSpec, dt: f64, output: &Out
             ));
         }
     }
-    if output.plot_format != "svg" && output.plot_format != "png" {
-        return Err(key_error(
-            file,
-            "output.plot_format",
-            format!(
-                "unknown plot format `{}`, expected \"svg\" or \"png\"",
-                output.plot_format
-            ),
-        ));
-    }
-    Ok(())
+    check_plot_format(file, &output.plot_format)
 }
 
 /// Number of steps of a fixed-step run: `steps`, or `round((t_end − t0)/dt)`
@@ -552,13 +556,7 @@ impl RowsOutputSpec {
     /// # Errors
     /// `output.every` = 0 or an unknown `output.plot_format`.
     pub fn rows_every(&self, file: &Path, steps: u64) -> Result<u64, CliError> {
-        if self.plot_format != "svg" && self.plot_format != "png" {
-            return Err(key_error(
-                file,
-                "output.plot_format",
-                format!("unknown plot format `{}`", self.plot_format),
-            ));
-        }
+        check_plot_format(file, &self.plot_format)?;
         match self.every {
             Some(0) => Err(key_error(file, "output.every", "expected an integer ≥ 1")),
             Some(k) => Ok(k),
