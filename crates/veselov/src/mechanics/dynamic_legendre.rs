@@ -11,11 +11,9 @@
 use num_dual::{Dual64, HyperDual64};
 
 use super::dynamic::DynLagrangian;
+use super::lagrangian::inverse_legendre_iteration;
 use crate::error::{Error, Result, check_finite};
 use crate::solve::DenseLu;
-
-/// Iterations of the inverse Legendre map before it is declared failed.
-const MAX_ITERATIONS: usize = 60;
 
 fn check_lengths<L: DynLagrangian>(l: &L, parts: [(&str, &[f64]); 2]) -> Result<()> {
     for (what, x) in parts {
@@ -73,21 +71,21 @@ pub fn dyn_momentum<L: DynLagrangian>(l: &L, t: f64, q: &[f64], v: &[f64]) -> Re
 
 /// The inverse Legendre map: `v` with `∂L/∂v(t, q, v) = p`, by Newton's method
 /// on the exact velocity Hessian from `v = 0` (one step when `L` is quadratic
-/// in `v`). A singular Hessian is [`Error::SingularVelocityHessian`]; no
-/// convergence in 60 iterations is [`Error::NewtonFailure`].
+/// in `v`), with the iteration control of the fixed-size map. A singular
+/// Hessian is [`Error::SingularVelocityHessian`]; no convergence in 60
+/// iterations is [`Error::NewtonFailure`].
 pub fn dyn_velocity_from_momentum<L: DynLagrangian>(l: &L, t: f64, q: &[f64], p: &[f64]) -> Result<Vec<f64>> {
     check_lengths(l, [("q", q), ("p", p)])?;
     let n = l.dim();
     let mut v = vec![0.0; n];
     let mut r = vec![0.0; n];
     let mut lu = DenseLu::new(n);
-    let (mut last, mut residual) = (f64::INFINITY, f64::INFINITY);
-    for it in 0..MAX_ITERATIONS {
+    inverse_legendre_iteration(t, || {
         velocity_hessian(l, t, q, &v, &mut r, &mut lu.matrix);
         for (ri, pi) in r.iter_mut().zip(p) {
             *ri -= pi;
         }
-        residual = r.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let residual = r.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         let pivot = lu.factor("inverse Legendre map").unwrap_or(0.0);
         if pivot <= 1e3 * f64::EPSILON {
             return Err(Error::SingularVelocityHessian { t, pivot });
@@ -97,22 +95,9 @@ pub fn dyn_velocity_from_momentum<L: DynLagrangian>(l: &L, t: f64, q: &[f64], p:
             *vi -= d;
         }
         let size = v.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-        let step = r.iter().fold(0.0_f64, |m, x| m.max(x.abs())) / size;
-        if !step.is_finite() {
-            break;
-        }
-        if step <= 4.0 * f64::EPSILON || (it > 2 && step >= last && step < 1e-9) {
-            return Ok(v);
-        }
-        last = step;
-    }
-    Err(Error::NewtonFailure {
-        step: 0,
-        t,
-        residual,
-        iterations: MAX_ITERATIONS,
-        reason: "inverse Legendre map ∂L/∂v = p did not converge".to_string(),
-    })
+        Ok((residual, r.iter().fold(0.0_f64, |m, x| m.max(x.abs())) / size))
+    })?;
+    Ok(v)
 }
 
 /// The energy `E = p·v − L(t, q, v)` at the phase-space point `(q, p)`, with

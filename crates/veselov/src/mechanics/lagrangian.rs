@@ -214,20 +214,35 @@ pub fn velocity_from_momentum<const N: usize, L: Lagrangian<N>>(
     check_finite("q", q.iter())?;
     check_finite("p", p.iter())?;
     let mut v = SVector::<f64, N>::zeros();
-    let mut last = f64::INFINITY;
-    let mut residual = f64::INFINITY;
-    for it in 0..60 {
+    inverse_legendre_iteration(t, || {
         let h = hessian(l, t, q, &v);
         let r = h.jet.dv - p;
-        residual = r.amax();
         let dv = solve_velocity_hessian(t, &h.vv, &r)?;
         v -= dv;
-        let step = dv.amax() / v.amax().max(1.0);
+        Ok((r.amax(), dv.amax() / v.amax().max(1.0)))
+    })?;
+    Ok(v)
+}
+
+/// Iterations of the inverse Legendre map before it is declared failed.
+const INVERSE_LEGENDRE_ITERATIONS: usize = 60;
+
+/// The iteration control of the inverse Legendre map `∂L/∂v(t, q, v) = p`,
+/// for fixed and run-time dimensions: `newton_step` makes one Newton step on
+/// the velocity and returns `‖∂L/∂v − p‖∞` before it and the step relative
+/// to `max(‖v‖∞, 1)`. Done when the step is at 4ε, or has stopped
+/// decreasing below 1e-9 (round-off); failed after 60 steps or on a
+/// non-finite step ([`Error::NewtonFailure`]).
+pub(crate) fn inverse_legendre_iteration(t: f64, mut newton_step: impl FnMut() -> Result<(f64, f64)>) -> Result<()> {
+    let (mut last, mut residual) = (f64::INFINITY, f64::INFINITY);
+    for it in 0..INVERSE_LEGENDRE_ITERATIONS {
+        let (r, step) = newton_step()?;
+        residual = r;
         if !step.is_finite() {
             break;
         }
         if step <= 4.0 * f64::EPSILON || (it > 2 && step >= last && step < 1e-9) {
-            return Ok(v);
+            return Ok(());
         }
         last = step;
     }
@@ -235,7 +250,7 @@ pub fn velocity_from_momentum<const N: usize, L: Lagrangian<N>>(
         step: 0,
         t,
         residual,
-        iterations: 60,
+        iterations: INVERSE_LEGENDRE_ITERATIONS,
         reason: "inverse Legendre map ∂L/∂v = p did not converge".to_string(),
     })
 }
