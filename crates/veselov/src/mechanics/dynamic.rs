@@ -267,11 +267,15 @@ impl<L: DynLagrangian> DynGalerkinIntegrator<L> {
         let mut residual = 0.0_f64;
         for nu in 0..self.scheme.intervals() {
             for a in 0..n {
-                let r = self.g[nu * n + a] + if nu == 0 { p[a] } else { 0.0 };
-                residual = residual.max(r.abs());
+                residual = residual.max(self.residual(p, nu, a).abs());
             }
         }
         residual
+    }
+
+    /// Component `a` of the step equation `ν`: `G_ν + p_k δ_{ν0}` at the last evaluation.
+    fn residual(&self, p: &[f64], nu: usize, a: usize) -> f64 {
+        self.g[nu * self.n + a] + if nu == 0 { p[a] } else { 0.0 }
     }
 
     /// One step `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})`; returns the Newton iterations.
@@ -346,8 +350,7 @@ impl<L: DynLagrangian> NewtonSystem for DynStepEquations<'_, L> {
         let dim = m * n;
         for nu in 0..m {
             for a in 0..n {
-                let r = s.g[nu * n + a] + if nu == 0 { self.p[a] } else { 0.0 };
-                s.delta[nu * n + a] = -r;
+                s.delta[nu * n + a] = -s.residual(self.p, nu, a);
                 for mu in 1..=m {
                     for b in 0..n {
                         s.lu.matrix[(nu * n + a) * dim + (mu - 1) * n + b] = s.block(nu, a, mu, b);
@@ -401,7 +404,7 @@ impl<L: DynLagrangian> SimplifiedNewtonSystem for DynStepEquations<'_, L> {
         let n = s.n;
         for nu in 0..s.scheme.intervals() {
             for a in 0..n {
-                s.delta[nu * n + a] = -(s.g[nu * n + a] + if nu == 0 { self.p[a] } else { 0.0 });
+                s.delta[nu * n + a] = -s.residual(self.p, nu, a);
             }
         }
         s.residual_norm(self.p)
