@@ -108,6 +108,8 @@ pub fn run_density<L: CellEnergy<DIM>, const DIM: usize>(
             energy: run.energies.last().copied().unwrap_or(f64::NAN),
             iterations: m.last_iterations(),
             total_levels,
+            values: None,
+            recentred_by: 0.0,
         };
         if observer(&info) {
             Control::Continue

@@ -83,6 +83,7 @@ pub mod split;
 pub mod stepping;
 pub mod trig;
 pub mod variational;
+pub mod waveform;
 
 pub use density::{
     CellJet, CellLagrangian, CoreCell, Density, RectangleRule, TriangleRule, action, cell_gradient, cell_jet,
@@ -100,3 +101,6 @@ pub use region::{Node, Region, window};
 pub use run::{BlockAccumulator, BlockStats, FieldRun, FieldRunConfig, LevelInfo, Model, Snapshot, run_lattice};
 pub use scheme::Scheme;
 pub use stepping::{CauchyStepper, DensityStepper, FastLevels, FastStepper};
+pub use waveform::{
+    CollisionCounter, fourth_difference_max, guo_printed_energy, highest_mode_amplitude, rectangle_energy,
+};

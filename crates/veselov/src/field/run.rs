@@ -11,6 +11,7 @@ use super::noether::shift_charge;
 use super::potential::{Phi4, ScalarPotential, SineGordon, Wave};
 use super::scheme::Scheme;
 use super::stepping::{FastLevels, FastStepper};
+use super::waveform::{CollisionCounter, fourth_difference_max};
 use crate::error::{Error, Result};
 use crate::run::{Checkpoint, Control, Status, StepStats, StopWhen, Words, drive, save_count};
 
@@ -84,7 +85,7 @@ impl FieldRunConfig {
 
 /// What the observer sees after every level.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LevelInfo {
+pub struct LevelInfo<'a> {
     /// Index of the new level.
     pub level: usize,
     /// Its time.
@@ -95,6 +96,11 @@ pub struct LevelInfo {
     pub iterations: usize,
     /// Planned number of levels.
     pub total_levels: usize,
+    /// The new level's values as stored, where the run has scalar values:
+    /// the physical field is `values[i] + recentred_by`.
+    pub values: Option<&'a [f64]>,
+    /// The 2π re-centring applied so far (sine-Gordon; 0 otherwise).
+    pub recentred_by: f64,
 }
 
 /// Min/mean/max of the energy error `E − E_first` over a block of levels.
@@ -239,6 +245,14 @@ pub struct FieldRun {
     pub energies: Vec<f64>,
     /// Block statistics of the energy error.
     pub energy_blocks: Vec<BlockStats>,
+    /// Block statistics (same blocks) of the high-frequency indicator
+    /// [`fourth_difference_max`] of every new level.
+    pub high_frequency_blocks: Vec<BlockStats>,
+    /// The largest high-frequency indicator of the run.
+    pub high_frequency_max: f64,
+    /// Sine-Gordon: the times of closest approach of the kink–antikink
+    /// collisions ([`CollisionCounter`]); empty for the other models.
+    pub collision_times: Vec<f64>,
     /// Wave model: the shift charge `Σ_i (y_{i,j+1} − y_ij)` per level (if
     /// energies are kept); empty otherwise.
     pub charges: Vec<f64>,
@@ -304,6 +318,9 @@ fn run_with<P: ScalarPotential>(
         initial_energy: f64::NAN,
         energies: Vec::new(),
         energy_blocks: Vec::new(),
+        high_frequency_blocks: Vec::new(),
+        high_frequency_max: 0.0,
+        collision_times: Vec::new(),
         charges: Vec::new(),
         snapshots: Vec::new(),
         final_level: Vec::new(),
@@ -319,6 +336,8 @@ fn run_with<P: ScalarPotential>(
         run.charges.push(shift_charge(&y0, &y1));
     }
     let mut blocks = BlockAccumulator::new(config.energy_block);
+    let mut high_frequency = BlockAccumulator::new(config.energy_block);
+    let mut collisions = (config.model == Model::SineGordon).then(CollisionCounter::new);
     let mut record = |_: u64, s: &FastLevels<P>, _: &StepStats| {
         let m = &s.marcher;
         let e = m.energy();
@@ -333,6 +352,12 @@ fn run_with<P: ScalarPotential>(
         }
         // The energy's first level is the one before the level just computed.
         blocks.push(m.level() - 1, e - run.initial_energy);
+        let hf = fourth_difference_max(&lat, m.current());
+        high_frequency.push(m.level() - 1, hf);
+        run.high_frequency_max = run.high_frequency_max.max(hf);
+        if let Some(c) = collisions.as_mut() {
+            c.observe(m.time(), m.current());
+        }
         if config.snapshot_every > 0 && m.level().is_multiple_of(config.snapshot_every) {
             run.snapshots.push(Snapshot {
                 level: m.level(),
@@ -347,6 +372,8 @@ fn run_with<P: ScalarPotential>(
             energy: e,
             iterations: m.last_iterations(),
             total_levels,
+            values: Some(m.current()),
+            recentred_by: s.recentred_by,
         };
         if observer(&info) {
             Control::Continue
@@ -371,6 +398,8 @@ fn run_with<P: ScalarPotential>(
     let m = &levels.marcher;
     run.recentred_by = levels.recentred_by;
     run.energy_blocks = blocks.finish();
+    run.high_frequency_blocks = high_frequency.finish();
+    run.collision_times = collisions.map(|c| c.times().to_vec()).unwrap_or_default();
     run.final_level = m.current().to_vec();
     run.final_index = m.level();
     run.final_time = m.time();
