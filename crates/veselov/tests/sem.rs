@@ -161,6 +161,71 @@ fn reduced_map_is_symplectic_and_energy_recomputation_is_not() {
     assert!((det - 1.0).abs() > 1e-4, "det {det}");
 }
 
+/// Where the left-point rule (3.18) must produce `NegativeStep`. For
+/// `L = ½v² − V(q)` its step from `(q, p)` at the fixed energy `E` solves
+/// `½(p − h g)² + V(q) − E = 0`, `g = V′(q)`: a quadratic in `h` with roots
+/// `h± = [pg ± √(p²g² + 2g²δ)]/g²`, `δ = E − H(q, p) = V(q_prev) − V(q)`.
+/// If the last step ended higher than it started (`δ < 0`) while the momentum
+/// now points downhill (`pg < 0`), both roots are negative: there is no
+/// forward step. A circulating pendulum does exactly that when a step
+/// straddles the top θ = π and lands nearer to it than it left. (The note's
+/// oscillator scenario cannot: on V = ½q² a step that ends higher points
+/// uphill, so the rule fails there only at a turning point, with no root at
+/// all; see `degenerate_cases_are_typed_errors`.)
+#[test]
+fn left_point_step_is_negative_past_the_top_of_a_circulating_pendulum() {
+    let pendulum = Pendulum::new(1.0, 1.0, 1.0).expect("valid");
+    let mut sem = SemIntegrator::new(SemAction::new(pendulum.system(), SemRule::LeftPoint).expect("valid"));
+    let run = run_sem(
+        &mut sem,
+        0.0,
+        Vector1::new(0.0),
+        Vector1::new(3.0),
+        0.003,
+        50.0,
+        1_000_000,
+        false,
+    );
+    let Some(Error::NegativeStep { h, .. }) = run.failure else {
+        panic!("expected NegativeStep, got {:?}", run.failure);
+    };
+    let n = run.states.len();
+    let (before, at) = (&run.states[n - 2], &run.states[n - 1]);
+    let v = |q: f64| -q.cos();
+    let (q, p, g) = (at.q[0], at.p[0], at.q[0].sin());
+    let delta = v(before.q[0]) - v(q);
+    println!(
+        "q {} → {q}, p = {p}, δ = {delta:e}, pg = {:e}, reported h = {h:e}",
+        before.q[0],
+        p * g
+    );
+    assert!(
+        (before.q[0] - std::f64::consts::PI) * (q - std::f64::consts::PI) < 0.0,
+        "the step straddles the top"
+    );
+    assert!(delta < 0.0 && p * g < 0.0, "δ = {delta:e}, pg = {:e}", p * g);
+    // δ is also E − H(q, p), with E the energy every step has kept.
+    assert!((at.energy - 0.5 * p * p - v(q) - delta).abs() < 1e-12);
+    let spread = run.states[1..]
+        .iter()
+        .map(|s| (s.energy - at.energy).abs())
+        .fold(0.0, f64::max);
+    // Each step's energy equation is solved to ~1e-13; over these 5747
+    // steps the energy moved by 8e-11.
+    assert!(spread < 1e-9 * at.energy.abs(), "energy spread {spread:e}");
+    let root = (p * p * g * g + 2.0 * g * g * delta).sqrt();
+    let (near, far) = ((p * g + root) / (g * g), (p * g - root) / (g * g));
+    assert!(near < 0.0 && far < near, "roots {near:e}, {far:e}");
+    // The reported step is the bracketed sign change of the backward scan:
+    // the near root, to within the scan's spacing.
+    assert!(
+        h < 0.0 && (h - near).abs() < 0.5 * near.abs(),
+        "h = {h:e}, near root {near:e}"
+    );
+    // Every state before it was a forward step.
+    assert!(run.states.windows(2).all(|w| w[1].t > w[0].t));
+}
+
 /// Degenerate cases give the typed errors, not garbage.
 #[test]
 fn degenerate_cases_are_typed_errors() {
