@@ -17,6 +17,9 @@
 //! damping and the end load (the discrete Lagrange–d'Alembert balance); the
 //! summary reports the largest balance error. With a clamped end the
 //! support's reaction is not computed and the balance is not reported.
+//! `el_residual_max` in the summary is the largest residual of the discrete
+//! Euler–Lagrange equations of the run (each vertex equation at its accepted
+//! values, relative to the size of its terms).
 
 use std::path::Path;
 
@@ -67,6 +70,9 @@ struct RodObserver<'a> {
     balance_error: [f64; 2],
     energy0: f64,
     energy_range: [f64; 2],
+    /// The largest relative residual of the discrete Euler–Lagrange
+    /// equations (the vertex equations) at the accepted values.
+    el_residual_max: f64,
     rows_written: u64,
     error: Option<CliError>,
     buffer: Vec<f64>,
@@ -227,7 +233,8 @@ fn midpoint(a: &Pose<f64>, b: &Pose<f64>) -> Result<Pose<f64>, veselov::Error> {
 }
 
 impl Observer<Rod> for RodObserver<'_> {
-    fn observe(&mut self, step: u64, state: &Rod, _: &StepStats) -> Control {
+    fn observe(&mut self, step: u64, state: &Rod, stats: &StepStats) -> Control {
+        self.el_residual_max = self.el_residual_max.max(stats.max_relative_residual);
         let i = self.level_impulse(state);
         for (s, x) in self.impulse.iter_mut().zip(i) {
             *s += x;
@@ -260,6 +267,7 @@ impl Resumable for RodObserver<'_> {
         out.extend(self.balance_error);
         out.push(self.energy0);
         out.extend(self.energy_range);
+        out.push(self.el_residual_max);
         Ok(())
     }
     fn take_error(&mut self) -> Option<CliError> {
@@ -279,6 +287,7 @@ impl RodObserver<'_> {
         }
         self.energy0 = w.one()?;
         self.energy_range = [w.one()?, w.one()?];
+        self.el_residual_max = w.one()?;
         Ok(())
     }
 }
@@ -375,6 +384,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         balance_error: [0.0; 2],
         energy0: f64::NAN,
         energy_range: [f64::NAN; 2],
+        el_residual_max: 0.0,
         rows_written: 0,
         error: None,
         buffer: Vec::with_capacity(nodes * 12),
@@ -436,6 +446,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         "energy_initial": obs.energy0,
         "energy_min": obs.energy_range[0],
         "energy_max": obs.energy_range[1],
+        "el_residual_max": obs.el_residual_max,
         "linear_momentum_balance_error": if free { json!(obs.balance_error[0]) } else { json!(null) },
         "angular_momentum_balance_error": if free { json!(obs.balance_error[1]) } else { json!(null) },
     });

@@ -35,6 +35,11 @@ fn free_rod_writes_its_outputs_and_keeps_its_momenta() {
         );
     }
     assert!(s["linear_momentum_balance_error"].as_f64().expect("number") <= 1e-12);
+    // The vertex equations are the discrete Euler–Lagrange equations, solved
+    // to the default tolerance 1e-14 (or accepted at round-off).
+    let el = s["el_residual_max"].as_f64().expect("number");
+    println!("el_residual_max {el:e}");
+    assert!(el > 0.0 && el <= 1e-12, "EL residual {el:e}");
     let (eh, energy) = csv(&out.join("energy.csv"));
     assert_eq!(eh, ["t", "energy"]);
     assert_eq!(energy.len(), n);

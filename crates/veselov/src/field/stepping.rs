@@ -152,6 +152,8 @@ where
         let report = m.step()?;
         Ok(StepStats {
             iterations: report.iterations,
+            jacobians: report.jacobians,
+            max_relative_residual: report.max_relative_residual,
             ..StepStats::default()
         })
     }

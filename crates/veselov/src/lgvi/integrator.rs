@@ -246,6 +246,7 @@ where
         Ok((
             next,
             StepStats {
+                max_relative_residual: 0.0,
                 iterations,
                 fallback: false,
                 work: 0.0,

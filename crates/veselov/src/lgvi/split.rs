@@ -209,6 +209,7 @@ where
         Ok((
             next,
             StepStats {
+                max_relative_residual: 0.0,
                 iterations,
                 fallback,
                 work: 0.0,

@@ -701,6 +701,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
         Ok((
             next,
             StepStats {
+                max_relative_residual: 0.0,
                 iterations: report.iterations,
                 fallback: false,
                 work: self.last_work(),

@@ -554,6 +554,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
             return Ok((
                 next,
                 StepStats {
+                    max_relative_residual: 0.0,
                     iterations,
                     fallback: false,
                     work,
@@ -567,6 +568,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
         Ok((
             next,
             StepStats {
+                max_relative_residual: 0.0,
                 iterations: report.iterations,
                 fallback: true,
                 work: self.general.last_work(),

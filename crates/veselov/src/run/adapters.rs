@@ -189,6 +189,7 @@ impl<M: VariableStepMap<N> + ?Sized, const N: usize> Stepper for SemStepper<'_, 
             // The landing step's own iterations are not counted (as ever).
             let _ = iterations;
             return Ok(StepStats {
+                max_relative_residual: 0.0,
                 iterations: info.iterations,
                 fallback: true,
                 work: 0.0,
@@ -198,6 +199,7 @@ impl<M: VariableStepMap<N> + ?Sized, const N: usize> Stepper for SemStepper<'_, 
         }
         *state = next;
         Ok(StepStats {
+            max_relative_residual: 0.0,
             iterations: info.iterations,
             fallback: info.fallback,
             work: 0.0,

@@ -19,6 +19,11 @@ pub struct StepStats {
     /// Evaluations of the potential's gradient `∇V` (a batch of `s` per
     /// fixed-point sweep of the separable Galerkin path); 0 where not counted.
     pub force_evaluations: usize,
+    /// Largest final residual of the step's equations relative to the size
+    /// of their terms, where the integrator reports it (the vertex solves
+    /// of the Cauchy marcher: the discrete Euler–Lagrange residual
+    /// `Leg_v(y_Δv) − μ_v` at the accepted values); 0 elsewhere.
+    pub max_relative_residual: f64,
     /// Discrete work of the generalised forces over the step,
     /// `h Σᵢ bᵢ F(i)·Yᵢ` (zero for unforced systems and for other families).
     pub work: f64,
