@@ -11,8 +11,9 @@
 //! * `collisions.csv`: the time of closest approach of every kink–antikink
 //!   collision;
 //! * `last_collision.npy` (rows: t, then the field at every node) and
-//!   `last_collision.svg`: the waveform through the last completed collision,
-//!   every half time unit (Figs. 5.9, 5.10);
+//!   `last_collision.svg`: the waveform through the last collision with
+//!   three time units of run after it, every half time unit, centred on the
+//!   closest approach (Figs. 5.9, 5.10);
 //! * Guo only, `companion_blocks.csv` and `companion_*.svg`: the energy the
 //!   paper prints under (5.15) and the footnote-4 energy beside the
 //!   exactly conserved E^{j+½} (Fig. 5.8).
@@ -30,7 +31,8 @@ use veselov_cli::plot::Scale;
 
 use crate::{BLOCK, plot, write_npy};
 
-/// Frames kept through a collision, one every half time unit.
+/// Frames kept through a collision, one every half time unit, half of them
+/// after the closest approach.
 const FRAMES: usize = 12;
 
 /// The energies of Fig. 5.8 besides the conserved one, at every level.
@@ -120,6 +122,8 @@ pub fn run(
     let sample = (0.5 / lat.dt()).round() as usize;
     let mut ring: VecDeque<Vec<f64>> = VecDeque::with_capacity(FRAMES);
     let mut last_collision: Vec<Vec<f64>> = Vec::new();
+    // Samples still to take before the ring is centred on the latest collision.
+    let mut pending: Option<usize> = None;
     let mut counter = CollisionCounter::new();
     let mut companions = (scheme == Scheme::Guo).then(|| Companions {
         levels: VecDeque::with_capacity(3),
@@ -150,9 +154,20 @@ pub fn run(
                     .chain(physical.clone().map(|v| v - shift))
                     .collect(),
             );
+            pending = match pending {
+                Some(0) => {
+                    last_collision = ring.iter().cloned().collect();
+                    None
+                }
+                p => p.map(|n| n - 1),
+            };
         }
         if counter.observe(info.time, values) {
-            last_collision = ring.iter().cloned().collect();
+            // Completed: the ring holds the frames up to now; wait until
+            // half of them follow the closest approach.
+            let dip = counter.times().last().copied().unwrap_or(info.time);
+            let after = ring.iter().filter(|f| f[0] > dip).count();
+            pending = Some((FRAMES / 2).saturating_sub(after + 1));
         }
         let done = info.level as f64 / info.total_levels as f64;
         if done >= next_report {
