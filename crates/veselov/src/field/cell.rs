@@ -103,7 +103,7 @@ where
 {
     let k = y.len();
     debug_assert!(k <= MAX_CELL_VERTICES && l < k && b < k);
-    let seeded = F::retract(&F::lift::<DualSVec64<M>>(&y[b]), &seeds::<f64, M>());
+    let seeded = F::retract_seeded(&y[b], &seeds::<f64, M>());
     let f = with_values(
         k,
         |i| if i == b { seeded } else { F::lift(&y[i]) },
@@ -166,7 +166,7 @@ where
 {
     let k = y.len();
     debug_assert!(k <= MAX_CELL_VERTICES && l < k);
-    let seeded = F::retract(&F::lift::<DualSVec64<M>>(&y[l]), &seeds::<f64, M>());
+    let seeded = F::retract_seeded(&y[l], &seeds::<f64, M>());
     gradient_of(with_values(
         k,
         |i| if i == l { seeded } else { F::lift(&y[i]) },
@@ -195,9 +195,9 @@ where
     // Inner directions seed y_a, outer directions seed y_b.
     let inner: SVector<Outer<M>, M> = seeds::<f64, M>().map(Outer::<M>::from_re);
     let outer: SVector<Outer<M>, M> = seeds::<DualSVec64<M>, M>();
-    let ya = F::retract(&F::lift::<Outer<M>>(&y[a]), &inner);
+    let ya = F::retract_seeded(&y[a], &inner);
     let ya = if a == b { F::retract(&ya, &outer) } else { ya };
-    let yb = F::retract(&F::lift::<Outer<M>>(&y[b]), &outer);
+    let yb = F::retract_seeded(&y[b], &outer);
     let value = with_values(
         k,
         |i| {

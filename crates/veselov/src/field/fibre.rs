@@ -41,6 +41,17 @@ pub trait Fibre<const M: usize>: Copy + Debug + Send + Sync + 'static {
     /// The chart y·τ(ξ).
     fn retract<D: Scalar>(y: &Self::Point<D>, xi: &SVector<D, M>) -> Self::Point<D>;
 
+    /// The chart y·τ(ξ) at a constant point y for a ξ whose entries are
+    /// nilpotent of order 3 (every product of three of them vanishes): the
+    /// seeded directions of [`crate::field::cell::vertex_gradient`] and
+    /// [`crate::field::cell::mixed_block`], one or two levels of dual numbers
+    /// with zero real part. It equals `retract(&lift(y), xi)` in that
+    /// arithmetic; a fibre may compute it from τ's series truncated after
+    /// the quadratic term and with y's `f64` entries (the default does not).
+    fn retract_seeded<D: Scalar>(y: &Self::Point<f64>, xi: &SVector<D, M>) -> Self::Point<D> {
+        Self::retract(&Self::lift(y), xi)
+    }
+
     /// Its inverse: the ξ with z = y·τ(ξ), |ξ| within the injectivity radius
     /// (errors near the cut locus of a rotation part).
     fn log<D: Scalar>(y: &Self::Point<D>, z: &Self::Point<D>) -> Result<SVector<D, M>, LieError>;
@@ -158,6 +169,28 @@ impl Fibre<6> for RigidMotions {
     fn retract<D: Scalar>(y: &SE3<D>, xi: &SVector<D, 6>) -> SE3<D> {
         y.compose(&se3::exp(xi))
     }
+    /// exp(ξ) = (I + ω̂ + ½ω̂², v + ½ω̂v) when products of three entries of
+    /// ξ = (ω; v) vanish, composed with y's `f64` rotation and translation.
+    fn retract_seeded<D: Scalar>(y: &SE3<f64>, xi: &SVector<D, 6>) -> SE3<D> {
+        let (w, v) = se3::split(xi);
+        let wh = so3::hat(&w);
+        let half = D::from(0.5);
+        // ω̂² = ωωᵀ − |ω|²I, and ω̂v = ω × v, written out (fewer products).
+        let n2 = w.dot(&w);
+        let e_rot = Matrix3::from_fn(|i, j| {
+            let quadratic = if i == j { w[i] * w[j] - n2 } else { w[i] * w[j] };
+            let diagonal = if i == j { D::from(1.0) } else { D::from(0.0) };
+            diagonal + wh[(i, j)] + quadratic * half
+        });
+        let e_t = v + w.cross(&v) * half;
+        let (ry, ty) = (y.rotation().matrix(), y.translation());
+        let rotation = Matrix3::from_fn(|i, j| {
+            e_rot[(0, j)] * ry[(i, 0)] + e_rot[(1, j)] * ry[(i, 1)] + e_rot[(2, j)] * ry[(i, 2)]
+        });
+        let translation =
+            Vector3::from_fn(|i, _| e_t[0] * ry[(i, 0)] + e_t[1] * ry[(i, 1)] + e_t[2] * ry[(i, 2)] + ty[i]);
+        SE3::new(SO3::from_matrix_unchecked(rotation), translation)
+    }
     fn log<D: Scalar>(y: &SE3<D>, z: &SE3<D>) -> Result<SVector<D, 6>, LieError> {
         se3::log(&y.inverse().compose(z))
     }
@@ -251,6 +284,63 @@ mod tests {
             Pose::new(Vector3::new(1.0, 2.0, 3.0), r),
             SVector::from([0.1, -0.2, 0.3, 0.5, 0.4, -0.6]),
         );
+    }
+
+    /// The truncated chart of SE(3) equals the full one on seeded directions:
+    /// first-order duals and two nested levels with both levels present (so
+    /// that the quadratic term of the series is exercised).
+    #[test]
+    fn seeded_chart_of_rigid_motions_is_the_chart() {
+        use crate::field::cell::seeds;
+        use nalgebra::{Const, U1};
+        use num_dual::{Derivative, DualSVec, DualSVec64};
+        type Outer = DualSVec<DualSVec64<6>, 6>;
+        let y = SE3::new(so3::exp(&Vector3::new(0.3, -1.1, 0.7)), Vector3::new(1.0, -2.0, 3.0));
+        let first = seeds::<f64, 6>();
+        let (a, b) = (
+            RigidMotions::retract_seeded(&y, &first),
+            RigidMotions::retract(&RigidMotions::lift(&y), &first),
+        );
+        let flat1 = |p: &SE3<DualSVec64<6>>| -> Vec<f64> {
+            let m = p.rotation().matrix().iter().chain(p.translation().iter());
+            m.flat_map(|x| {
+                let mut v = vec![x.re];
+                v.extend(x.eps.unwrap_generic(Const::<6>, U1).iter());
+                v
+            })
+            .collect()
+        };
+        let close = |u: Vec<f64>, v: Vec<f64>| u.iter().zip(&v).all(|(p, q)| (p - q).abs() < 1e-15 * (1.0 + q.abs()));
+        assert!(close(flat1(&a), flat1(&b)));
+        let xi: SVector<Outer, 6> = seeds::<f64, 6>().map(Outer::from_re) + seeds::<DualSVec64<6>, 6>();
+        let (a, b) = (
+            RigidMotions::retract_seeded(&y, &xi),
+            RigidMotions::retract(&RigidMotions::lift(&y), &xi),
+        );
+        let flat2 = |p: &SE3<Outer>| -> Vec<f64> {
+            let m = p.rotation().matrix().iter().chain(p.translation().iter());
+            m.flat_map(|x| {
+                let mut v = vec![x.re.re];
+                v.extend(x.re.eps.unwrap_generic(Const::<6>, U1).iter());
+                match &x.eps {
+                    Derivative(Some(e)) => {
+                        for d in e.iter() {
+                            v.push(d.re);
+                            v.extend(d.eps.unwrap_generic(Const::<6>, U1).iter());
+                        }
+                    }
+                    Derivative(None) => v.extend([0.0; 42]),
+                }
+                v
+            })
+            .collect()
+        };
+        let (fa, fb) = (flat2(&a), flat2(&b));
+        assert!(
+            fb.iter().filter(|x| x.abs() > 1e-3).count() > 100,
+            "second-order terms present"
+        );
+        assert!(close(fa, fb));
     }
 
     #[test]

@@ -72,10 +72,13 @@ impl<D: DualNum<Primitive = f64> + Copy> SO3<D> {
         self.matrix
     }
 
-    /// The product `self · other` (R₁R₂).
+    /// The product `self · other` (R₁R₂), written out entry by entry:
+    /// over dual numbers this avoids the generic product's zero-filled
+    /// accumulator and copies (the same sums in the same order).
     pub fn compose(&self, other: &Self) -> Self {
+        let (a, b) = (&self.matrix, &other.matrix);
         SO3 {
-            matrix: self.matrix * other.matrix,
+            matrix: Matrix3::from_fn(|i, j| a[(i, 0)] * b[(0, j)] + a[(i, 1)] * b[(1, j)] + a[(i, 2)] * b[(2, j)]),
         }
     }
 
@@ -86,9 +89,10 @@ impl<D: DualNum<Primitive = f64> + Copy> SO3<D> {
         }
     }
 
-    /// Rotate a point: p ↦ Rp.
+    /// Rotate a point: p ↦ Rp (written out, as [`SO3::compose`]).
     pub fn act(&self, p: &Vector3<D>) -> Vector3<D> {
-        self.matrix * p
+        let a = &self.matrix;
+        Vector3::from_fn(|i, _| a[(i, 0)] * p[0] + a[(i, 1)] * p[1] + a[(i, 2)] * p[2])
     }
 
     /// The rotation represented by a quaternion q = w + xi + yj + zk
