@@ -129,6 +129,22 @@ fn newton_schulz(r: &Matrix3<f64>) -> Matrix3<f64> {
     r * (Matrix3::identity() * 3.0 - r.transpose() * r) * 0.5
 }
 
+/// R·exp(ω̂) = R(I + ω̂ + ½ω̂²) for a constant R and an ω whose entries are
+/// nilpotent of order 3 ([`Fibre::retract_seeded`]), with ω̂² = ωωᵀ − |ω|²I
+/// written out and R's `f64` entries scaling the dual ones.
+fn seeded_rotation<D: Scalar>(r: &Matrix3<f64>, w: &Vector3<D>) -> SO3<D> {
+    let wh = so3::hat(w);
+    let (half, n2) = (D::from(0.5), w.dot(w));
+    let e = Matrix3::from_fn(|i, j| {
+        let quadratic = if i == j { w[i] * w[j] - n2 } else { w[i] * w[j] };
+        let diagonal = if i == j { D::from(1.0) } else { D::from(0.0) };
+        diagonal + wh[(i, j)] + quadratic * half
+    });
+    SO3::from_matrix_unchecked(Matrix3::from_fn(|i, j| {
+        e[(0, j)] * r[(i, 0)] + e[(1, j)] * r[(i, 1)] + e[(2, j)] * r[(i, 2)]
+    }))
+}
+
 impl Fibre<3> for Rotations {
     type Point<D: Scalar> = SO3<D>;
     const NAME: &'static str = "SO(3)";
@@ -139,6 +155,9 @@ impl Fibre<3> for Rotations {
     }
     fn retract<D: Scalar>(y: &SO3<D>, xi: &SVector<D, 3>) -> SO3<D> {
         y.compose(&so3::exp(xi))
+    }
+    fn retract_seeded<D: Scalar>(y: &SO3<f64>, xi: &SVector<D, 3>) -> SO3<D> {
+        seeded_rotation(y.matrix(), xi)
     }
     fn log<D: Scalar>(y: &SO3<D>, z: &SO3<D>) -> Result<SVector<D, 3>, LieError> {
         so3::log(&y.inverse().compose(z))
@@ -173,23 +192,12 @@ impl Fibre<6> for RigidMotions {
     /// ξ = (ω; v) vanish, composed with y's `f64` rotation and translation.
     fn retract_seeded<D: Scalar>(y: &SE3<f64>, xi: &SVector<D, 6>) -> SE3<D> {
         let (w, v) = se3::split(xi);
-        let wh = so3::hat(&w);
-        let half = D::from(0.5);
-        // ω̂² = ωωᵀ − |ω|²I, and ω̂v = ω × v, written out (fewer products).
-        let n2 = w.dot(&w);
-        let e_rot = Matrix3::from_fn(|i, j| {
-            let quadratic = if i == j { w[i] * w[j] - n2 } else { w[i] * w[j] };
-            let diagonal = if i == j { D::from(1.0) } else { D::from(0.0) };
-            diagonal + wh[(i, j)] + quadratic * half
+        let ry = y.rotation().matrix();
+        let e_t = v + w.cross(&v) * D::from(0.5);
+        let translation = Vector3::from_fn(|i, _| {
+            e_t[0] * ry[(i, 0)] + e_t[1] * ry[(i, 1)] + e_t[2] * ry[(i, 2)] + y.translation()[i]
         });
-        let e_t = v + w.cross(&v) * half;
-        let (ry, ty) = (y.rotation().matrix(), y.translation());
-        let rotation = Matrix3::from_fn(|i, j| {
-            e_rot[(0, j)] * ry[(i, 0)] + e_rot[(1, j)] * ry[(i, 1)] + e_rot[(2, j)] * ry[(i, 2)]
-        });
-        let translation =
-            Vector3::from_fn(|i, _| e_t[0] * ry[(i, 0)] + e_t[1] * ry[(i, 1)] + e_t[2] * ry[(i, 2)] + ty[i]);
-        SE3::new(SO3::from_matrix_unchecked(rotation), translation)
+        SE3::new(seeded_rotation(ry, &w), translation)
     }
     fn log<D: Scalar>(y: &SE3<D>, z: &SE3<D>) -> Result<SVector<D, 6>, LieError> {
         se3::log(&y.inverse().compose(z))
@@ -240,6 +248,11 @@ impl Fibre<6> for PositionRotation {
         let b = Vector3::new(xi[3], xi[4], xi[5]);
         Pose::new(y.position + a, Rotations::retract(&y.rotation, &b))
     }
+    fn retract_seeded<D: Scalar>(y: &Pose<f64>, xi: &SVector<D, 6>) -> Pose<D> {
+        let a = Vector3::from_fn(|i, _| xi[i] + y.position[i]);
+        let b = Vector3::new(xi[3], xi[4], xi[5]);
+        Pose::new(a, Rotations::retract_seeded(&y.rotation, &b))
+    }
     fn log<D: Scalar>(y: &Pose<D>, z: &Pose<D>) -> Result<SVector<D, 6>, LieError> {
         let a = z.position - y.position;
         let b = Rotations::log(&y.rotation, &z.rotation)?;
@@ -286,61 +299,93 @@ mod tests {
         );
     }
 
-    /// The truncated chart of SE(3) equals the full one on seeded directions:
-    /// first-order duals and two nested levels with both levels present (so
-    /// that the quadratic term of the series is exercised).
-    #[test]
-    fn seeded_chart_of_rigid_motions_is_the_chart() {
+    type Outer<const M: usize> = num_dual::DualSVec<num_dual::DualSVec64<M>, M>;
+
+    fn flat1<const M: usize>(x: &num_dual::DualSVec64<M>) -> Vec<f64> {
+        let mut v = vec![x.re];
+        v.extend(x.eps.unwrap_generic(nalgebra::Const::<M>, nalgebra::U1).iter());
+        v
+    }
+
+    fn flat2<const M: usize>(x: &Outer<M>) -> Vec<f64> {
+        let mut v = flat1(&x.re);
+        match &x.eps {
+            num_dual::Derivative(Some(e)) => e.iter().for_each(|d| v.extend(flat1(d))),
+            num_dual::Derivative(None) => v.extend(vec![0.0; M * (M + 1)]),
+        }
+        v
+    }
+
+    /// The truncated chart equals the full one on seeded directions:
+    /// first-order duals, and two nested levels with both present (so that
+    /// the quadratic term of the series is exercised). `entries` lists a
+    /// point's matrix and vector entries.
+    fn seeded_chart_is_the_chart<F: Fibre<M>, const M: usize>(
+        y: F::Point<f64>,
+        entries1: impl Fn(&F::Point<num_dual::DualSVec64<M>>) -> Vec<num_dual::DualSVec64<M>>,
+        entries2: impl Fn(&F::Point<Outer<M>>) -> Vec<Outer<M>>,
+    ) {
         use crate::field::cell::seeds;
-        use nalgebra::{Const, U1};
-        use num_dual::{Derivative, DualSVec, DualSVec64};
-        type Outer = DualSVec<DualSVec64<6>, 6>;
-        let y = SE3::new(so3::exp(&Vector3::new(0.3, -1.1, 0.7)), Vector3::new(1.0, -2.0, 3.0));
-        let first = seeds::<f64, 6>();
-        let (a, b) = (
-            RigidMotions::retract_seeded(&y, &first),
-            RigidMotions::retract(&RigidMotions::lift(&y), &first),
-        );
-        let flat1 = |p: &SE3<DualSVec64<6>>| -> Vec<f64> {
-            let m = p.rotation().matrix().iter().chain(p.translation().iter());
-            m.flat_map(|x| {
-                let mut v = vec![x.re];
-                v.extend(x.eps.unwrap_generic(Const::<6>, U1).iter());
-                v
-            })
-            .collect()
-        };
         let close = |u: Vec<f64>, v: Vec<f64>| u.iter().zip(&v).all(|(p, q)| (p - q).abs() < 1e-15 * (1.0 + q.abs()));
-        assert!(close(flat1(&a), flat1(&b)));
-        let xi: SVector<Outer, 6> = seeds::<f64, 6>().map(Outer::from_re) + seeds::<DualSVec64<6>, 6>();
-        let (a, b) = (
-            RigidMotions::retract_seeded(&y, &xi),
-            RigidMotions::retract(&RigidMotions::lift(&y), &xi),
-        );
-        let flat2 = |p: &SE3<Outer>| -> Vec<f64> {
-            let m = p.rotation().matrix().iter().chain(p.translation().iter());
-            m.flat_map(|x| {
-                let mut v = vec![x.re.re];
-                v.extend(x.re.eps.unwrap_generic(Const::<6>, U1).iter());
-                match &x.eps {
-                    Derivative(Some(e)) => {
-                        for d in e.iter() {
-                            v.push(d.re);
-                            v.extend(d.eps.unwrap_generic(Const::<6>, U1).iter());
-                        }
-                    }
-                    Derivative(None) => v.extend([0.0; 42]),
-                }
-                v
-            })
-            .collect()
-        };
-        let (fa, fb) = (flat2(&a), flat2(&b));
+        let first = seeds::<f64, M>();
+        let a = entries1(&F::retract_seeded(&y, &first));
+        let b = entries1(&F::retract(&F::lift(&y), &first));
         assert!(
-            fb.iter().filter(|x| x.abs() > 1e-3).count() > 100,
-            "second-order terms present"
+            a.iter().zip(&b).all(|(p, q)| close(flat1(p), flat1(q))),
+            "{}: first order",
+            F::NAME
         );
-        assert!(close(fa, fb));
+        let xi: SVector<Outer<M>, M> =
+            seeds::<f64, M>().map(Outer::<M>::from_re) + seeds::<num_dual::DualSVec64<M>, M>();
+        let a: Vec<f64> = entries2(&F::retract_seeded(&y, &xi)).iter().flat_map(flat2).collect();
+        let b: Vec<f64> = entries2(&F::retract(&F::lift(&y), &xi))
+            .iter()
+            .flat_map(flat2)
+            .collect();
+        // Mixed second derivatives: entries M + 1 + j(M + 1) + 1 .. of each flattened number.
+        let per = (M + 1) * (M + 1);
+        let second = b
+            .chunks(per)
+            .flat_map(|c| (0..M).flat_map(move |j| c[(j + 1) * (M + 1) + 1..(j + 2) * (M + 1)].to_vec()))
+            .filter(|x| x.abs() > 1e-3)
+            .count();
+        assert!(second >= M, "{}: second order present ({second})", F::NAME);
+        assert!(close(a, b), "{}: second order", F::NAME);
+    }
+
+    #[test]
+    fn seeded_charts_are_the_charts() {
+        let r = so3::exp(&Vector3::new(0.3, -1.1, 0.7));
+        let t = Vector3::new(1.0, -2.0, 3.0);
+        seeded_chart_is_the_chart::<Rotations, 3>(
+            r,
+            |p| p.matrix().iter().copied().collect(),
+            |p| p.matrix().iter().copied().collect(),
+        );
+        seeded_chart_is_the_chart::<RigidMotions, 6>(
+            SE3::new(r, t),
+            |p| {
+                p.rotation()
+                    .matrix()
+                    .iter()
+                    .chain(p.translation().iter())
+                    .copied()
+                    .collect()
+            },
+            |p| {
+                p.rotation()
+                    .matrix()
+                    .iter()
+                    .chain(p.translation().iter())
+                    .copied()
+                    .collect()
+            },
+        );
+        seeded_chart_is_the_chart::<PositionRotation, 6>(
+            Pose::new(t, r),
+            |p| p.rotation.matrix().iter().chain(p.position.iter()).copied().collect(),
+            |p| p.rotation.matrix().iter().chain(p.position.iter()).copied().collect(),
+        );
     }
 
     #[test]
