@@ -36,6 +36,7 @@
 //! tolerance = 1e-14             # vertex solves (relative)
 //! max_iterations = 30
 //! allow_unstable = false        # run above the stability limit (it will blow up)
+//! quadrature = "vertex"         # vertex: Prop. 6.5 (Q_{v₀}, split step) | symmetric: Q_sym (6-D Newton; no damping or end loads)
 //! [output]
 //! every = 10                    # time steps between output rows (default: ~500 rows)
 //! ```
@@ -141,6 +142,7 @@ pub(crate) struct RodMethodSpec {
     pub max_iterations: Option<usize>,
     #[serde(default)]
     pub allow_unstable: bool,
+    pub quadrature: Option<String>,
 }
 
 /// The initial shape s ↦ (r, R) at rest.
@@ -223,6 +225,8 @@ pub(crate) struct RodSetup {
     /// Step number √((cΔt/Δs)² + (ωΔt/2)²) and the largest stable Δt.
     pub courant: f64,
     pub dt_limit: f64,
+    /// Q_sym (`[method] quadrature = "symmetric"`) instead of Prop. 6.5's Q_{v₀}.
+    pub symmetric: bool,
 }
 
 fn vector(path: &Path, key: &str, v: Option<[f64; 3]>) -> Result<Vector3<f64>, CliError> {
@@ -434,6 +438,33 @@ impl RodSetup {
                 "the end load acts at the last material point, which is clamped".into(),
             ));
         }
+        let symmetric = match scenario.method.quadrature.as_deref().unwrap_or("vertex") {
+            "vertex" => false,
+            "symmetric" => true,
+            other => {
+                return Err(key(
+                    "method.quadrature",
+                    format!("unknown quadrature `{other}` (vertex | symmetric)"),
+                ));
+            }
+        };
+        if symmetric && any_load {
+            let at_fault = [
+                ("loads.damping", loads.damping_linear > 0.0),
+                ("loads.angular_damping", loads.damping_angular > 0.0),
+                ("loads.end_force", loads.end_force != Vector3::zeros()),
+                ("loads.end_torque", loads.end_torque != Vector3::zeros()),
+            ]
+            .into_iter()
+            .find_map(|(k, set)| set.then_some(k))
+            .unwrap_or("loads");
+            return Err(key(
+                at_fault,
+                "not available with [method] quadrature = \"symmetric\": damping and end loads are discrete \
+                 forces of the vertex rule (quadrature = \"vertex\"); gravity is available with both"
+                    .into(),
+            ));
+        }
         let mut options = CauchyOptions::default();
         if let Some(t) = scenario.method.tolerance {
             options.tolerance = positive_value(path, "method.tolerance", t)?;
@@ -462,6 +493,7 @@ impl RodSetup {
             every,
             courant,
             dt_limit,
+            symmetric,
         })
     }
 

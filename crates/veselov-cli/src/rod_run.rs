@@ -27,11 +27,12 @@ use nalgebra::Vector3;
 use serde_json::json;
 use veselov::field::CauchyStepper;
 use veselov::field::cauchy::CauchyMarcher;
-use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential};
+use veselov::field::cell::DiscreteLagrangian;
+use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, LinearPotential, VertexRule};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
 use veselov::models::rod::{EndCondition, angular_momentum, energy, linear_momentum, load_impulse};
-use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
+use veselov::run::{Checkpoint, Control, Observer, Status, StepStats, StopWhen, Words};
 
 use crate::error::CliError;
 use crate::output::{Table, write_json};
@@ -43,20 +44,25 @@ use crate::run::RunJob;
 use crate::scenario::{OutputSpec, output_dir};
 
 type Cell = CosseratCell<LinearPotential>;
+/// The rod with Q_sym (`[method] quadrature = "symmetric"`): the core's
+/// generic discretisation of the same density, marched by the 6-D Newton.
+type SymmetricCell = VertexRule<PositionRotation, CosseratDensity<LinearPotential>, CfkNodes<2>, 6, 2>;
 
 /// The level of the march's first cut (Cauchy data on levels 0 … 3): the
 /// run's t = 0.
 const FIRST_CUT: i64 = 2;
 
 /// The run's time of the cut below the marcher's level: (level − 2)Δt/2.
-fn run_time(m: &Rod, dt: f64) -> f64 {
+fn run_time<L: DiscreteLagrangian<PositionRotation, 6>>(m: &Rod<L>, dt: f64) -> f64 {
     (m.level() - FIRST_CUT) as f64 * 0.5 * dt
 }
-type Rod = CauchyMarcher<PositionRotation, Cell, 6>;
+type Rod<L> = CauchyMarcher<PositionRotation, L, 6>;
 
 /// Writes the rows and keeps the balances.
 struct RodObserver<'a> {
     setup: &'a RodSetup,
+    /// Prop. 6.5's cell, whose cell energy is the energy written (for
+    /// either quadrature).
     lag: Cell,
     every_levels: u64,
     centerline: NpyStream,
@@ -88,24 +94,30 @@ impl RodObserver<'_> {
         }
     }
 
-    fn momenta(m: &Rod) -> [f64; 6] {
+    fn momenta<L: DiscreteLagrangian<PositionRotation, 6>>(m: &Rod<L>) -> [f64; 6] {
         let (p, l) = (linear_momentum(m), angular_momentum(m));
         [p[0], p[1], p[2], l[0], l[1], l[2]]
     }
 
     /// The impulse of the loads and of gravity on the level just solved.
-    fn level_impulse(&self, m: &Rod) -> [f64; 6] {
+    fn level_impulse<L: DiscreteLagrangian<PositionRotation, 6>>(&self, m: &Rod<L>) -> [f64; 6] {
         let (mut f, mut tau) = load_impulse(m);
         let g = self.setup.gravity;
         if g != Vector3::zeros() {
             // P = −2ρA g·r enters at v₀ only: Σ_k ∇_{r_k}L_β = (ΔsΔt/4)ρA g
-            // per cell, torque r₀ × that (note 003 §3.7 with a potential).
+            // per cell, torque r₀ × that (note 003 §3.7 with a potential);
+            // Q_sym spreads it evenly over the three vertices.
             let c = m.level() - 1;
             let weight = g * (0.25 * self.setup.lattice.ds() * self.setup.dt * self.setup.parameters.rho());
+            let symmetric = self.setup.symmetric;
             m.for_each_straddling_cell(|cell, y| {
                 if cell.origin[0] + cell.origin[1] == c {
                     f += weight;
-                    tau += y[0].position.cross(&weight);
+                    tau += if symmetric {
+                        ((y[0].position + y[1].position + y[2].position) / 3.0).cross(&weight)
+                    } else {
+                        y[0].position.cross(&weight)
+                    };
                 }
             });
         }
@@ -115,7 +127,7 @@ impl RodObserver<'_> {
     /// Centreline and frames at the cut (level c: the points of level c as
     /// marched, the others at the midpoint of their values at levels c − 1
     /// and c + 1).
-    fn snapshot(&mut self, m: &Rod) -> Result<(), veselov::Error> {
+    fn snapshot<L: DiscreteLagrangian<PositionRotation, 6>>(&mut self, m: &Rod<L>) -> Result<(), veselov::Error> {
         let lattice = &self.setup.lattice;
         let nodes = lattice.nodes();
         let c = m.level();
@@ -145,7 +157,11 @@ impl RodObserver<'_> {
         Ok(())
     }
 
-    fn record(&mut self, m: &Rod, stepper_t: f64) -> Result<(), veselov::Error> {
+    fn record<L: DiscreteLagrangian<PositionRotation, 6>>(
+        &mut self,
+        m: &Rod<L>,
+        stepper_t: f64,
+    ) -> Result<(), veselov::Error> {
         let momenta = Self::momenta(m);
         let e = energy(m, &self.lag)?;
         if !e.is_finite() {
@@ -232,8 +248,8 @@ fn midpoint(a: &Pose<f64>, b: &Pose<f64>) -> Result<Pose<f64>, veselov::Error> {
     ))
 }
 
-impl Observer<Rod> for RodObserver<'_> {
-    fn observe(&mut self, step: u64, state: &Rod, stats: &StepStats) -> Control {
+impl<L: DiscreteLagrangian<PositionRotation, 6>> Observer<Rod<L>> for RodObserver<'_> {
+    fn observe(&mut self, step: u64, state: &Rod<L>, stats: &StepStats) -> Control {
         self.el_residual_max = self.el_residual_max.max(stats.max_relative_residual);
         let i = self.level_impulse(state);
         for (s, x) in self.impulse.iter_mut().zip(i) {
@@ -295,7 +311,6 @@ impl RodObserver<'_> {
 /// Run a rod scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     let setup = RodSetup::parse(path, text)?;
-    let s = &setup.scenario;
     let lattice = &setup.lattice;
     // Always shown, --quiet or not: the run is expected to blow up.
     if setup.courant > 1.0 {
@@ -330,6 +345,21 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     if let Some(loads) = setup.loads {
         lag = lag.with_loads(loads).map_err(|e| setup.key("loads", e.to_string()))?;
     }
+    if setup.symmetric {
+        let nodes = CfkNodes::leapfrog(lattice.ds(), setup.dt).map_err(|e| setup.key("time.dt", e.to_string()))?;
+        let rule: SymmetricCell = VertexRule::symmetric(lag.density, nodes);
+        let marcher = start_march(&setup, rule)?;
+        march(&setup, job, lag, marcher)
+    } else {
+        let marcher = start_march(&setup, lag)?;
+        march(&setup, job, lag, marcher)
+    }
+}
+
+/// The marcher of cell Lagrangian `lag` on the rod's lattice from its Cauchy
+/// data, with the ends' Dirichlet data.
+fn start_march<L: DiscreteLagrangian<PositionRotation, 6>>(setup: &RodSetup, lag: L) -> Result<Rod<L>, CliError> {
+    let lattice = &setup.lattice;
     let mut data = lattice.cauchy_data(setup.motion());
     setup.ends.apply(lattice, 0, &mut data);
     let mut marcher =
@@ -338,6 +368,18 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     if let Some(d) = setup.ends.dirichlet(lattice) {
         marcher = marcher.with_dirichlet(d);
     }
+    Ok(marcher)
+}
+
+/// March the rod with `marcher` and write everything (`lag`: Prop. 6.5's
+/// cell, for the energy).
+fn march<L>(setup: &RodSetup, job: RunJob, lag: Cell, marcher: Rod<L>) -> Result<(), CliError>
+where
+    L: DiscreteLagrangian<PositionRotation, 6>,
+    Rod<L>: Checkpoint,
+{
+    let s = &setup.scenario;
+    let lattice = &setup.lattice;
     let nodes = lattice.nodes();
     let rows = setup.steps / setup.every + 2;
     let plan = Plan {
@@ -368,7 +410,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     };
     let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
     let mut obs = RodObserver {
-        setup: &setup,
+        setup,
         lag,
         every_levels: 2 * setup.every,
         centerline: NpyStream::create(&dir.join("centerline.npy"), &[nodes, 3], rows, at[0])?,
@@ -391,7 +433,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         before: Vec::with_capacity(nodes),
     };
     let mut state = marcher;
-    let mut stepper = CauchyStepper::<PositionRotation, Cell, 6>::new(0.5 * setup.dt, FIRST_CUT);
+    let mut stepper = CauchyStepper::<PositionRotation, L, 6>::new(0.5 * setup.dt, FIRST_CUT);
     let (first, start) = match (&saved, words) {
         (Some(saved), Some(mut w)) => {
             obs.restore(&mut w).map_err(|e| words_error(&dir, e))?;
@@ -442,7 +484,8 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         "levels": outcome.last_step,
         "vertex_solves": outcome.last_step * (nodes as u64).div_ceil(2),
         "newton_iterations_per_vertex": outcome.iterations as f64 / (outcome.last_step.max(1) * (nodes as u64).div_ceil(2)) as f64,
-    "ends": [end_name(&setup.ends.start), end_name(&setup.ends.end)],
+        "ends": [end_name(&setup.ends.start), end_name(&setup.ends.end)],
+        "quadrature": if setup.symmetric { "symmetric" } else { "vertex" },
         "energy_initial": obs.energy0,
         "energy_min": obs.energy_range[0],
         "energy_max": obs.energy_range[1],

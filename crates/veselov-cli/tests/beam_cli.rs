@@ -3,7 +3,7 @@
 //! back, the step limit and errors naming the key.
 
 mod common;
-use common::{csv, example, npy_shape, run, set, summary};
+use common::{csv, example, npy_data, npy_shape, run, set, summary};
 
 #[test]
 fn free_free_time_evolution_keeps_its_momentum_map() {
@@ -94,16 +94,6 @@ fn bad_beam_input_names_the_key() {
         assert!(!ok && err.contains(key), "expected an error naming {key}: {err}");
         assert!(!err.contains("panicked"), "{err}");
     }
-}
-
-/// The float64 data of an NPY file written by a run.
-fn npy_data(path: &std::path::Path) -> Vec<f64> {
-    let bytes = std::fs::read(path).expect("npy");
-    let header = 10 + u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-    bytes[header..]
-        .chunks_exact(8)
-        .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
-        .collect()
 }
 
 /// `examples/beam_cantilever_damped.toml` as shipped: released straight under

@@ -110,3 +110,14 @@ pub fn npy_shape(path: &Path) -> Vec<usize> {
         .map(|s| s.trim().parse().expect("dim"))
         .collect()
 }
+
+/// The float64 data of an NPY file written by a run (after its header).
+pub fn npy_data(path: &Path) -> Vec<f64> {
+    let bytes = std::fs::read(path).expect("npy");
+    assert!(bytes.starts_with(b"\x93NUMPY"));
+    let header = 10 + u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    bytes[header..]
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+        .collect()
+}

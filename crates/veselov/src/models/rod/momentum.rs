@@ -73,12 +73,15 @@ pub fn load_impulse<L: DiscreteLagrangian<PositionRotation, 6>>(
 
 /// The rod's energy at the cut: Σ over the cells of the slab below the
 /// current level of [`CosseratCell::cell_energy`], divided by Δt
-/// (kinetic + elastic + potential; bounded, not exactly conserved).
+/// (kinetic + elastic + potential; bounded, not exactly conserved). The
+/// field may have been marched with another cell Lagrangian of the same
+/// rod (Q_sym, say): the energy is then Prop. 6.5's functional of that
+/// field.
 ///
 /// # Errors
 /// [`crate::Error::NonFinite`] if a cell of the slab is unsuitable.
-pub fn energy<P: RodPotential>(
-    m: &CauchyMarcher<PositionRotation, CosseratCell<P>, 6>,
+pub fn energy<L: DiscreteLagrangian<PositionRotation, 6>, P: RodPotential>(
+    m: &CauchyMarcher<PositionRotation, L, 6>,
     lag: &CosseratCell<P>,
 ) -> crate::Result<f64> {
     let mut sum = 0.0;
