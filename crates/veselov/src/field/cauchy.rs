@@ -15,8 +15,9 @@
 //!
 //! Each cell's vertex gradients are computed once, when its last vertex is
 //! solved, and kept in a ring of n + 1 base levels; μ_v gathers them in a
-//! fixed order. The vertices of one level are solved in parallel (rayon) and
-//! every vertex's arithmetic is independent of the partition, so results are
+//! fixed order. The vertices of one level are solved in parallel (rayon, in
+//! chunks sized from the previous level's cost per vertex) and every
+//! vertex's arithmetic is independent of the partition, so results are
 //! bit-identical for every thread count. Storage is allocated once: 2n + 1
 //! levels of values and n + 1 levels of cell gradients; nothing is allocated
 //! inside a level.
@@ -39,10 +40,21 @@ use super::legendre::{VertexOutcome, solve_legendre};
 use crate::run::{Checkpoint, Words};
 use crate::{Error, Result};
 
-/// The fewest vertices one thread takes in a level: below about this many
-/// vertices the cost of waking a second thread exceeds the work it takes
-/// over (measured on the rod, a few µs per vertex).
+/// One vertex of a level as the solve loop sees it: its index, its new
+/// value, its cells' gradients and its outcome.
+type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f64, M>]), &'a mut VertexOutcome));
+
+/// The fewest vertices one thread takes in the first level: below about
+/// this many vertices of a few µs each (the rod) the cost of waking a
+/// second thread exceeds the work it takes over.
 const PARALLEL_CHUNK: usize = 128;
+
+/// The work one thread takes at least in later levels: the chunk is sized
+/// from the previous level's measured cost per vertex so that it holds about
+/// this much (waking a thread costs a few µs). Chunking decides only who
+/// solves which vertex, never what is computed: results stay bit-identical
+/// for every thread count.
+const CHUNK_WORK_NS: f64 = 50_000.0;
 
 /// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
 pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
@@ -58,6 +70,8 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     next_values: Vec<F::Point<f64>>,
     next_grads: Vec<SVector<f64, M>>,
     outcomes: Vec<VertexOutcome>,
+    /// Vertices per parallel chunk (see [`CHUNK_WORK_NS`]).
+    chunk: usize,
     level: i64,
     /// In-level index of v + e_{σ(0)} + … + e_{σ(l−1)}: `up[(i·n! + σ)·(n+1) + l]`.
     up: Vec<u32>,
@@ -215,6 +229,7 @@ where
             next_values: vec![data[0][0]; size],
             next_grads: vec![SVector::zeros(); size * per_vertex],
             outcomes: vec![VertexOutcome::default(); size],
+            chunk: PARALLEL_CHUNK,
             lag,
             torus,
             options,
@@ -506,22 +521,42 @@ where
         let mut next_values = std::mem::take(&mut self.next_values);
         let mut next_grads = std::mem::take(&mut self.next_grads);
         let mut outcomes = std::mem::take(&mut self.outcomes);
+        let started = std::time::Instant::now();
+        let threads = rayon::current_num_threads();
         {
             let this = &*self;
-            next_values
-                .par_iter_mut()
-                .zip(next_grads.par_chunks_mut(per_vertex))
-                .zip(outcomes.par_iter_mut())
-                .with_min_len(PARALLEL_CHUNK)
-                .enumerate()
-                .for_each(|(i, ((value, grads), outcome))| {
-                    let (z, o) = this.solve_vertex(w, i);
-                    *value = z;
-                    *outcome = o;
-                    if o.failure.is_none() {
-                        this.cell_gradients(w, i, Some(z), grads);
-                    }
-                });
+            let solve = |(i, ((value, grads), outcome)): VertexSlot<'_, F::Point<f64>, M>| {
+                let (z, o) = this.solve_vertex(w, i);
+                *value = z;
+                *outcome = o;
+                if o.failure.is_none() {
+                    this.cell_gradients(w, i, Some(z), grads);
+                }
+            };
+            if threads > 1 {
+                next_values
+                    .par_iter_mut()
+                    .zip(next_grads.par_chunks_mut(per_vertex))
+                    .zip(outcomes.par_iter_mut())
+                    .with_min_len(self.chunk)
+                    .enumerate()
+                    .for_each(solve);
+            } else {
+                // One thread: no hand-over to the pool at all.
+                next_values
+                    .iter_mut()
+                    .zip(next_grads.chunks_mut(per_vertex))
+                    .zip(outcomes.iter_mut())
+                    .enumerate()
+                    .for_each(solve);
+            }
+        }
+        // The level's work: its wall time times the threads that shared it.
+        let chunks = size.div_ceil(self.chunk.max(1));
+        let sharing = threads.min(chunks).max(1);
+        let vertex_ns = started.elapsed().as_nanos() as f64 * sharing as f64 / size.max(1) as f64;
+        if vertex_ns > 0.0 {
+            self.chunk = ((CHUNK_WORK_NS / vertex_ns).ceil() as usize).clamp(1, size.max(1));
         }
         let failure = outcomes
             .iter()
