@@ -266,10 +266,20 @@ fn check_cut_locus<D: DualNum<Primitive = f64> + Copy>(w: D, n2: D) -> Result<()
 /// exp ω = I + (sin θ/θ) ω̂ + ((1 − cos θ)/θ²) ω̂², θ = |ω|.
 pub fn exp<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> SO3<D> {
     let x = w.dot(w);
-    let wh = hat(w);
     SO3 {
-        matrix: Matrix3::identity() + wh * series::sinc(x) + wh * wh * series::cosc(x),
+        matrix: hat_series(w, series::sinc(x), series::cosc(x)),
     }
+}
+
+/// I + a ω̂ + b ω̂², with ω̂² = ωωᵀ − |ω|²I written out entry by entry (over
+/// dual numbers this avoids the generic matrix product).
+fn hat_series<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>, a: D, b: D) -> Matrix3<D> {
+    let (wh, n2) = (hat(w), w.dot(w));
+    Matrix3::from_fn(|i, j| {
+        let square = if i == j { w[i] * w[j] - n2 } else { w[i] * w[j] };
+        let one = if i == j { D::one() } else { D::zero() };
+        one + wh[(i, j)] * a + square * b
+    })
 }
 
 /// (w² − |v|²)I + 2vvᵀ + 2w v̂ = |q|² R(q) for the quaternion q = (w, v).
@@ -323,16 +333,14 @@ pub fn cay_inv<D: DualNum<Primitive = f64> + Copy>(r: &SO3<D>) -> Result<Vector3
 /// (The left-trivialised d_v exp of note 003 §2.6 is dexp_{−v} = dexp_vᵀ.)
 pub fn dexp<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> Matrix3<D> {
     let x = w.dot(w);
-    let wh = hat(w);
-    Matrix3::identity() + wh * series::cosc(x) + wh * wh * series::sin3(x)
+    hat_series(w, series::cosc(x), series::sin3(x))
 }
 
 /// Inverse of [`dexp`]: dexp⁻¹_ω = I − ω̂/2 + k(θ) ω̂²,
 /// k(θ) = 1/θ² − (1 + cos θ)/(2θ sin θ) (note 003 Def. 6.9, whose left-trivialised
 /// dlog v equals dexp⁻¹_{−v}). Defined for |ω| < 2π.
 pub fn dexp_inv<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> Matrix3<D> {
-    let wh = hat(w);
-    Matrix3::identity() - wh * D::from(0.5) + wh * wh * series::dlog(w.dot(w))
+    hat_series(w, D::from(-0.5), series::dlog(w.dot(w)))
 }
 
 /// Right-trivialised derivative of the Cayley map (note 000 §13):

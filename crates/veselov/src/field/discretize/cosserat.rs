@@ -152,7 +152,19 @@ impl RodParameters {
 
 /// ½xᵀAx with A in f64.
 fn quad<D: Scalar>(a: &Matrix3<f64>, x: &Vector3<D>) -> D {
-    x.dot(&(a.map(D::from) * x)) * 0.5
+    x.dot(&apply(a, x)) * 0.5
+}
+
+/// `a x` for a constant matrix, its `f64` entries scaling the entries of x
+/// (over dual numbers, cheaper than lifting `a` and the generic product).
+fn apply<D: Scalar>(a: &Matrix3<f64>, x: &Vector3<D>) -> Vector3<D> {
+    Vector3::from_fn(|i, _| x[0] * a[(i, 0)] + x[1] * a[(i, 1)] + x[2] * a[(i, 2)])
+}
+
+/// `a x` written out entry by entry (over dual numbers, without the
+/// generic product's zero-filled accumulator).
+fn product<D: Scalar>(a: &Matrix3<D>, x: &Vector3<D>) -> Vector3<D> {
+    Vector3::from_fn(|i, _| a[(i, 0)] * x[0] + a[(i, 1)] * x[1] + a[(i, 2)] * x[2])
 }
 
 /// The rod density (6.1):
@@ -411,10 +423,11 @@ impl<P: RodPotential> CosseratCell<P> {
         let p = &self.density.parameters;
         let omega = b / D::from(self.dt);
         let u = (a.map(D::from) * D::from(2.0) - b) / D::from(sigma * self.ds);
-        let c2u = p.c2.map(D::from) * u;
-        let jw = p.inertia.map(D::from) * omega;
-        -(db * jw) * D::from(self.ds / 4.0)
-            + (da.map(D::from) * D::from(2.0) - db) * c2u * D::from(sigma * self.dt / 4.0)
+        let c2u = apply(&p.c2, &u);
+        let jw = apply(&p.inertia, &omega);
+        // −(Δs/4)D_bJω + (σΔt/4)(2D_a − D_b)C₂u, with D_a constant.
+        -product(db, &jw) * D::from(self.ds / 4.0)
+            + (apply(da, &c2u) * D::from(2.0) - product(db, &c2u)) * D::from(sigma * self.dt / 4.0)
     }
 
     /// ∇_{r₀}L_β = −(ρΔs/4)v_d + (σΔt/4)R₀C₁ε − (ΔsΔt/8)∇_rP(s₀, r₀)
