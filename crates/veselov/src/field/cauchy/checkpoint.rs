@@ -1,0 +1,59 @@
+//! Checkpoints of a march.
+
+use super::CauchyMarcher;
+use crate::field::cell::DiscreteLagrangian;
+use crate::field::fibre::Fibre;
+use crate::run::{Checkpoint, Words};
+use crate::{Error, Result};
+
+/// A checkpoint of a march: the level and the 2n known levels above the
+/// cut, each value by its coordinates ([`Fibre::write`], read back exactly
+/// by [`Fibre::read`]); the cell gradients are recomputed from them by the
+/// same code as during the march, so the restored march continues bit for
+/// bit. Dirichlet data are part of the set-up, not of the checkpoint.
+impl<F, L, const M: usize> Checkpoint for CauchyMarcher<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    fn save(&self, out: &mut Vec<f64>) {
+        let n = self.torus.dimension() as i64;
+        out.push(self.level as f64);
+        let mut c = [0.0; 16];
+        let k = F::COORDINATES.min(c.len());
+        for w in self.level - n..self.level + n {
+            if let Some(level) = self.level_values(w) {
+                for y in level {
+                    F::write(y, &mut c[..k]);
+                    out.extend_from_slice(&c[..k]);
+                }
+            }
+        }
+    }
+
+    fn restore(&mut self, words: &mut Words<'_>) -> Result<()> {
+        let level = words.one()?;
+        if !(level.is_finite() && level.fract() == 0.0 && level.abs() < 2f64.powi(52)) {
+            return Err(Error::InvalidParameter {
+                name: "checkpoint".into(),
+                value: level.to_string(),
+                reason: "not a level number".into(),
+            });
+        }
+        self.level = level as i64;
+        let n = self.torus.dimension() as i64;
+        let size = self.torus.level_size();
+        let mut c = [0.0; 16];
+        let k = F::COORDINATES.min(c.len());
+        for w in self.level - n..self.level + n {
+            let slot = self.value_slot(w);
+            for y in &mut self.values[slot * size..(slot + 1) * size] {
+                words.fill(&mut c[..k])?;
+                *y = F::read(&c[..k]);
+            }
+        }
+        self.fill_gradients();
+        Ok(())
+    }
+}

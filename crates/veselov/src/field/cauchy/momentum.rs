@@ -1,0 +1,110 @@
+//! The march's Noether quantities (note 003 §2.3): the cells straddling a
+//! cut, the level momentum of a vertical symmetry and the impulse of the
+//! forces on a level.
+
+use nalgebra::SVector;
+
+use super::CauchyMarcher;
+use crate::field::cell::{DiscreteLagrangian, vertex_force};
+use crate::field::complex::TopCell;
+use crate::field::fibre::Fibre;
+
+impl<F, L, const M: usize> CauchyMarcher<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    /// Calls `f` on every cell straddling the cut below the current level
+    /// c = `level()`: the n!·n·(level size) simplices based at levels
+    /// c − n … c − 1, with their vertex values. Together they fill one slab
+    /// of duration Δt (one flow step) of the lattice, so the sum of a cell
+    /// energy over them divided by Δt is a level energy. With a window, only
+    /// the cells inside it.
+    pub fn for_each_straddling_cell(&self, mut f: impl FnMut(&TopCell, &[F::Point<f64>])) {
+        let n = self.torus.dimension();
+        for j in 1..=n {
+            let base = self.level - j as i64;
+            for i in 0..self.torus.level_size() {
+                for sigma in 0..self.perms.len() {
+                    if !self.cell_active(base, i, sigma) {
+                        continue;
+                    }
+                    let (cell, y) = self.cell_values(base, i, sigma, None);
+                    f(&cell, &y[..=n]);
+                }
+            }
+        }
+    }
+
+    /// The level momentum of a vertical symmetry D at the cut below the
+    /// current level c = `level()` (note 003 §2.3, in n dimensions):
+    /// Φ(c) = Σ_{j=1..n} Σ_{β : w(v₀β) = c − j} Σ_{l ≥ j} ⟨∂L_β/∂y_{v_l}, D(y_{v_l})⟩.
+    /// Φ(c) − Φ(c + 1) = Σ_{w(v) = c} ⟨EL_v, D⟩, so Φ is constant along the
+    /// march when D is a symmetry (the per-cell identity Σ_l ⟨∂_l L_β, D⟩ = 0
+    /// moves the cells based at c across the cut). For n = 1 it is the
+    /// discrete Noether momentum ⟨p_k, D(q_k)⟩.
+    pub fn level_momentum(&self, generator: impl Fn(&F::Point<f64>) -> SVector<f64, M>) -> f64 {
+        let n = self.torus.dimension();
+        let size = self.torus.level_size();
+        let per_vertex = self.perms.len() * (n + 1);
+        let c = self.level;
+        let mut sum = 0.0;
+        for j in 1..=n {
+            let base_level = c - j as i64;
+            let slot = self.grad_slot(base_level);
+            for i in 0..size {
+                for sigma in 0..self.perms.len() {
+                    let g = &self.grads[(slot * size + i) * per_vertex + sigma * (n + 1)..][..n + 1];
+                    for (l, gl) in g.iter().enumerate().skip(j) {
+                        let y = self.value(base_level + l as i64, self.up(i, sigma, l));
+                        sum += gl.dot(&generator(&y));
+                    }
+                }
+            }
+        }
+        sum
+    }
+}
+
+impl<F, L, const M: usize> CauchyMarcher<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    /// The discrete impulse of the forces on the last solved level
+    /// c = `level()` − 1 along a vertical vector field D:
+    /// I(c) = Σ_{w(v) = c} Σ_{β ∋ v} ⟨F^{l(v)}_β, D(y_v)⟩ over the vertices
+    /// of the window. Where EL_v + F_v = 0 holds (every solved vertex) it is
+    /// the change of the level momentum:
+    /// [`level_momentum`](Self::level_momentum) after the step minus before
+    /// equals I(c) when D is a symmetry of the Lagrangian, the discrete
+    /// momentum balance of the Lagrange–d'Alembert principle. Zero without
+    /// forces.
+    pub fn level_impulse(&self, generator: impl Fn(&F::Point<f64>) -> SVector<f64, M>) -> f64 {
+        if !self.lag.has_forces() {
+            return 0.0;
+        }
+        let n = self.torus.dimension();
+        let c = self.level - 1;
+        let mut sum = 0.0;
+        for i in 0..self.torus.level_size() {
+            if !self.is_active(c, i) {
+                continue;
+            }
+            let d = generator(&self.value(c, i));
+            for j in 0..=n {
+                for sigma in 0..self.perms.len() {
+                    let base = if j == 0 { i } else { self.down(i, sigma, j) };
+                    if !self.cell_active(c - j as i64, base, sigma) {
+                        continue;
+                    }
+                    let (cell, y) = self.cell_values(c - j as i64, base, sigma, None);
+                    sum += vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j).dot(&d);
+                }
+            }
+        }
+        sum
+    }
+}
