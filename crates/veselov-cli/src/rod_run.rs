@@ -351,7 +351,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         let marcher = start_march(&setup, rule)?;
         march(&setup, job, lag, marcher)
     } else {
-        let marcher = start_march(&setup, lag)?;
+        let marcher = start_march(&setup, lag.clone())?;
         march(&setup, job, lag, marcher)
     }
 }

@@ -59,7 +59,7 @@ fn march(lag: CosseratCell, lattice: &RodLattice) -> CauchyMarcher<PositionRotat
 fn analytic_gradients_are_offered_only_when_enabled_and_match_the_ad_pass() {
     let lattice = RodLattice::new(21, 1.0, 0.05).expect("lattice");
     let (on, off) = (cell(&lattice, true), cell(&lattice, false));
-    let m = march(on, &lattice);
+    let m = march(on.clone(), &lattice);
     let mut checked = 0;
     m.for_each_straddling_cell(|c, y| {
         let mut out = [SVector::<f64, 6>::zeros(); 3];

@@ -157,7 +157,7 @@ fn marched_rod_is_critical_for_the_truncated_action_at_ends_and_inside() {
     let lattice = RodLattice::new(9, 1.0, 0.05).expect("lattice");
     let lag = closed_form(&lattice);
     let levels = 12;
-    let mut m = rod_march(lag, &lattice);
+    let mut m = rod_march(lag.clone(), &lattice);
     let y = history(&mut m, levels);
     let cells = body_cells(&lattice, levels);
     let value = |cell: &TopCell, verts: &[(i64, usize); 3], y: &[Vec<Pose<f64>>]| {

@@ -7,6 +7,8 @@
 //! with chart (r + a, R exp(b̂)), so the jet is φ = [∂_s r, ∂_t r; Ω, ω]
 //! with Ω̂ = Rᵀ∂_sR, ω̂ = Rᵀ∂_tR (body vectors).
 
+use std::sync::Arc;
+
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{DualSVec64, gradient};
 
@@ -209,7 +211,7 @@ impl<P: RodPotential> SmoothDensity<PositionRotation, 6, 2> for CosseratDensity<
 ///
 /// L_β = A_β[½ρ|v_d|² + ½ω_dᵀJω_d − ½εᵀC₁ε − ½uᵀC₂u − ½P(s₀, r₀)],
 /// s₀ = (i − j)Δs/2.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CosseratCell<P = NoPotential> {
     /// The smooth density whose Q_{v₀} discretisation this is.
     pub density: CosseratDensity<P>,
@@ -217,6 +219,9 @@ pub struct CosseratCell<P = NoPotential> {
     dt: f64,
     analytic: bool,
     loads: Option<RodLoads>,
+    /// Material parameters per material point s_k = kΔs/2 (k = 0, 1, …),
+    /// replacing `density.parameters` where given ([`CosseratCell::with_profile`]).
+    profile: Option<Arc<[RodParameters]>>,
 }
 
 /// The quantities of Prop. 6.5 on one triangle.
@@ -249,7 +254,42 @@ impl<P: RodPotential> CosseratCell<P> {
             dt,
             analytic: true,
             loads: None,
+            profile: None,
         })
+    }
+
+    /// The rod with material parameters varying along it: `profile[k]` at
+    /// the material point s_k = kΔs/2 (k = 0 … nodes − 1). Each cell takes
+    /// the parameters of its base vertex v₀ (Q_{v₀} of the density with
+    /// s-dependent parameters); the two cells based at a vertex extend to
+    /// either side of it, so the sampling is centred.
+    ///
+    /// # Errors
+    /// [`crate::error::Error::InvalidParameter`] naming `profile` if it is empty.
+    pub fn with_profile(mut self, profile: Vec<RodParameters>) -> Result<Self> {
+        if profile.is_empty() {
+            return Err(invalid(
+                "profile",
+                0,
+                "needs the parameters of at least one material point",
+            ));
+        }
+        self.profile = Some(profile.into());
+        Ok(self)
+    }
+
+    /// The material parameters at the material coordinate `s0` (the
+    /// profile's nearest point, clamped to its ends; the density's own
+    /// parameters without a profile).
+    pub fn parameters_at(&self, s0: f64) -> &RodParameters {
+        match &self.profile {
+            None => &self.density.parameters,
+            Some(profile) => {
+                let k = (2.0 * s0 / self.ds).round();
+                let k = if k.is_finite() && k > 0.0 { k as usize } else { 0 };
+                &profile[k.min(profile.len() - 1)]
+            }
+        }
     }
 
     /// The rod with damping and an end load ([`RodLoads`]) as discrete
@@ -322,13 +362,14 @@ impl<P: RodPotential> CosseratCell<P> {
             })
         };
         let (a, b) = (log(1)?, log(2)?);
-        let p = &self.density.parameters;
+        let s0 = (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * self.ds;
+        let p = self.parameters_at(s0);
         let sds = sigma * self.ds;
         let g = (y[1].position * D::from(2.0) - y[0].position - y[2].position) / D::from(sds);
         let eps = y[0].rotation.matrix().transpose() * g - p.strain.map(D::from);
         Ok(Cell {
             sigma,
-            s0: (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * self.ds,
+            s0,
             u: (a * D::from(2.0) - b) / D::from(sds),
             omega: b / D::from(self.dt),
             v: (y[2].position - y[0].position) / D::from(self.dt),
@@ -346,7 +387,7 @@ impl<P: RodPotential> CosseratCell<P> {
     /// [`CellError::Logarithm`] at the cut locus.
     pub fn try_cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>]) -> std::result::Result<D, CellError> {
         let c = self.cell(cell, y)?;
-        let p = &self.density.parameters;
+        let p = self.parameters_at(c.s0);
         let l = c.v.dot(&c.v) * (0.5 * p.rho) + quad(&p.inertia, &c.omega)
             - quad(&p.c1, &c.eps)
             - quad(&p.c2, &c.u)
@@ -372,7 +413,7 @@ impl<P: RodPotential> CosseratCell<P> {
     /// As [`CosseratCell::try_cell_lagrangian`].
     pub fn gradients(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<[SVector<f64, 6>; 3], CellError> {
         let c = self.cell(cell, y)?;
-        let p = &self.density.parameters;
+        let p = self.parameters_at(c.s0);
         let (ds, st) = (self.ds, c.sigma * self.dt);
         let r0 = y[0].rotation.matrix();
         let da = so3::dexp_inv(&(-c.a));
@@ -386,7 +427,7 @@ impl<P: RodPotential> CosseratCell<P> {
             c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0),
         ];
         let gq = [
-            self.rotation_terms_with(c.sigma, &c.a, &da, &c.b, &db) + self.strain_torque(r0, &c.g, &c.eps),
+            self.rotation_terms_with(c.sigma, c.s0, &c.a, &da, &c.b, &db) + self.strain_torque(c.s0, r0, &c.g, &c.eps),
             -da.transpose() * c2u * (st / 2.0),
             db.transpose() * jw * (ds / 4.0) + db.transpose() * c2u * (st / 4.0),
         ];
@@ -404,23 +445,26 @@ impl<P: RodPotential> CosseratCell<P> {
     pub(crate) fn rotation_terms<D: Scalar>(
         &self,
         sigma: f64,
+        s0: f64,
         a: &Vector3<f64>,
         da: &Matrix3<f64>,
         b: &Vector3<D>,
     ) -> Vector3<D> {
-        self.rotation_terms_with(sigma, a, da, b, &so3::dexp_inv(&(-b)))
+        self.rotation_terms_with(sigma, s0, a, da, b, &so3::dexp_inv(&(-b)))
     }
 
     /// [`rotation_terms`](Self::rotation_terms) with D_b given.
+    #[allow(clippy::too_many_arguments)]
     fn rotation_terms_with<D: Scalar>(
         &self,
         sigma: f64,
+        s0: f64,
         a: &Vector3<f64>,
         da: &Matrix3<f64>,
         b: &Vector3<D>,
         db: &Matrix3<D>,
     ) -> Vector3<D> {
-        let p = &self.density.parameters;
+        let p = self.parameters_at(s0);
         let omega = b / D::from(self.dt);
         let u = (a.map(D::from) * D::from(2.0) - b) / D::from(sigma * self.ds);
         let c2u = apply(&p.c2, &u);
@@ -440,27 +484,34 @@ impl<P: RodPotential> CosseratCell<P> {
         v: &Vector3<f64>,
         eps: &Vector3<f64>,
     ) -> Vector3<f64> {
-        let p = &self.density.parameters;
+        let p = self.parameters_at(s0);
         let grad_p = self.density.potential.gradient(s0, &y0.position);
         -v * (p.rho * self.ds / 4.0) + y0.rotation.matrix() * p.c1 * eps * (sigma * self.dt / 4.0)
             - grad_p * (self.ds * self.dt / 8.0)
     }
 
     /// The strain term of ∇_{R₀}L_β: A_β (R₀ᵀg)^ C₁ε (note 003 §3.5).
-    pub(crate) fn strain_torque(&self, r0: &Matrix3<f64>, g: &Vector3<f64>, eps: &Vector3<f64>) -> Vector3<f64> {
-        so3::hat(&(r0.transpose() * g)) * self.density.parameters.c1 * eps * self.area()
+    pub(crate) fn strain_torque(
+        &self,
+        s0: f64,
+        r0: &Matrix3<f64>,
+        g: &Vector3<f64>,
+        eps: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        so3::hat(&(r0.transpose() * g)) * self.parameters_at(s0).c1 * eps * self.area()
     }
 
     /// g = (2r₁ − r₀ − r₂)/(σΔs) and ε = R₀ᵀg − e of Prop. 6.5.
     pub(crate) fn linear_strain(
         &self,
         sigma: f64,
+        s0: f64,
         y0: &Pose<f64>,
         r1: &Vector3<f64>,
         r2: &Vector3<f64>,
     ) -> (Vector3<f64>, Vector3<f64>) {
         let g = (r1 * 2.0 - y0.position - r2) / (sigma * self.ds);
-        (g, y0.rotation.matrix().transpose() * g - self.density.parameters.strain)
+        (g, y0.rotation.matrix().transpose() * g - self.parameters_at(s0).strain)
     }
 
     /// The discrete energy of one cell: A_β times the sum of ½ρ|v_d|²,
@@ -475,7 +526,7 @@ impl<P: RodPotential> CosseratCell<P> {
     /// As [`CosseratCell::try_cell_lagrangian`].
     pub fn cell_energy(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<f64, CellError> {
         let c = self.cell(cell, y)?;
-        let p = &self.density.parameters;
+        let p = self.parameters_at(c.s0);
         let e = c.v.dot(&c.v) * (0.5 * p.rho)
             + quad(&p.inertia, &c.omega)
             + quad(&p.c1, &c.eps)

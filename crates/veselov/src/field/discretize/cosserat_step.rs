@@ -48,7 +48,6 @@ pub(crate) fn split_solve<P: RodPotential>(
         outcome.failure = Some(failure);
         (*start, outcome)
     };
-    let p = lag.density.parameters;
     let (ds, dt) = (lag.ds(), lag.dt());
     let (damp_r, damp_q) = lag
         .loads()
@@ -75,6 +74,9 @@ pub(crate) fn split_solve<P: RodPotential>(
         return fail(Failure::Singular, outcome);
     }
     let cells = &cells[..count];
+    // Both cells are based at v: its material point's parameters.
+    let s0 = (cells[0].0.origin[0] - cells[0].0.origin[1]) as f64 * 0.5 * ds;
+    let p = *lag.parameters_at(s0);
     let y0 = cells[0].1[0];
     let r0m = *y0.rotation.matrix();
     let stiff = r0m * p.c1() * r0m.transpose();
@@ -88,8 +90,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     }; 2];
     for (k, (cell, y)) in cells.iter().enumerate() {
         let sigma = if cell.shape == 0 { 1.0 } else { -1.0 };
-        let s0 = (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * ds;
-        let (_, eps) = lag.linear_strain(sigma, &y0, &y[1].position, &start.position);
+        let (_, eps) = lag.linear_strain(sigma, s0, &y0, &y[1].position, &start.position);
         let v = (start.position - y0.position) / dt;
         let g = lag.position_gradient(sigma, s0, &y0, &v, &eps);
         let f = if damp_r > 0.0 || lag.loads().is_some() {
@@ -127,8 +128,8 @@ pub(crate) fn split_solve<P: RodPotential>(
         let mut y = *y;
         y[2] = Pose::new(r2, y0.rotation);
         let sigma = if cell.shape == 0 { 1.0 } else { -1.0 };
-        let (g, eps) = lag.linear_strain(sigma, &y0, &y[1].position, &r2);
-        let strain_term = lag.strain_torque(&r0m, &g, &eps);
+        let (g, eps) = lag.linear_strain(sigma, s0, &y0, &y[1].position, &r2);
+        let strain_term = lag.strain_torque(s0, &r0m, &g, &eps);
         // The force at (r₂, R₀) has no damping torque (b = 0): only the end load.
         let load = lag.cell_force(cell, &y, 0).fixed_rows::<3>(3).into_owned();
         fixed += strain_term + load;
@@ -141,7 +142,8 @@ pub(crate) fn split_solve<P: RodPotential>(
         let seeded = Vector3::from_fn(|i, _| DualSVec64::<3>::from_re(b[i]).derivative(i));
         let mut sum = Vector3::from_element(DualSVec64::<3>::from_re(0.0));
         for arm in arms {
-            sum += lag.rotation_terms(arm.sigma, &arm.a, &arm.da, &seeded) - seeded * DualSVec64::<3>::from_re(damping);
+            sum += lag.rotation_terms(arm.sigma, s0, &arm.a, &arm.da, &seeded)
+                - seeded * DualSVec64::<3>::from_re(damping);
         }
         let jacobian = Matrix3::from_fn(|i, j| sum[i].eps.unwrap_generic(Const::<3>, U1)[j]);
         (sum.map(|x| x.re), Some(jacobian))
@@ -149,7 +151,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let value_only = |b: &Vector3<f64>| {
         let mut sum = Vector3::zeros();
         for arm in arms {
-            sum += lag.rotation_terms(arm.sigma, &arm.a, &arm.da, b) - b * damping;
+            sum += lag.rotation_terms(arm.sigma, s0, &arm.a, &arm.da, b) - b * damping;
         }
         (sum, None)
     };
