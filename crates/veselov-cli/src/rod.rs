@@ -7,7 +7,8 @@
 //! name = "cosserat-rod"
 //! length = 1.0                  # m
 //! nodes = 41                    # material points (≥ 3)
-//! radius = 0.02                 # circular section (or width = …, height = …)
+//! radius = 0.02                 # circular section (or width = …, height = …); radius, width, height,
+//!                               # density and young may also be expressions in s, e.g. "0.02*(1 - 0.3*s)"
 //! density = 1000.0              # kg/m³
 //! young = 1e6                   # Pa
 //! poisson = 0.5                 # or shear_modulus = … (Pa)
@@ -45,6 +46,7 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
 use serde::Deserialize;
+use veselov::expr::{Expr, SymbolTable};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::discretize::{RodLoads, RodParameters};
 use veselov::field::fibre::Pose;
@@ -86,14 +88,53 @@ pub(crate) struct RodModelSpec {
     pub name: String,
     pub length: f64,
     pub nodes: usize,
-    pub radius: Option<f64>,
-    pub width: Option<f64>,
-    pub height: Option<f64>,
-    pub density: f64,
-    pub young: f64,
+    pub radius: Option<Along>,
+    pub width: Option<Along>,
+    pub height: Option<Along>,
+    pub density: Along,
+    pub young: Along,
     pub poisson: Option<f64>,
     pub shear_modulus: Option<f64>,
     pub shear_coefficient: Option<f64>,
+}
+
+/// A material quantity: one number for the whole rod, or an expression in
+/// the material coordinate `s` (0 … length).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub(crate) enum Along {
+    Value(f64),
+    Expression(String),
+}
+
+impl Along {
+    /// The values at the material points `points`, each positive and
+    /// finite, or an error naming `key` (and the point).
+    fn at(&self, path: &Path, key: &str, points: &[f64]) -> Result<Vec<f64>, CliError> {
+        match self {
+            Along::Value(v) => Ok(vec![positive_value(path, key, *v)?; points.len()]),
+            Along::Expression(source) => {
+                let mut table = SymbolTable::new();
+                table.variable("s").map_err(|e| key_error(path, key, e.to_string()))?;
+                let e = Expr::parse(source, &table).map_err(|e| key_error(path, key, format!("\n{e}")))?;
+                points
+                    .iter()
+                    .map(|&s| {
+                        let v = e.eval(&[s]);
+                        if v.is_finite() && v > 0.0 {
+                            Ok(v)
+                        } else {
+                            Err(key_error(
+                                path,
+                                key,
+                                format!("at s = {s}: {v}, must be positive and finite"),
+                            ))
+                        }
+                    })
+                    .collect()
+            }
+        }
+    }
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -207,7 +248,12 @@ fn frame_along(t: &Vector3<f64>) -> veselov::lie::SO3<f64> {
 pub(crate) struct RodSetup {
     pub path: PathBuf,
     pub scenario: RodScenario,
+    /// The parameters at s = 0 (of the whole rod when uniform).
     pub parameters: RodParameters,
+    /// Parameters per material point, when any of them varies along the rod.
+    pub profile: Option<Vec<RodParameters>>,
+    /// The rod's mass.
+    pub mass: f64,
     pub lattice: RodLattice,
     pub ends: RodEnds,
     /// Damping and end load (None when all are zero).
@@ -264,14 +310,25 @@ impl RodSetup {
             ));
         }
         let length = positive_value(path, "model.length", m.length)?;
-        let section = match (m.radius, m.width, m.height) {
-            (Some(r), None, None) => CrossSection::Circle {
-                radius: positive_value(path, "model.radius", r)?,
-            },
-            (None, Some(w), Some(h)) => CrossSection::Rectangle {
-                width: positive_value(path, "model.width", w)?,
-                height: positive_value(path, "model.height", h)?,
-            },
+        // Material points s_k = kL/(N − 1): each key a number or an
+        // expression in s, evaluated there.
+        let points: Vec<f64> = (0..m.nodes).map(|k| length * k as f64 / (m.nodes - 1) as f64).collect();
+        let varying = [&m.radius, &m.width, &m.height]
+            .into_iter()
+            .flatten()
+            .chain([&m.density, &m.young])
+            .any(|v| matches!(v, Along::Expression(_)));
+        let along = |k: &str, v: &Along| v.at(path, k, &points);
+        let sections: Vec<CrossSection> = match (&m.radius, &m.width, &m.height) {
+            (Some(r), None, None) => along("model.radius", r)?
+                .into_iter()
+                .map(|radius| CrossSection::Circle { radius })
+                .collect(),
+            (None, Some(w), Some(h)) => along("model.width", w)?
+                .into_iter()
+                .zip(along("model.height", h)?)
+                .map(|(width, height)| CrossSection::Rectangle { width, height })
+                .collect(),
             _ => {
                 return Err(key(
                     "model.radius",
@@ -279,39 +336,57 @@ impl RodSetup {
                 ));
             }
         };
-        let young = positive_value(path, "model.young", m.young)?;
-        let (shear, nu) = match (m.poisson, m.shear_modulus) {
+        let (densities, youngs) = (along("model.density", &m.density)?, along("model.young", &m.young)?);
+        let shear = match (m.poisson, m.shear_modulus) {
             (Some(nu), None) => {
                 let nu = finite_value(path, "model.poisson", nu)?;
                 if !(-1.0 < nu && nu <= 0.5) {
                     return Err(key("model.poisson", format!("must lie in (−1, 0.5], got {nu}")));
                 }
-                (Shear::Poisson(nu), nu)
+                Shear::Poisson(nu)
             }
-            (None, Some(g)) => {
-                let g = positive_value(path, "model.shear_modulus", g)?;
-                (Shear::Modulus(g), young / (2.0 * g) - 1.0)
-            }
+            (None, Some(g)) => Shear::Modulus(positive_value(path, "model.shear_modulus", g)?),
             _ => return Err(key("model.poisson", "give either `poisson` or `shear_modulus`".into())),
         };
-        // Cowper's shear coefficients, from ν (clamped into the physical range).
-        let cowper_nu = nu.clamp(-0.99, 0.5);
-        let kappa = match m.shear_coefficient {
-            Some(k) => positive_value(path, "model.shear_coefficient", k)?,
-            None => match section {
-                CrossSection::Circle { .. } => 6.0 * (1.0 + cowper_nu) / (7.0 + 6.0 * cowper_nu),
-                CrossSection::Rectangle { .. } => 10.0 * (1.0 + cowper_nu) / (12.0 + 11.0 * cowper_nu),
-            },
+        let given_kappa = match m.shear_coefficient {
+            Some(k) => Some(positive_value(path, "model.shear_coefficient", k)?),
+            None => None,
         };
-        let material = Material {
-            density: positive_value(path, "model.density", m.density)?,
-            young,
-            shear,
-            shear_coefficient: kappa,
-        };
-        let parameters = rod_parameters(&section, &material).map_err(|e| key("model", e.to_string()))?;
+        let profile = (0..m.nodes)
+            .map(|k| {
+                let young = youngs[k];
+                let nu = match shear {
+                    Shear::Poisson(nu) => nu,
+                    Shear::Modulus(g) => young / (2.0 * g) - 1.0,
+                };
+                // Cowper's shear coefficients, from ν (clamped into the physical range).
+                let cowper_nu = nu.clamp(-0.99, 0.5);
+                let kappa = given_kappa.unwrap_or(match sections[k] {
+                    CrossSection::Circle { .. } => 6.0 * (1.0 + cowper_nu) / (7.0 + 6.0 * cowper_nu),
+                    CrossSection::Rectangle { .. } => 10.0 * (1.0 + cowper_nu) / (12.0 + 11.0 * cowper_nu),
+                });
+                let material = Material {
+                    density: densities[k],
+                    young,
+                    shear,
+                    shear_coefficient: kappa,
+                };
+                rod_parameters(&sections[k], &material).map_err(|e| key("model", format!("at s = {}: {e}", points[k])))
+            })
+            .collect::<Result<Vec<RodParameters>, CliError>>()?;
+        let parameters = profile[0];
+        // Mass by the trapezoidal rule over the material points.
+        let spacing = length / (m.nodes - 1) as f64;
+        let mass = profile
+            .windows(2)
+            .map(|w| 0.5 * (w[0].rho() + w[1].rho()) * spacing)
+            .sum();
         let probe = RodLattice::new(m.nodes, length, 1.0).map_err(|e| key("model.nodes", e.to_string()))?;
-        let dt_limit = largest_step(&parameters, probe.ds()).map_err(|e| key("model", e.to_string()))?;
+        let mut dt_limit = f64::INFINITY;
+        for (k, q) in profile.iter().enumerate() {
+            let limit = largest_step(q, probe.ds()).map_err(|e| key("model", format!("at s = {}: {e}", points[k])))?;
+            dt_limit = dt_limit.min(limit);
+        }
         // The step count is round(t_end/dt) (at least 1) and dt = t_end/count,
         // so that the run ends at t_end exactly; without `dt`, the fewest
         // steps with dt at most half the stability limit.
@@ -330,7 +405,10 @@ impl RodSetup {
         let dt = t_end / steps;
         let steps = steps as u64;
         let lattice = RodLattice::new(m.nodes, length, dt).map_err(|e| key("time.dt", e.to_string()))?;
-        let courant = courant_number(&parameters, lattice.ds(), dt).map_err(|e| key("model", e.to_string()))?;
+        let mut courant: f64 = 0.0;
+        for q in &profile {
+            courant = courant.max(courant_number(q, lattice.ds(), dt).map_err(|e| key("model", e.to_string()))?);
+        }
         if courant > 1.0 && !scenario.method.allow_unstable {
             return Err(key(
                 "time.dt",
@@ -448,6 +526,14 @@ impl RodSetup {
                 ));
             }
         };
+        if symmetric && varying {
+            return Err(key(
+                "method.quadrature",
+                "\"symmetric\" needs a uniform rod: give the material and section as numbers, or use \
+                 quadrature = \"vertex\""
+                    .into(),
+            ));
+        }
         if symmetric && any_load {
             let at_fault = [
                 ("loads.damping", loads.damping_linear > 0.0),
@@ -481,6 +567,8 @@ impl RodSetup {
             spin: vector(path, "initial.angular_velocity", i.angular_velocity)?,
             scenario,
             parameters,
+            profile: varying.then_some(profile),
+            mass,
             lattice,
             ends,
             loads: any_load.then_some(loads),

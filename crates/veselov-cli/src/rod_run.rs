@@ -28,7 +28,7 @@ use serde_json::json;
 use veselov::field::CauchyStepper;
 use veselov::field::cauchy::CauchyMarcher;
 use veselov::field::cell::DiscreteLagrangian;
-use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, LinearPotential, VertexRule};
+use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, VertexRule, Weight};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
 use veselov::models::rod::{EndCondition, angular_momentum, energy, linear_momentum, load_impulse};
@@ -43,10 +43,10 @@ use crate::rod::RodSetup;
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, output_dir};
 
-type Cell = CosseratCell<LinearPotential>;
+type Cell = CosseratCell<Weight>;
 /// The rod with Q_sym (`[method] quadrature = "symmetric"`): the core's
 /// generic discretisation of the same density, marched by the 6-D Newton.
-type SymmetricCell = VertexRule<PositionRotation, CosseratDensity<LinearPotential>, CfkNodes<2>, 6, 2>;
+type SymmetricCell = VertexRule<PositionRotation, CosseratDensity<Weight>, CfkNodes<2>, 6, 2>;
 
 /// The level of the march's first cut (Cauchy data on levels 0 … 3): the
 /// run's t = 0.
@@ -108,10 +108,12 @@ impl RodObserver<'_> {
             // per cell, torque r₀ × that (note 003 §3.7 with a potential);
             // Q_sym spreads it evenly over the three vertices.
             let c = m.level() - 1;
-            let weight = g * (0.25 * self.setup.lattice.ds() * self.setup.dt * self.setup.parameters.rho());
+            let (ds, dt) = (self.setup.lattice.ds(), self.setup.dt);
             let symmetric = self.setup.symmetric;
             m.for_each_straddling_cell(|cell, y| {
                 if cell.origin[0] + cell.origin[1] == c {
+                    let s0 = (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * ds;
+                    let weight = g * (0.25 * ds * dt * self.lag.parameters_at(s0).rho());
                     f += weight;
                     tau += if symmetric {
                         ((y[0].position + y[1].position + y[2].position) / 3.0).cross(&weight)
@@ -187,7 +189,7 @@ impl RodObserver<'_> {
             let reach = (0..nodes)
                 .map(|p| Vector3::new(self.buffer[3 * p], self.buffer[3 * p + 1], self.buffer[3 * p + 2]).norm())
                 .fold(0.0, f64::max);
-            let mass = self.setup.parameters.rho() * self.setup.lattice.length();
+            let mass = self.setup.mass;
             let kinetic_scale = if self.setup.gravity == Vector3::zeros() {
                 (2.0 * mass * self.energy_range[1].abs()).sqrt()
             } else {
@@ -330,8 +332,10 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         );
     }
     let p = setup.parameters;
-    let potential = LinearPotential {
-        gradient: setup.gravity * (-2.0 * p.rho()),
+    let potential = match &setup.profile {
+        None => Weight::uniform(setup.gravity, p.rho()),
+        Some(profile) => Weight::profiled(setup.gravity, profile.iter().map(|q| q.rho()).collect(), lattice.ds())
+            .map_err(|e| setup.key("model", e.to_string()))?,
     };
     let mut lag = CosseratCell::new(
         CosseratDensity {
@@ -345,9 +349,14 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     if let Some(loads) = setup.loads {
         lag = lag.with_loads(loads).map_err(|e| setup.key("loads", e.to_string()))?;
     }
+    if let Some(profile) = &setup.profile {
+        lag = lag
+            .with_profile(profile.clone())
+            .map_err(|e| setup.key("model", e.to_string()))?;
+    }
     if setup.symmetric {
         let nodes = CfkNodes::leapfrog(lattice.ds(), setup.dt).map_err(|e| setup.key("time.dt", e.to_string()))?;
-        let rule: SymmetricCell = VertexRule::symmetric(lag.density, nodes);
+        let rule: SymmetricCell = VertexRule::symmetric(lag.density.clone(), nodes);
         let marcher = start_march(&setup, rule)?;
         march(&setup, job, lag, marcher)
     } else {
@@ -486,6 +495,8 @@ where
         "newton_iterations_per_vertex": outcome.iterations as f64 / (outcome.last_step.max(1) * (nodes as u64).div_ceil(2)) as f64,
         "ends": [end_name(&setup.ends.start), end_name(&setup.ends.end)],
         "quadrature": if setup.symmetric { "symmetric" } else { "vertex" },
+        "varying_material": setup.profile.is_some(),
+        "mass": setup.mass,
         "energy_initial": obs.energy0,
         "energy_min": obs.energy_range[0],
         "energy_max": obs.energy_range[1],

@@ -73,7 +73,7 @@ pub mod suitability;
 
 pub use affine::{AffineJet, CubeCentreRule, MidpointRule, affine_jet, cube_centre_jet};
 pub use cosserat::{
-    CosseratCell, CosseratDensity, LinearPotential, NoPotential, RodLoads, RodParameters, RodPotential,
+    CosseratCell, CosseratDensity, LinearPotential, NoPotential, RodLoads, RodParameters, RodPotential, Weight,
 };
 pub use error::CellError;
 pub use nodes::{CfkNodes, CubeNodes, NodeMap, cube_corner, factorial, permutation};
