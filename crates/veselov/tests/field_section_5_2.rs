@@ -3,21 +3,12 @@
 //! the natural sawtooth of Fig. 5.5, the collision recurrence, the
 //! high-frequency content of Figs. 5.9/5.10, and the energies of Fig. 5.8.
 
+mod common;
+use common::kink_antikink;
 use veselov::field::{
     CollisionCounter, FastMarcher, FieldRunConfig, InitialData, Lattice, Scheme, SineGordon, SolverOptions,
     fourth_difference_max, guo_printed_energy, highest_mode_amplitude, rectangle_energy, run_lattice,
 };
-
-fn kink_antikink(nodes: usize, ratio: f64) -> (Lattice, Vec<f64>, Vec<f64>) {
-    let lat = Lattice::periodic(nodes, 40.0, ratio).expect("valid lattice");
-    let (y0, y1) = InitialData::KinkAntikink {
-        epsilon: 1e-6,
-        paper_start: true,
-    }
-    .levels(&lat)
-    .expect("initial data");
-    (lat, y0, y1)
-}
 
 fn marcher(scheme: Scheme, nodes: usize, ratio: f64) -> FastMarcher<SineGordon> {
     marcher_to(scheme, nodes, ratio, SolverOptions::default())

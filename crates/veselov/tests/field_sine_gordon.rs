@@ -2,20 +2,11 @@
 //! errors without drift, Guo's exactly conserved energy, the single kink's
 //! speed, and the even/odd mode of the symmetric rectangle scheme.
 
+mod common;
+use common::kink_antikink;
 use std::f64::consts::{PI, TAU};
 
 use veselov::field::{Boundary, FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
-
-fn kink_antikink(n: usize) -> (Lattice, Vec<f64>, Vec<f64>) {
-    let lat = Lattice::periodic(n, 40.0, 8.0).expect("valid lattice");
-    let (y0, y1) = InitialData::KinkAntikink {
-        epsilon: 1e-6,
-        paper_start: true,
-    }
-    .levels(&lat)
-    .expect("initial data");
-    (lat, y0, y1)
-}
 
 struct Block {
     min: f64,
@@ -25,7 +16,7 @@ struct Block {
 
 /// Energies of `levels` levels in blocks of `block`.
 fn energy_blocks(scheme: Scheme, levels: usize, block: usize) -> (f64, Vec<Block>) {
-    let (lat, y0, y1) = kink_antikink(255);
+    let (lat, y0, y1) = kink_antikink(255, 8.0);
     let mut m = FastMarcher::new(SineGordon, scheme, lat, &y0, &y1, SolverOptions::default()).expect("valid");
     m.step().expect("step");
     let e0 = m.energy();
@@ -137,7 +128,7 @@ fn multisymplectic_energy_errors_do_not_drift_over_the_paper_horizon() {
 
 #[test]
 fn guo_energy_is_conserved_to_round_off() {
-    let (lat, y0, y1) = kink_antikink(255);
+    let (lat, y0, y1) = kink_antikink(255, 8.0);
     // E^{j+½} changes per level by k·Σ_i (y⁺ − y⁻)·(residual of (5.15)), so
     // it is conserved to round-off only when the level solves are: solve to
     // ~1 ulp (the per-node contraction is h²/2 ≈ 2·10⁻⁴, so this costs one
@@ -216,7 +207,7 @@ fn single_kink_travels_at_its_speed() {
 /// max_i |d_i| of the difference of a seeded and an unseeded run after
 /// `levels` levels of the symmetric rectangle scheme.
 fn seeded_difference(n: usize, levels: usize, eps: f64) -> Vec<f64> {
-    let (lat, y0, y1) = kink_antikink(n);
+    let (lat, y0, y1) = kink_antikink(n, 8.0);
     let mut z0 = y0.clone();
     let mut z1 = y1.clone();
     for i in 0..n {

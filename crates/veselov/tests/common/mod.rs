@@ -93,3 +93,16 @@ pub fn step_counts(n0: usize, count: usize) -> Vec<usize> {
         .map(|k| (n0 as f64 * 2f64.powf(k as f64 / 2.0)).round() as usize)
         .collect()
 }
+
+/// The kink–antikink data of seed 002 §5.2 (paper start, ε = 1e-6) on a
+/// periodic lattice of `nodes` nodes over length 40 with h = k/`ratio`.
+pub fn kink_antikink(nodes: usize, ratio: f64) -> (veselov::field::Lattice, Vec<f64>, Vec<f64>) {
+    let lat = veselov::field::Lattice::periodic(nodes, 40.0, ratio).expect("valid lattice");
+    let (y0, y1) = veselov::field::InitialData::KinkAntikink {
+        epsilon: 1e-6,
+        paper_start: true,
+    }
+    .levels(&lat)
+    .expect("initial data");
+    (lat, y0, y1)
+}
