@@ -18,7 +18,8 @@
 use nalgebra::{Const, Matrix3, SVector, U1, Vector3};
 use num_dual::DualSVec64;
 
-use super::cosserat::{CosseratCell, RodPotential};
+use super::cosserat::CosseratCell;
+use super::rod_potential::RodPotential;
 use crate::field::cell::{DiscreteLagrangian, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};

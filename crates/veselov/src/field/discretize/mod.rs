@@ -30,7 +30,8 @@
 //! Files: [`nodes`] (node maps, [`permutation`]), [`smooth`] (density trait,
 //! the seed 002 adapter [`SpaceTime`]), [`rules`] (Lemma 5.15, vertex
 //! quadratures), [`affine`] (Prop. 5.20, Q_mid, cube centre), [`suitability`]
-//! (Def. 5.9, Lemma 5.5, Cor. 6.3), [`cosserat`] (the rod), [`error`].
+//! (Def. 5.9, Lemma 5.5, Cor. 6.3), [`cosserat`] (the rod),
+//! [`rod_potential`] (its external potentials), [`error`].
 //!
 //! ```
 //! use nalgebra::{Matrix3, Vector3};
@@ -67,16 +68,16 @@ pub mod cosserat;
 pub mod cosserat_step;
 pub mod error;
 pub mod nodes;
+pub mod rod_potential;
 pub mod rules;
 pub mod smooth;
 pub mod suitability;
 
 pub use affine::{AffineJet, CubeCentreRule, MidpointRule, affine_jet, cube_centre_jet};
-pub use cosserat::{
-    CosseratCell, CosseratDensity, LinearPotential, NoPotential, RodLoads, RodParameters, RodPotential, Weight,
-};
+pub use cosserat::{CosseratCell, CosseratDensity, RodLoads, RodParameters};
 pub use error::CellError;
 pub use nodes::{CfkNodes, CubeNodes, NodeMap, cube_corner, factorial, permutation};
+pub use rod_potential::{LinearPotential, NoPotential, RodPotential, Weight};
 pub use rules::{SINGULAR_NODES, VertexQuadrature, VertexRule, invert, vertex_jet};
 pub use smooth::{SmoothDensity, SpaceTime, energy_density, momentum_density, time_flux};
 pub use suitability::{CellCheck, GeodesicBall, check_rotations};
