@@ -100,11 +100,35 @@ pub(crate) struct RodModelSpec {
 
 /// A material quantity: one number for the whole rod, or an expression in
 /// the material coordinate `s` (0 … length).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone)]
 pub(crate) enum Along {
     Value(f64),
     Expression(String),
+}
+
+impl<'de> Deserialize<'de> for Along {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = Along;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number, or an expression in s as a string (e.g. \"0.02*(1 - 0.3*s)\")")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<Along, E> {
+                Ok(Along::Value(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<Along, E> {
+                Ok(Along::Value(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<Along, E> {
+                Ok(Along::Value(v as f64))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<Along, E> {
+                Ok(Along::Expression(v.to_string()))
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
 }
 
 impl Along {

@@ -53,6 +53,9 @@ pub fn fourth_difference_max(lattice: &Lattice, y: &[f64]) -> f64 {
 /// waveform only its exponentially small content at that wavenumber.
 pub fn highest_mode_amplitude(y: &[f64]) -> f64 {
     let n = y.len();
+    if n == 0 {
+        return 0.0;
+    }
     if n.is_multiple_of(2) {
         let s: f64 = y.chunks_exact(2).map(|p| p[0] - p[1]).sum();
         return s.abs() / n as f64;
@@ -217,6 +220,7 @@ mod tests {
             .collect();
         assert!((highest_mode_amplitude(&odd) - 0.5).abs() < 1e-14);
         assert!(highest_mode_amplitude(&[2.0; 13]) < 1e-14);
+        assert_eq!(highest_mode_amplitude(&[]), 0.0);
         // A winding ramp is smooth across the seam.
         let wind = Lattice::new(12, 0.1, 0.05, Boundary::Winding { jump: 12.0 }).expect("lattice");
         let ramp: Vec<f64> = (0..12).map(f64::from).collect();
