@@ -361,7 +361,10 @@ fn material_varying_along_the_rod() {
         );
     }
     let (ok, err, _) = run("profile_bad_type", &set(&base, "radius", "true"));
-    assert!(!ok && err.contains("line") && err.contains("expected a number, or an expression in s"), "{err}");
+    assert!(
+        !ok && err.contains("line") && err.contains("expected a number, or an expression in s"),
+        "{err}"
+    );
     let symmetric = set(&base, "radius", "\"0.02*(1 - 0.4*s)\"")
         .replace("[output]", "[method]\nquadrature = \"symmetric\"\n\n[output]");
     let (ok, err, _) = run("profile_symmetric", &symmetric);
