@@ -46,7 +46,6 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
 use serde::Deserialize;
-use veselov::expr::{Expr, SymbolTable};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::discretize::{RodLoads, RodParameters};
 use veselov::field::fibre::Pose;
@@ -56,7 +55,7 @@ use veselov::models::rod::{
 };
 
 use crate::error::CliError;
-use crate::rod_motion::{Centreline, MotionSpec, driven_end};
+use crate::rod_motion::{Centreline, MotionSpec, driven_end, parse_expression};
 use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value};
 
 /// The model name of the rod kind.
@@ -138,9 +137,7 @@ impl Along {
         match self {
             Along::Value(v) => Ok(vec![positive_value(path, key, *v)?; points.len()]),
             Along::Expression(source) => {
-                let mut table = SymbolTable::new();
-                table.variable("s").map_err(|e| key_error(path, key, e.to_string()))?;
-                let e = Expr::parse(source, &table).map_err(|e| key_error(path, key, format!("\n{e}")))?;
+                let e = parse_expression(path, key, source, "s")?;
                 points
                     .iter()
                     .map(|&s| {

@@ -60,14 +60,17 @@ fn parse_in(
     let Some(sources) = sources else {
         return Ok(None);
     };
+    let parse = |i: usize| parse_expression(file, &format!("{key}[{i}]"), &sources[i], variable);
+    Ok(Some([parse(0)?, parse(1)?, parse(2)?]))
+}
+
+/// One expression in the single variable `variable`, its errors naming `key`.
+pub(crate) fn parse_expression(file: &Path, key: &str, source: &str, variable: &str) -> Result<Expr, CliError> {
     let mut table = SymbolTable::new();
     table
         .variable(variable)
         .map_err(|e| key_error(file, key, e.to_string()))?;
-    let parse = |i: usize| {
-        Expr::parse(&sources[i], &table).map_err(|e| key_error(file, &format!("{key}[{i}]"), format!("\n{e}")))
-    };
-    Ok(Some([parse(0)?, parse(1)?, parse(2)?]))
+    Expr::parse(source, &table).map_err(|e| key_error(file, key, format!("\n{e}")))
 }
 
 fn evaluate(v: &Option<[Expr; 3]>, t: f64) -> Vector3<f64> {

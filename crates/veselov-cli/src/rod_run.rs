@@ -112,8 +112,8 @@ impl RodObserver<'_> {
             let symmetric = self.setup.symmetric;
             m.for_each_straddling_cell(|cell, y| {
                 if cell.origin[0] + cell.origin[1] == c {
-                    let s0 = (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * ds;
-                    let weight = g * (0.25 * ds * dt * self.lag.parameters_at(s0).rho());
+                    let rho = self.lag.parameters_at(self.lag.material_coordinate(cell)).rho();
+                    let weight = g * (0.25 * ds * dt * rho);
                     f += weight;
                     tau += if symmetric {
                         ((y[0].position + y[1].position + y[2].position) / 3.0).cross(&weight)

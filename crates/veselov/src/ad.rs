@@ -6,7 +6,7 @@
 //! values and with `num-dual` numbers (`DualVec`, `Dual2Vec`, `HyperDualVec`)
 //! for exact first and second derivatives; nothing is finite-differenced.
 
-use nalgebra::SVector;
+use nalgebra::{Matrix3, SVector, Vector3};
 pub use num_dual::DualNum;
 
 /// The scalar bound of every user-supplied function: `f64` or a `num-dual`
@@ -31,4 +31,30 @@ pub fn lift<D: Scalar, const N: usize>(x: &SVector<f64, N>) -> SVector<D, N> {
 #[inline]
 pub fn constant<D: Scalar>(x: f64) -> D {
     D::from(x)
+}
+
+/// `a b` for 3×3 matrices, written out entry by entry: over dual numbers
+/// this avoids the generic product's zero-filled accumulator and copies.
+#[inline]
+pub fn mat3_mul<D: Scalar>(a: &Matrix3<D>, b: &Matrix3<D>) -> Matrix3<D> {
+    Matrix3::from_fn(|i, j| a[(i, 0)] * b[(0, j)] + a[(i, 1)] * b[(1, j)] + a[(i, 2)] * b[(2, j)])
+}
+
+/// `a x` for a 3×3 matrix, written out as [`mat3_mul`].
+#[inline]
+pub fn mat3_vec<D: Scalar>(a: &Matrix3<D>, x: &Vector3<D>) -> Vector3<D> {
+    Vector3::from_fn(|i, _| a[(i, 0)] * x[0] + a[(i, 1)] * x[1] + a[(i, 2)] * x[2])
+}
+
+/// `a b` for a constant (`f64`) 3×3 matrix `a`: its entries scale those of
+/// `b`, without lifting `a` into dual numbers.
+#[inline]
+pub fn const_mat3_mul<D: Scalar>(a: &Matrix3<f64>, b: &Matrix3<D>) -> Matrix3<D> {
+    Matrix3::from_fn(|i, j| b[(0, j)] * a[(i, 0)] + b[(1, j)] * a[(i, 1)] + b[(2, j)] * a[(i, 2)])
+}
+
+/// `a x` for a constant (`f64`) 3×3 matrix, as [`const_mat3_mul`].
+#[inline]
+pub fn const_mat3_vec<D: Scalar>(a: &Matrix3<f64>, x: &Vector3<D>) -> Vector3<D> {
+    Vector3::from_fn(|i, _| x[0] * a[(i, 0)] + x[1] * a[(i, 1)] + x[2] * a[(i, 2)])
 }

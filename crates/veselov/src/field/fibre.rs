@@ -21,7 +21,7 @@ use std::fmt::Debug;
 
 use nalgebra::{Matrix3, SVector, Vector3};
 
-use crate::ad::Scalar;
+use crate::ad::{Scalar, const_mat3_mul, const_mat3_vec};
 use crate::lie::{LieError, SE3, SO3, se3, so3};
 
 /// The value space at a vertex, of dimension `M`, with a chart around each point.
@@ -133,16 +133,8 @@ fn newton_schulz(r: &Matrix3<f64>) -> Matrix3<f64> {
 /// nilpotent of order 3 ([`Fibre::retract_seeded`]), with ω̂² = ωωᵀ − |ω|²I
 /// written out and R's `f64` entries scaling the dual ones.
 fn seeded_rotation<D: Scalar>(r: &Matrix3<f64>, w: &Vector3<D>) -> SO3<D> {
-    let wh = so3::hat(w);
-    let (half, n2) = (D::from(0.5), w.dot(w));
-    let e = Matrix3::from_fn(|i, j| {
-        let quadratic = if i == j { w[i] * w[j] - n2 } else { w[i] * w[j] };
-        let diagonal = if i == j { D::from(1.0) } else { D::from(0.0) };
-        diagonal + wh[(i, j)] + quadratic * half
-    });
-    SO3::from_matrix_unchecked(Matrix3::from_fn(|i, j| {
-        e[(0, j)] * r[(i, 0)] + e[(1, j)] * r[(i, 1)] + e[(2, j)] * r[(i, 2)]
-    }))
+    let e = so3::unit_hat_series(w, D::from(0.5));
+    SO3::from_matrix_unchecked(const_mat3_mul(r, &e))
 }
 
 impl Fibre<3> for Rotations {
@@ -194,9 +186,8 @@ impl Fibre<6> for RigidMotions {
         let (w, v) = se3::split(xi);
         let ry = y.rotation().matrix();
         let e_t = v + w.cross(&v) * D::from(0.5);
-        let translation = Vector3::from_fn(|i, _| {
-            e_t[0] * ry[(i, 0)] + e_t[1] * ry[(i, 1)] + e_t[2] * ry[(i, 2)] + y.translation()[i]
-        });
+        let moved = const_mat3_vec(ry, &e_t);
+        let translation = Vector3::from_fn(|i, _| moved[i] + y.translation()[i]);
         SE3::new(seeded_rotation(ry, &w), translation)
     }
     fn log<D: Scalar>(y: &SE3<D>, z: &SE3<D>) -> Result<SVector<D, 6>, LieError> {

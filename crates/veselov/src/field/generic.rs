@@ -251,19 +251,13 @@ pub type Tangent<const DIM: usize> = (Vec<SVector<f64, DIM>>, Vec<SVector<f64, D
 /// Value of node `i` of a level with the lattice's boundary condition
 /// (`None` outside a non-periodic lattice).
 pub fn node_value<const DIM: usize>(lat: &Lattice, level: &[SVector<f64, DIM>], i: i64) -> Option<SVector<f64, DIM>> {
-    let n = lat.nodes() as i64;
-    match lat.boundary().jump() {
-        Some(jump) => {
-            let wraps = i.div_euclid(n);
-            let v = level[i.rem_euclid(n) as usize];
-            Some(if wraps == 0 {
-                v
-            } else {
-                v.add_scalar(jump * wraps as f64)
-            })
-        }
-        None => (0..n).contains(&i).then(|| level[i as usize]),
-    }
+    let (k, wraps) = lat.wrapped(i)?;
+    let v = level[k];
+    Some(if wraps == 0 {
+        v
+    } else {
+        v.add_scalar(lat.boundary().jump().unwrap_or(0.0) * wraps as f64)
+    })
 }
 
 /// The two stored levels and the level index (the tolerances are

@@ -145,6 +145,18 @@ impl Lattice {
     pub fn t(&self, j: usize) -> f64 {
         j as f64 * self.dt
     }
+    /// Where node `i` (any integer) is stored and how often it wraps the
+    /// seam: `(i mod N, ⌊i/N⌋)` on periodic and winding lattices, whose
+    /// values across the seam carry the jump once per wrap; `(i, 0)` for
+    /// `0 ≤ i < N` and `None` outside otherwise.
+    pub fn wrapped(&self, i: i64) -> Option<(usize, i64)> {
+        let n = self.nodes as i64;
+        if self.is_periodic() {
+            Some((i.rem_euclid(n) as usize, i.div_euclid(n)))
+        } else {
+            (0..n).contains(&i).then_some((i as usize, 0))
+        }
+    }
     /// Is the condition periodic or winding (space index taken mod `N`)?
     pub fn is_periodic(&self) -> bool {
         self.boundary.jump().is_some()

@@ -13,13 +13,10 @@ use super::lattice::Lattice;
 use super::potential::ScalarPotential;
 
 /// The value at node `i` (any integer on periodic and winding lattices,
-/// `0..N` otherwise), the seam jump added once per wrap.
+/// `0..N` otherwise), the seam jump added once per wrap ([`Lattice::wrapped`]).
 fn value_at(lattice: &Lattice, y: &[f64], i: i64) -> Option<f64> {
-    let n = y.len() as i64;
-    match lattice.boundary().jump() {
-        Some(jump) => Some(y[i.rem_euclid(n) as usize] + jump * i.div_euclid(n) as f64),
-        None => (0..n).contains(&i).then(|| y[i as usize]),
-    }
+    let (k, wraps) = lattice.wrapped(i)?;
+    Some(y.get(k)? + lattice.boundary().jump().unwrap_or(0.0) * wraps as f64)
 }
 
 /// The high-frequency indicator of seed 002 §5.2 (Figs. 5.9/5.10): the

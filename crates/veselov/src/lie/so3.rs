@@ -14,6 +14,7 @@ use nalgebra::{Matrix3, Quaternion, Vector3};
 use num_dual::DualNum;
 
 use super::{CUT_LOCUS_MARGIN, LieError, LieGroup, ORTHOGONALITY_TOLERANCE, series};
+use crate::ad::{mat3_mul, mat3_vec};
 
 /// so(3) hat map: `hat(ω) = ω̂` with `ω̂ e = ω × e`.
 pub fn hat<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> Matrix3<D> {
@@ -72,13 +73,11 @@ impl<D: DualNum<Primitive = f64> + Copy> SO3<D> {
         self.matrix
     }
 
-    /// The product `self · other` (R₁R₂), written out entry by entry:
-    /// over dual numbers this avoids the generic product's zero-filled
-    /// accumulator and copies (the same sums in the same order).
+    /// The product `self · other` (R₁R₂), written out entry by entry
+    /// ([`mat3_mul`]).
     pub fn compose(&self, other: &Self) -> Self {
-        let (a, b) = (&self.matrix, &other.matrix);
         SO3 {
-            matrix: Matrix3::from_fn(|i, j| a[(i, 0)] * b[(0, j)] + a[(i, 1)] * b[(1, j)] + a[(i, 2)] * b[(2, j)]),
+            matrix: mat3_mul(&self.matrix, &other.matrix),
         }
     }
 
@@ -89,10 +88,9 @@ impl<D: DualNum<Primitive = f64> + Copy> SO3<D> {
         }
     }
 
-    /// Rotate a point: p ↦ Rp (written out, as [`SO3::compose`]).
+    /// Rotate a point: p ↦ Rp (written out, [`mat3_vec`]).
     pub fn act(&self, p: &Vector3<D>) -> Vector3<D> {
-        let a = &self.matrix;
-        Vector3::from_fn(|i, _| a[(i, 0)] * p[0] + a[(i, 1)] * p[1] + a[(i, 2)] * p[2])
+        mat3_vec(&self.matrix, p)
     }
 
     /// The rotation represented by a quaternion q = w + xi + yj + zk
@@ -274,11 +272,21 @@ pub fn exp<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> SO3<D> {
 /// I + a ω̂ + b ω̂², with ω̂² = ωωᵀ − |ω|²I written out entry by entry (over
 /// dual numbers this avoids the generic matrix product).
 fn hat_series<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>, a: D, b: D) -> Matrix3<D> {
+    series_matrix(w, |x| x * a, b)
+}
+
+/// I + ω̂ + b ω̂² ([`hat_series`] with a = 1, without its products by 1).
+pub(crate) fn unit_hat_series<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>, b: D) -> Matrix3<D> {
+    series_matrix(w, |x| x, b)
+}
+
+/// I + `scaled`(ω̂) + b ω̂², entry by entry.
+fn series_matrix<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>, scaled: impl Fn(D) -> D, b: D) -> Matrix3<D> {
     let (wh, n2) = (hat(w), w.dot(w));
     Matrix3::from_fn(|i, j| {
         let square = if i == j { w[i] * w[j] - n2 } else { w[i] * w[j] };
         let one = if i == j { D::one() } else { D::zero() };
-        one + wh[(i, j)] * a + square * b
+        one + scaled(wh[(i, j)]) + square * b
     })
 }
 

@@ -12,10 +12,10 @@ use std::sync::Arc;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 use super::error::CellError;
-use super::rod_potential::{NoPotential, RodPotential};
+use super::rod_potential::{NoPotential, RodPotential, nearest_point};
 use super::smooth::SmoothDensity;
 use super::suitability::{CellCheck, check_rotations};
-use crate::ad::Scalar;
+use crate::ad::{Scalar, const_mat3_vec, mat3_vec};
 use crate::error::Result;
 use crate::field::cell::{DiscreteLagrangian, VertexStar};
 use crate::field::complex::TopCell;
@@ -110,19 +110,7 @@ impl RodParameters {
 
 /// ½xᵀAx with A in f64.
 fn quad<D: Scalar>(a: &Matrix3<f64>, x: &Vector3<D>) -> D {
-    x.dot(&apply(a, x)) * 0.5
-}
-
-/// `a x` for a constant matrix, its `f64` entries scaling the entries of x
-/// (over dual numbers, cheaper than lifting `a` and the generic product).
-fn apply<D: Scalar>(a: &Matrix3<f64>, x: &Vector3<D>) -> Vector3<D> {
-    Vector3::from_fn(|i, _| x[0] * a[(i, 0)] + x[1] * a[(i, 1)] + x[2] * a[(i, 2)])
-}
-
-/// `a x` written out entry by entry (over dual numbers, without the
-/// generic product's zero-filled accumulator).
-fn product<D: Scalar>(a: &Matrix3<D>, x: &Vector3<D>) -> Vector3<D> {
-    Vector3::from_fn(|i, _| a[(i, 0)] * x[0] + a[(i, 1)] * x[1] + a[(i, 2)] * x[2])
+    x.dot(&const_mat3_vec(a, x)) * 0.5
 }
 
 /// The rod density (6.1):
@@ -234,17 +222,19 @@ impl<P: RodPotential> CosseratCell<P> {
         Ok(self)
     }
 
+    /// The material coordinate s₀ = (i − j)Δs/2 of the base vertex v₀ of
+    /// `cell` (leapfrog embedding (6.2)).
+    pub fn material_coordinate(&self, cell: &TopCell) -> f64 {
+        (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * self.ds
+    }
+
     /// The material parameters at the material coordinate `s0` (the
     /// profile's nearest point, clamped to its ends; the density's own
     /// parameters without a profile).
     pub fn parameters_at(&self, s0: f64) -> &RodParameters {
         match &self.profile {
             None => &self.density.parameters,
-            Some(profile) => {
-                let k = (2.0 * s0 / self.ds).round();
-                let k = if k.is_finite() && k > 0.0 { k as usize } else { 0 };
-                &profile[k.min(profile.len() - 1)]
-            }
+            Some(profile) => &profile[nearest_point(s0, 0.5 * self.ds, profile.len())],
         }
     }
 
@@ -318,7 +308,7 @@ impl<P: RodPotential> CosseratCell<P> {
             })
         };
         let (a, b) = (log(1)?, log(2)?);
-        let s0 = (cell.origin[0] - cell.origin[1]) as f64 * 0.5 * self.ds;
+        let s0 = self.material_coordinate(cell);
         let p = self.parameters_at(s0);
         let sds = sigma * self.ds;
         let g = (y[1].position * D::from(2.0) - y[0].position - y[2].position) / D::from(sds);
@@ -423,11 +413,11 @@ impl<P: RodPotential> CosseratCell<P> {
         let p = self.parameters_at(s0);
         let omega = b / D::from(self.dt);
         let u = (a.map(D::from) * D::from(2.0) - b) / D::from(sigma * self.ds);
-        let c2u = apply(&p.c2, &u);
-        let jw = apply(&p.inertia, &omega);
+        let c2u = const_mat3_vec(&p.c2, &u);
+        let jw = const_mat3_vec(&p.inertia, &omega);
         // −(Δs/4)D_bJω + (σΔt/4)(2D_a − D_b)C₂u, with D_a constant.
-        -product(db, &jw) * D::from(self.ds / 4.0)
-            + (apply(da, &c2u) * D::from(2.0) - product(db, &c2u)) * D::from(sigma * self.dt / 4.0)
+        -mat3_vec(db, &jw) * D::from(self.ds / 4.0)
+            + (const_mat3_vec(da, &c2u) * D::from(2.0) - mat3_vec(db, &c2u)) * D::from(sigma * self.dt / 4.0)
     }
 
     /// ∇_{r₀}L_β = −(ρΔs/4)v_d + (σΔt/4)R₀C₁ε − (ΔsΔt/8)∇_rP(s₀, r₀)

@@ -76,7 +76,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     }
     let cells = &cells[..count];
     // Both cells are based at v: its material point's parameters.
-    let s0 = (cells[0].0.origin[0] - cells[0].0.origin[1]) as f64 * 0.5 * ds;
+    let s0 = lag.material_coordinate(&cells[0].0);
     let p = *lag.parameters_at(s0);
     let y0 = cells[0].1[0];
     let r0m = *y0.rotation.matrix();

@@ -11,6 +11,15 @@ use crate::ad::Scalar;
 use crate::error::Result;
 use crate::field::lattice::invalid;
 
+/// The index of the material point s_k = k·`spacing` nearest to `s`, among
+/// `points` of them (clamped to the ends): where a profile given per material
+/// point is read.
+pub(crate) fn nearest_point(s: f64, spacing: f64, points: usize) -> usize {
+    let k = (s / spacing).round();
+    let k = if k.is_finite() && k > 0.0 { k as usize } else { 0 };
+    k.min(points.saturating_sub(1))
+}
+
 /// External potential P(s, r) of the rod (enters (6.1) as −½P).
 pub trait RodPotential: Send + Sync {
     /// P(s, r).
@@ -87,9 +96,7 @@ impl Weight {
     }
 
     fn gradient_at(&self, s: f64) -> Vector3<f64> {
-        let k = (s / self.half_ds).round();
-        let k = if k.is_finite() && k > 0.0 { k as usize } else { 0 };
-        self.gravity * (-2.0 * self.masses[k.min(self.masses.len() - 1)])
+        self.gravity * (-2.0 * self.masses[nearest_point(s, self.half_ds, self.masses.len())])
     }
 }
 
