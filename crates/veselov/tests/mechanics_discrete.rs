@@ -1,12 +1,16 @@
 //! Discrete Lagrangians: derivatives against finite differences of L_d, the
-//! two-step form, initialisation from velocities, and the fast separable path
-//! against the general Newton path.
+//! two-step form, initialisation from velocities, the fast separable path
+//! against the general Newton path, and the declared separable form against
+//! the general derivatives.
 
 mod common;
 
 use common::{all_methods, scheme};
-use nalgebra::Vector2;
-use veselov::mechanics::{GalerkinIntegrator, OneStepMap, PhaseState, SeparableIntegrator, integrate};
+use nalgebra::{SVector, Vector2};
+use veselov::ad::Scalar;
+use veselov::mechanics::{
+    GalerkinIntegrator, Lagrangian, OneStepMap, PhaseState, SeparableIntegrator, hessian, integrate, jet,
+};
 use veselov::models::{DoublePendulum, Kepler};
 
 /// `p₀ = −D₁L_d` and `p₁ = D₂L_d` against central differences of `L_d` itself.
@@ -78,6 +82,61 @@ fn separable_fast_path_equals_general_path() {
             assert!(!stats.fallback);
             let d = (a.q - b.q).amax().max((a.p - b.p).amax());
             // Both solve the same equations to round-off; they differ by a few ulps of |p| ≤ 2.
+            assert!(d < 2e-14, "{method:?} step {k}: difference {d:e}");
+            x = b;
+        }
+    }
+}
+
+/// A Lagrangian without its declaration of the separable form: every
+/// derivative goes through the general passes over the whole `L`.
+struct Undeclared<L>(L);
+
+impl<L: Lagrangian<N>, const N: usize> Lagrangian<N> for Undeclared<L> {
+    fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
+        self.0.lagrangian(t, q, v)
+    }
+}
+
+/// With `L = ½vᵀMv − V` declared, the jets and Hessians come from `V` alone
+/// (`∂L/∂v = Mv`, `∂²L/∂q∂v = 0`): they equal the general passes over the
+/// whole `L` to round-off at random points, and the general Newton path
+/// steps the same trajectory either way.
+#[test]
+fn declared_separable_form_equals_the_general_derivatives() {
+    let kepler = Kepler::new(0.6).expect("valid");
+    let (declared, undeclared) = (kepler.system(), Undeclared(kepler.system()));
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut uniform = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for _ in 0..50 {
+        let q = Vector2::new(1.0 + uniform(), uniform());
+        let v = Vector2::new(uniform(), uniform());
+        let t = uniform();
+        let (a, b) = (hessian(&declared, t, &q, &v), hessian(&undeclared, t, &q, &v));
+        let scale = 1.0 + b.qq.amax();
+        assert!((a.jet.value - b.jet.value).abs() < 1e-15 * scale);
+        assert!((a.jet.dq - b.jet.dq).amax() < 1e-15 * scale);
+        assert_eq!(a.jet.dv, b.jet.dv);
+        assert!((a.qq - b.qq).amax() < 1e-15 * scale, "{:e}", (a.qq - b.qq).amax());
+        assert_eq!((a.qv.amax(), b.qv.amax()), (0.0, 0.0));
+        assert_eq!(a.vv, b.vv);
+        assert_eq!(jet(&declared, t, &q, &v), a.jet);
+    }
+    let h = 2.0 * std::f64::consts::PI / 1000.0;
+    for method in all_methods() {
+        let mut fast = GalerkinIntegrator::new(declared.clone(), scheme(method), h).expect("valid");
+        let mut general = GalerkinIntegrator::new(Undeclared(declared.clone()), scheme(method), h).expect("valid");
+        let mut x = kepler.initial_state();
+        for k in 0..1000 {
+            let (a, _) = general.step(k, &x).expect("step");
+            let (b, _) = fast.step(k, &x).expect("step");
+            let d = (a.q - b.q).amax().max((a.p - b.p).amax());
+            // The same equations solved to round-off; a few ulps of |p| ≤ 2.
             assert!(d < 2e-14, "{method:?} step {k}: difference {d:e}");
             x = b;
         }

@@ -87,6 +87,15 @@ pub struct GalerkinIntegrator<L, const N: usize, F = NoForce> {
     start: Vec<SVector<f64, N>>,
     previous: Option<(f64, SVector<f64, N>)>,
     previous_controls: Vec<SVector<f64, N>>,
+    /// This step's extrapolated controls before correction.
+    extrapolated: Vec<SVector<f64, N>>,
+    /// The last step's extrapolation error (converged − extrapolated), added
+    /// to the next extrapolation while the trajectory continues, and whether
+    /// it is held.
+    extrapolation_error: Vec<SVector<f64, N>>,
+    has_extrapolation_error: bool,
+    /// Whether this step's controls were extrapolated from the previous step.
+    extrapolating: bool,
 }
 
 /// Which set of equations the Newton solve handles.
@@ -100,6 +109,8 @@ enum Mode {
 
 /// Marks the kept Jacobian's part of the checkpoint carry.
 const JACOBIAN_CARRY_TAG: f64 = -3.0;
+/// Marks the extrapolation error's part of the checkpoint carry.
+const EXTRAPOLATION_CARRY_TAG: f64 = -4.0;
 
 /// What the Newton iterations of the Galerkin integrators linearise, named in
 /// a singular-Jacobian error.
@@ -159,6 +170,15 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> SimplifiedNewtonSystem for C
             Mode::Step => &mut self.integrator.jacobian_kept,
             Mode::BoundaryValue => &mut self.integrator.bvp_jacobian_kept,
         }
+    }
+    /// The outputs taken from the gradient (`p_{k+1}` through the stage
+    /// forces, the work) are those of the iterate before the last update,
+    /// which is at the tolerance (4ε relative): they differ from a fresh
+    /// evaluation by `h‖∂²L‖·4ε|Z|`, below the round-off of the sums they
+    /// enter. The positions take the last update. Returns the residual at
+    /// the last evaluation (before that update).
+    fn accept_converged(&mut self) -> f64 {
+        self.integrator.residual_norm(self.mode, &self.p)
     }
 }
 
@@ -288,6 +308,10 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             start: vec![zero; m + 1],
             previous: None,
             previous_controls: vec![zero; m + 1],
+            extrapolated: vec![zero; m + 1],
+            extrapolation_error: vec![zero; m + 1],
+            has_extrapolation_error: false,
+            extrapolating: false,
             scheme,
         })
     }
@@ -475,12 +499,17 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
     }
 
     /// Initial guess for a step from `(t, q, p)`: extrapolate the previous
-    /// step's curve when this step continues it, else a straight line with the
-    /// velocity of the continuous inverse Legendre map.
+    /// step's curve when this step continues it, corrected by the last
+    /// step's extrapolation error (converged − extrapolated controls, which
+    /// varies smoothly along a trajectory: the correction leaves an error one
+    /// order of `h` smaller, as the separable path's force predictor does);
+    /// else a straight line with the velocity of the continuous inverse
+    /// Legendre map.
     fn predict(&mut self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) {
         let m = self.scheme.intervals();
         self.base = *q;
-        if self.continues(t, q) {
+        self.extrapolating = self.continues(t, q);
+        if self.extrapolating {
             // Q^ν = Σ_μ l_μ(1 + d_ν) Q^μ_prev and q = Q^m_prev, in increments.
             let last = self.previous_controls[m];
             for nu in 0..=m {
@@ -488,17 +517,41 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
                 for mu in 0..=m {
                     z += self.previous_controls[mu] * self.scheme.extrapolation(nu, mu);
                 }
-                self.controls[nu] = z;
+                self.extrapolated[nu] = z;
             }
-            self.controls[0] = SVector::zeros();
+            self.extrapolated[0] = SVector::zeros();
+            self.controls.copy_from_slice(&self.extrapolated);
+            if self.has_extrapolation_error {
+                for (z, e) in self.controls.iter_mut().zip(&self.extrapolation_error) {
+                    *z += e;
+                }
+            }
             return;
         }
         self.compensation = (SVector::zeros(), SVector::zeros());
+        self.has_extrapolation_error = false;
         // A new trajectory: no Jacobian kept from another one.
         self.jacobian_kept = false;
         let v = velocity_from_momentum(&self.lagrangian, t, q, p).unwrap_or_else(|_| SVector::zeros());
         for nu in 0..=m {
             self.controls[nu] = v * (self.scheme.control_nodes()[nu] * self.h);
+        }
+    }
+
+    /// After a converged step: remember its controls and, if they were
+    /// extrapolated, the extrapolation error.
+    fn remember_controls(&mut self) {
+        self.previous_controls.copy_from_slice(&self.controls);
+        if self.extrapolating {
+            for ((e, z), x) in self
+                .extrapolation_error
+                .iter_mut()
+                .zip(&self.controls)
+                .zip(&self.extrapolated)
+            {
+                *e = z - x;
+            }
+            self.has_extrapolation_error = true;
         }
     }
 
@@ -531,7 +584,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             });
         }
         self.previous = Some((next.t, next.q));
-        self.previous_controls.copy_from_slice(&self.controls);
+        self.remember_controls();
         Ok((next, report))
     }
 
@@ -677,6 +730,17 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
         if self.jacobian_kept {
             self.lu.save_factors(out);
         }
+        out.push(EXTRAPOLATION_CARRY_TAG);
+        let error: Vec<f64> = self
+            .extrapolation_error
+            .iter()
+            .flat_map(|z| z.iter().copied())
+            .collect();
+        crate::run::save_option(
+            out,
+            self.has_extrapolation_error.then_some(&error[..]),
+            self.controls.len() * N,
+        );
     }
     fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
         self.previous = crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..])));
@@ -693,6 +757,15 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
             if self.jacobian_kept {
                 self.lu.restore_factors(words)?;
             }
+        }
+        self.has_extrapolation_error = false;
+        if words.take_tag(EXTRAPOLATION_CARRY_TAG)
+            && let Some(r) = crate::run::restore_option(words, self.controls.len() * N)?
+        {
+            for (e, z) in self.extrapolation_error.iter_mut().zip(r.chunks_exact(N)) {
+                *e = SVector::from_column_slice(z);
+            }
+            self.has_extrapolation_error = true;
         }
         Ok(())
     }

@@ -85,9 +85,21 @@ pub struct Hessian<const N: usize> {
     pub vv: SMatrix<f64, N, N>,
 }
 
-/// `L` and its gradient in `q` and `v`, exact (two forward-mode passes).
+/// `L` and its gradient in `q` and `v`, exact (two forward-mode passes; one
+/// pass of `V` alone when `L = ½vᵀMv − V` is declared by
+/// [`Lagrangian::constant_mass`]: then `∂L/∂v = Mv`, `∂L/∂q = −∇V`).
 #[inline]
 pub fn jet<const N: usize, L: Lagrangian<N>>(l: &L, t: f64, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Jet<N> {
+    if let Some(mass) = l.constant_mass() {
+        let qd = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from(q[i]).derivative(i));
+        let potential = l.potential_energy(DualSVec64::<N>::from(t), &qd);
+        let momentum = mass * v;
+        return Jet {
+            value: 0.5 * v.dot(&momentum) - potential.re,
+            dq: -potential.eps.unwrap_generic(nalgebra::Const::<N>, U1),
+            dv: momentum,
+        };
+    }
     let td = DualSVec64::<N>::from(t);
     let qc: SVector<DualSVec64<N>, N> = lift(q);
     let vc: SVector<DualSVec64<N>, N> = lift(v);
@@ -102,13 +114,33 @@ pub fn jet<const N: usize, L: Lagrangian<N>>(l: &L, t: f64, q: &SVector<f64, N>,
     }
 }
 
-/// `L`, its gradient and all second derivatives in `(q, v)`, exact (three passes).
+/// `L`, its gradient and all second derivatives in `(q, v)`, exact (three
+/// passes; one second-order pass of `V` alone when `L = ½vᵀMv − V` is
+/// declared by [`Lagrangian::constant_mass`]: then `∂²L/∂v² = M`,
+/// `∂²L/∂q∂v = 0`, `∂²L/∂q² = −∇²V`).
 pub fn hessian<const N: usize, L: Lagrangian<N>>(
     l: &L,
     t: f64,
     q: &SVector<f64, N>,
     v: &SVector<f64, N>,
 ) -> Hessian<N> {
+    if let Some(mass) = l.constant_mass() {
+        let (potential, gradient, curvature) = num_dual::hessian(
+            |qd: SVector<Dual2SVec64<N>, N>| l.potential_energy(Dual2SVec64::<N>::from(t), &qd),
+            q,
+        );
+        let momentum = mass * v;
+        return Hessian {
+            jet: Jet {
+                value: 0.5 * v.dot(&momentum) - potential,
+                dq: -gradient,
+                dv: momentum,
+            },
+            qq: -curvature,
+            qv: SMatrix::zeros(),
+            vv: mass,
+        };
+    }
     let (value, dq, dv, qv) = partial_hessian(
         |(qd, vd): (SVector<HyperDualSVec64<N, N>, N>, SVector<HyperDualSVec64<N, N>, N>)| {
             l.lagrangian(HyperDualSVec64::<N, N>::from(t), &qd, &vd)

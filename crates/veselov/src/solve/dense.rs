@@ -61,24 +61,36 @@ pub fn lu_factor_in_place(a: &mut [f64], n: usize, perm: &mut [usize], context: 
 /// Solve `A x = b` in place (`b` becomes `x`) with the factors from
 /// [`lu_factor_in_place`]. `work` must have length `n`.
 pub fn lu_solve_in_place(lu: &[f64], n: usize, perm: &[usize], b: &mut [f64], work: &mut [f64]) {
-    for i in 0..n {
-        work[i] = b[perm[i]];
+    substitute(lu, n, perm, b, work, |i, s| s / lu[i * n + i]);
+}
+
+/// Forward and back substitution with the factors of [`lu_factor_in_place`];
+/// `divide(i, s)` divides `s` by the pivot `U_ii`.
+#[inline]
+fn substitute(
+    lu: &[f64],
+    n: usize,
+    perm: &[usize],
+    b: &mut [f64],
+    work: &mut [f64],
+    divide: impl Fn(usize, f64) -> f64,
+) {
+    let (lu, work) = (&lu[..n * n], &mut work[..n]);
+    for (w, &p) in work.iter_mut().zip(perm) {
+        *w = b[p];
     }
-    for i in 0..n {
-        let mut s = work[i];
-        for j in 0..i {
-            s -= lu[i * n + j] * work[j];
-        }
+    for (i, row) in lu.chunks_exact(n).enumerate() {
+        let s = row[..i].iter().zip(&work[..i]).fold(work[i], |s, (l, w)| s - l * w);
         work[i] = s;
     }
-    for i in (0..n).rev() {
-        let mut s = work[i];
-        for j in (i + 1)..n {
-            s -= lu[i * n + j] * work[j];
-        }
-        work[i] = s / lu[i * n + i];
+    for (i, row) in lu.chunks_exact(n).enumerate().rev() {
+        let s = row[i + 1..]
+            .iter()
+            .zip(&work[i + 1..])
+            .fold(work[i], |s, (u, w)| s - u * w);
+        work[i] = divide(i, s);
     }
-    b.copy_from_slice(&work[..n]);
+    b[..n].copy_from_slice(work);
 }
 
 /// Preallocated storage for repeated factor/solve of `n × n` systems.
@@ -89,6 +101,9 @@ pub struct DenseLu {
     pub matrix: Vec<f64>,
     perm: Vec<usize>,
     work: Vec<f64>,
+    /// `1/U_ii`: the back substitution multiplies (a division's latency
+    /// would chain through every row of a small system).
+    inverse_pivots: Vec<f64>,
 }
 
 impl DenseLu {
@@ -99,6 +114,7 @@ impl DenseLu {
             matrix: vec![0.0; n * n],
             perm: vec![0; n],
             work: vec![0.0; n],
+            inverse_pivots: vec![0.0; n],
         }
     }
 
@@ -109,12 +125,23 @@ impl DenseLu {
 
     /// Factor the matrix currently stored; returns the relative smallest pivot.
     pub fn factor(&mut self, context: &str) -> Result<f64> {
-        lu_factor_in_place(&mut self.matrix, self.n, &mut self.perm, context)
+        let pivot = lu_factor_in_place(&mut self.matrix, self.n, &mut self.perm, context)?;
+        self.invert_pivots();
+        Ok(pivot)
+    }
+
+    fn invert_pivots(&mut self) {
+        for (i, inv) in self.inverse_pivots.iter_mut().enumerate() {
+            *inv = 1.0 / self.matrix[i * self.n + i];
+        }
     }
 
     /// Solve in place with the factors computed by [`DenseLu::factor`].
     pub fn solve(&mut self, b: &mut [f64]) {
-        lu_solve_in_place(&self.matrix, self.n, &self.perm, b, &mut self.work);
+        let inverse = &self.inverse_pivots;
+        substitute(&self.matrix, self.n, &self.perm, b, &mut self.work, |i, s| {
+            s * inverse[i]
+        });
     }
 
     /// Append the factors (the matrix, then the row permutation) as checkpoint words.
@@ -143,6 +170,7 @@ impl DenseLu {
             seen[p as usize] = true;
             *slot = p as usize;
         }
+        self.invert_pivots();
         Ok(())
     }
 }
