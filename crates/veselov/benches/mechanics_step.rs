@@ -7,7 +7,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 
 mod common;
-use common::bench_map;
+use common::{Undeclared, bench_map};
 use nalgebra::{SVector, Vector1, Vector2};
 use veselov::ad::Scalar;
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, PhaseState, SeparableIntegrator};
@@ -54,6 +54,16 @@ fn mechanics(c: &mut Criterion) {
             kepler.initial_state(),
         );
     }
+
+    // Kepler without its declaration of the separable form: the general
+    // path's derivative passes over the whole L, as for a Lagrangian that is
+    // not ½vᵀMv − V.
+    bench_map(
+        c,
+        "kepler-e0.6/gauss-s2/general-undeclared",
+        GalerkinIntegrator::new(Undeclared(kepler.system()), scheme(Method::GalerkinGauss(2)), h).expect("valid"),
+        kepler.initial_state(),
+    );
 
     let hh = HenonHeiles;
     bench_map(

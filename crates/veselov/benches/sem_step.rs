@@ -6,9 +6,8 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 
 mod common;
-use common::bench_steps;
-use nalgebra::{SVector, Vector1, Vector2};
-use veselov::ad::Scalar;
+use common::{Undeclared, bench_steps};
+use nalgebra::{Vector1, Vector2};
 use veselov::mechanics::Lagrangian;
 use veselov::models::{DoublePendulum, Kepler, Pendulum};
 use veselov::sem::{SemAction, SemIntegrator, SemRule, SemState};
@@ -58,16 +57,6 @@ fn sem(c: &mut Criterion) {
         .start(0.0, Vector2::new(0.5, -0.3), Vector2::new(0.0, 0.0), 0.01)
         .expect("start");
     bench(c, "sem/double-pendulum/midpoint", sem, s1, 20_000);
-}
-
-/// A Lagrangian that hides its separable form: the SEM step takes the
-/// general passes over the whole action.
-struct Undeclared<L>(L);
-
-impl<L: Lagrangian<2>> Lagrangian<2> for Undeclared<L> {
-    fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, 2>, v: &SVector<D, 2>) -> D {
-        self.0.lagrangian(t, q, v)
-    }
 }
 
 /// The passes a step is made of, on Kepler (N = 2) at a pericentre step:

@@ -3,7 +3,21 @@
 use std::hint::black_box;
 
 use criterion::Criterion;
-use veselov::mechanics::{OneStepMap, PhaseState};
+use nalgebra::SVector;
+use veselov::ad::Scalar;
+use veselov::mechanics::{Lagrangian, OneStepMap, PhaseState};
+
+/// A Lagrangian without its declaration of the separable form
+/// ([`Lagrangian::constant_mass`]): every derivative takes the general
+/// passes over the whole `L`, as for any Lagrangian that is not `½vᵀMv − V`.
+#[allow(dead_code)] // not every benchmark binary needs it
+pub struct Undeclared<L>(pub L);
+
+impl<L: Lagrangian<N>, const N: usize> Lagrangian<N> for Undeclared<L> {
+    fn lagrangian<D: Scalar>(&self, t: D, q: &SVector<D, N>, v: &SVector<D, N>) -> D {
+        self.0.lagrangian(t, q, v)
+    }
+}
 
 /// Steps between restarts from the initial state.
 pub const RESTART: usize = 10_000;
