@@ -89,13 +89,26 @@ pub struct GalerkinIntegrator<L, const N: usize, F = NoForce> {
     previous_controls: Vec<SVector<f64, N>>,
     /// This step's extrapolated controls before correction.
     extrapolated: Vec<SVector<f64, N>>,
-    /// The last step's extrapolation error (converged − extrapolated), added
-    /// to the next extrapolation while the trajectory continues, and whether
-    /// it is held.
+    /// The last step's extrapolation error `e_k` (converged − extrapolated)
+    /// and its change `e_k − e_{k−1}` since the step before.
     extrapolation_error: Vec<SVector<f64, N>>,
-    has_extrapolation_error: bool,
+    error_trend: Vec<SVector<f64, N>>,
+    /// What the next extrapolation adds of them.
+    correction: Correction,
     /// Whether this step's controls were extrapolated from the previous step.
     extrapolating: bool,
+}
+
+/// What a continuing step's extrapolation adds of the last step's
+/// extrapolation error ([`GalerkinIntegrator`]'s predictor).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Correction {
+    /// Nothing (a new trajectory).
+    None,
+    /// The error `e_k`.
+    Error,
+    /// `e_k + (e_k − e_{k−1})`.
+    ErrorAndTrend,
 }
 
 /// Which set of equations the Newton solve handles.
@@ -170,15 +183,6 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> SimplifiedNewtonSystem for C
             Mode::Step => &mut self.integrator.jacobian_kept,
             Mode::BoundaryValue => &mut self.integrator.bvp_jacobian_kept,
         }
-    }
-    /// The outputs taken from the gradient (`p_{k+1}` through the stage
-    /// forces, the work) are those of the iterate before the last update,
-    /// which is at the tolerance (4ε relative): they differ from a fresh
-    /// evaluation by `h‖∂²L‖·4ε|Z|`, below the round-off of the sums they
-    /// enter. The positions take the last update. Returns the residual at
-    /// the last evaluation (before that update).
-    fn accept_converged(&mut self) -> f64 {
-        self.integrator.residual_norm(self.mode, &self.p)
     }
 }
 
@@ -310,7 +314,8 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             previous_controls: vec![zero; m + 1],
             extrapolated: vec![zero; m + 1],
             extrapolation_error: vec![zero; m + 1],
-            has_extrapolation_error: false,
+            error_trend: vec![zero; m + 1],
+            correction: Correction::None,
             extrapolating: false,
             scheme,
         })
@@ -500,11 +505,14 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
 
     /// Initial guess for a step from `(t, q, p)`: extrapolate the previous
     /// step's curve when this step continues it, corrected by the last
-    /// step's extrapolation error (converged − extrapolated controls, which
-    /// varies smoothly along a trajectory: the correction leaves an error one
-    /// order of `h` smaller, as the separable path's force predictor does);
-    /// else a straight line with the velocity of the continuous inverse
-    /// Legendre map.
+    /// step's extrapolation error `e_k` (converged − extrapolated controls),
+    /// and by its trend `e_k − e_{k−1}` while that is smooth; else a straight
+    /// line with the velocity of the continuous inverse Legendre map. Along a
+    /// trajectory `e_k` varies smoothly, so each correction leaves an error
+    /// about one order of `h` smaller (the separable path's force predictor
+    /// uses the same idea). Measured on Kepler e = 0.6, h = 2π/1000, Gauss
+    /// s = 2: the first Newton update falls from ~4e-6 (extrapolation alone)
+    /// to ~2e-7 (with `e_k`) and 4e-13 … 1e-8 (with the trend).
     fn predict(&mut self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) {
         let m = self.scheme.intervals();
         self.base = *q;
@@ -521,15 +529,25 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             }
             self.extrapolated[0] = SVector::zeros();
             self.controls.copy_from_slice(&self.extrapolated);
-            if self.has_extrapolation_error {
-                for (z, e) in self.controls.iter_mut().zip(&self.extrapolation_error) {
-                    *z += e;
+            let trend = match self.correction {
+                Correction::None => None,
+                Correction::Error => Some(0.0),
+                Correction::ErrorAndTrend => Some(1.0),
+            };
+            if let Some(w) = trend {
+                for ((z, e), d) in self
+                    .controls
+                    .iter_mut()
+                    .zip(&self.extrapolation_error)
+                    .zip(&self.error_trend)
+                {
+                    *z += e + d * w;
                 }
             }
             return;
         }
         self.compensation = (SVector::zeros(), SVector::zeros());
-        self.has_extrapolation_error = false;
+        self.correction = Correction::None;
         // A new trajectory: no Jacobian kept from another one.
         self.jacobian_kept = false;
         let v = velocity_from_momentum(&self.lagrangian, t, q, p).unwrap_or_else(|_| SVector::zeros());
@@ -539,20 +557,33 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
     }
 
     /// After a converged step: remember its controls and, if they were
-    /// extrapolated, the extrapolation error.
+    /// extrapolated, the extrapolation error and its trend. The trend is used
+    /// only while it is at most half the error (a smooth sequence): where the
+    /// error is round-off noise its differences would add noise.
     fn remember_controls(&mut self) {
         self.previous_controls.copy_from_slice(&self.controls);
-        if self.extrapolating {
-            for ((e, z), x) in self
-                .extrapolation_error
-                .iter_mut()
-                .zip(&self.controls)
-                .zip(&self.extrapolated)
-            {
-                *e = z - x;
-            }
-            self.has_extrapolation_error = true;
+        if !self.extrapolating {
+            return;
         }
+        let (mut size, mut change) = (0.0_f64, 0.0_f64);
+        for (((e, d), z), x) in self
+            .extrapolation_error
+            .iter_mut()
+            .zip(self.error_trend.iter_mut())
+            .zip(&self.controls)
+            .zip(&self.extrapolated)
+        {
+            let error = z - x;
+            *d = error - *e;
+            *e = error;
+            size = size.max(error.amax());
+            change = change.max(d.amax());
+        }
+        self.correction = match self.correction {
+            Correction::None => Correction::Error,
+            _ if change <= 0.5 * size => Correction::ErrorAndTrend,
+            _ => Correction::Error,
+        };
     }
 
     /// Whether a step from `(t, q)` continues the previous step exactly.
@@ -731,16 +762,14 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
             self.lu.save_factors(out);
         }
         out.push(EXTRAPOLATION_CARRY_TAG);
-        let error: Vec<f64> = self
-            .extrapolation_error
-            .iter()
-            .flat_map(|z| z.iter().copied())
-            .collect();
-        crate::run::save_option(
-            out,
-            self.has_extrapolation_error.then_some(&error[..]),
-            self.controls.len() * N,
-        );
+        out.push(match self.correction {
+            Correction::None => 0.0,
+            Correction::Error => 1.0,
+            Correction::ErrorAndTrend => 2.0,
+        });
+        for z in self.extrapolation_error.iter().chain(&self.error_trend) {
+            out.extend(z.iter());
+        }
     }
     fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
         self.previous = crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..])));
@@ -758,14 +787,24 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
                 self.lu.restore_factors(words)?;
             }
         }
-        self.has_extrapolation_error = false;
-        if words.take_tag(EXTRAPOLATION_CARRY_TAG)
-            && let Some(r) = crate::run::restore_option(words, self.controls.len() * N)?
-        {
-            for (e, z) in self.extrapolation_error.iter_mut().zip(r.chunks_exact(N)) {
-                *e = SVector::from_column_slice(z);
+        self.correction = Correction::None;
+        if words.take_tag(EXTRAPOLATION_CARRY_TAG) {
+            let kind = words.one()?;
+            self.correction = match kind {
+                0.0 => Correction::None,
+                1.0 => Correction::Error,
+                2.0 => Correction::ErrorAndTrend,
+                _ => {
+                    return Err(Error::InvalidParameter {
+                        name: "checkpoint".into(),
+                        value: kind.to_string(),
+                        reason: "extrapolation correction must be 0, 1 or 2".into(),
+                    });
+                }
+            };
+            for z in self.extrapolation_error.iter_mut().chain(self.error_trend.iter_mut()) {
+                *z = SVector::from_column_slice(words.take(N)?);
             }
-            self.has_extrapolation_error = true;
         }
         Ok(())
     }

@@ -192,15 +192,6 @@ pub trait SimplifiedNewtonSystem: NewtonSystem {
     /// Whether the linear system holds a factored Jacobian that may be reused
     /// (set by the solver; cleared by whoever overwrites the storage).
     fn kept_jacobian(&mut self) -> &mut bool;
-    /// Accept the unknowns after an update at the tolerance
-    /// ([`NewtonStop::Converged`]) and return `‖R‖∞`. The default evaluates
-    /// the residual afresh ([`NewtonSystem::accept`]); a system whose outputs
-    /// change by a negligible amount over an update at the tolerance may
-    /// keep those of the last evaluation (one evaluation fewer) and return
-    /// the residual found there.
-    fn accept_converged(&mut self) -> f64 {
-        self.accept()
-    }
 }
 
 /// With the kept Jacobian, at most this many more iterations may be
@@ -279,14 +270,10 @@ pub fn solve_simplified_newton<S: SimplifiedNewtonSystem>(
         let update = largest / system.scale();
         system.update(1.0);
         if let Some(stop) = stopped(it, update, previous, options) {
-            let residual = match stop {
-                NewtonStop::Converged => system.accept_converged(),
-                _ => system.accept(),
-            };
             let report = NewtonReport {
                 iterations: it,
                 last_update: update,
-                residual,
+                residual: system.accept(),
                 stop,
             };
             return Ok((report, jacobians));
