@@ -162,15 +162,21 @@ fn cantilever_tip(cells: usize) -> f64 {
     tip / reference
 }
 
+/// The potential is averaged over each cell's space edge (the trapezoid rule
+/// in s), so the settled tip converges at second order in Δs: the ratios at
+/// A = 5, 10, 20 give the observed order log₂((r₅ − r₁₀)/(r₁₀ − r₂₀))
+/// (measured 1.97). Their limit is Timoshenko's linear deflection up to the
+/// geometric nonlinearity, O((δ/L)²) ≈ 1.7e-6 at δ/L ≈ 1.3e-3 (measured
+/// 1.2e-6): every ratio must lie within 2e-6 of 1. (With the load lumped on
+/// each cell's first node, as seed 000 (95) writes it, the convergence was
+/// first order.)
 #[test]
 fn damped_cantilever_settles_to_the_timoshenko_deflection() {
-    let coarse = cantilever_tip(5);
-    let fine = cantilever_tip(10);
-    let (e1, e2) = ((coarse - 1.0).abs(), (fine - 1.0).abs());
-    let order = (e1 / e2).log2();
-    eprintln!("cantilever tip / Timoshenko: {coarse:.6} (A = 5), {fine:.6} (A = 10); observed order {order:.2}");
-    // The load is lumped on the first vertex of each cell (O(Δs)); geometric
-    // nonlinearity at δ/L ≈ 1.3e-3 is O(δ²) ≈ 1e-6, far below.
-    assert!(e2 < e1 && order > 0.8, "no convergence: errors {e1:e}, {e2:e}");
-    assert!(e2 < 0.2, "fine-grid error {e2:e}");
+    let ratios = [5, 10, 20].map(cantilever_tip);
+    let order = ((ratios[0] - ratios[1]) / (ratios[1] - ratios[2])).log2();
+    eprintln!("cantilever tip / Timoshenko at A = 5, 10, 20: {ratios:.10?}; observed order {order:.2}");
+    assert!((1.7..2.5).contains(&order), "observed order {order}");
+    for (r, cells) in ratios.iter().zip([5, 10, 20]) {
+        assert!((r - 1.0).abs() < 2e-6, "A = {cells}: tip / Timoshenko {r}");
+    }
 }

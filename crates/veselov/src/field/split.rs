@@ -1,8 +1,9 @@
 //! Split cell Lagrangians on seed 000's triangles △_a^j = ((j,a), (j+1,a),
 //! (j,a+1)) (note 000 §12, §15.2):
 //!
-//! ℒ_d(y₁, y₂, y₃) = ΔsΔt [K(ξ) − Φ(η) − Π(y₁)],
-//! ξ = τ⁻¹(y₁⁻¹y₂)/Δt, η = τ⁻¹(y₁⁻¹y₃)/Δs (seed 000 eq. (63)),
+//! ℒ_d(y₁, y₂, y₃) = ΔsΔt [K(ξ) − Φ(η) − ½(Π(y₁) + Π(y₃))],
+//! ξ = τ⁻¹(y₁⁻¹y₂)/Δt, η = τ⁻¹(y₁⁻¹y₃)/Δs (seed 000 eq. (63); the potential
+//! averaged over the space edge, see [`SplitLagrangian`]),
 //!
 //! written once over the AD scalar and generic over the way two vertex values
 //! give an increment ([`Increment`]): the difference y₂ − y₁ on ℝ^m (the
@@ -18,7 +19,7 @@
 //! Energies (note 000 §15.1, eqs. (98)–(99); discrete forms defined here):
 //! the time-evolution energy density e_𝖫 = ⟨∂K/∂ξ, ξ⟩ − K + Φ + Π and the
 //! space-evolution "energy" density e_𝖭 = −⟨∂Φ/∂η, η⟩ − K + Φ + Π, both
-//! evaluated at a triangle's (ξ, η, y₁). E_𝖫(j) = Δs Σ_a e_𝖫(△_a^j) and
+//! evaluated at a triangle's (ξ, η) with Π = ½(Π(y₁) + Π(y₃)). E_𝖫(j) = Δs Σ_a e_𝖫(△_a^j) and
 //! E_𝖭(a) = Δt Σ_j e_𝖭(△_a^j). For the beam (K = ½⟨𝕁ξ, ξ⟩,
 //! Φ = ½⟨ℂ(η − E6), η − E6⟩) e_𝖫 = K + Φ + Π and
 //! e_𝖭 = −K − ⟨ℂ(η − E6), E6⟩ − Φ + Π, the note's natural choice.
@@ -98,7 +99,15 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     }
 }
 
-/// ℒ_d = ΔsΔt [K(ξ) − Φ(η) − Π(y₁)] on seed 000's triangles.
+/// ℒ_d = ΔsΔt [K(ξ) − Φ(η) − ½(Π(y₁) + Π(y₃))] on seed 000's triangles.
+///
+/// The potential is averaged over the cell's space edge (y₁, y₃), the
+/// trapezoid rule in s: summed over a level it weighs every node by Δs and
+/// the two ends by Δs/2, so a distributed load (gravity) converges at second
+/// order in Δs. (Seed 000 (95) evaluates Π at y₁ alone, which lumps each
+/// cell's load on its first node: a first-order error in the static
+/// deflection, 13 % at ten cells.) In time each level carries its own
+/// potential, as the discrete mechanics `L_d = h[K − V(q₀)]` does.
 pub struct SplitLagrangian<I, S> {
     density: S,
     dt: f64,
@@ -146,6 +155,14 @@ impl<I, S> SplitLagrangian<I, S> {
 pub type Jet<D, const M: usize> = (SVector<D, M>, SVector<D, M>);
 
 impl<I, S> SplitLagrangian<I, S> {
+    /// ½(Π(y₁) + Π(y₃)), the potential of the cell's space edge.
+    fn cell_potential<F: Fibre<M>, D: Scalar, const M: usize>(&self, y: &[F::Point<D>]) -> D
+    where
+        S: SplitDensity<F, M>,
+    {
+        (self.density.potential(&y[0]) + self.density.potential(&y[2])) * 0.5
+    }
+
     /// ξ and η of the triangle with vertex values `y` = (y₁, y₂, y₃).
     ///
     /// # Errors
@@ -175,7 +192,7 @@ impl<I, S> SplitLagrangian<I, S> {
         };
         let (k, dk) = gradient(|x| self.density.kinetic(x), &xi);
         let (phi, dphi) = gradient(|x| self.density.stored(x), &eta);
-        let pi = self.density.potential(&y[0]);
+        let pi = self.cell_potential::<F, f64, M>(y);
         (dk.dot(&xi) - k + phi + pi, -dphi.dot(&eta) - k + phi + pi)
     }
 }
@@ -196,12 +213,12 @@ where
     I: Increment<F, M>,
     S: SplitDensity<F, M>,
 {
-    /// ΔsΔt [K(ξ) − Φ(η) − Π(y₁)]; NaN at the cut locus (the vertex solves
+    /// ΔsΔt [K(ξ) − Φ(η) − ½(Π(y₁) + Π(y₃))]; NaN at the cut locus (the vertex solves
     /// report it as a non-finite residual).
     fn cell_lagrangian<D: Scalar>(&self, _cell: &TopCell, y: &[F::Point<D>]) -> D {
         match self.jet::<F, D, M>(y) {
             Ok((xi, eta)) => {
-                (self.density.kinetic(&xi) - self.density.stored(&eta) - self.density.potential(&y[0]))
+                (self.density.kinetic(&xi) - self.density.stored(&eta) - self.cell_potential::<F, D, M>(y))
                     * (self.ds * self.dt)
             }
             Err(_) => D::from(f64::NAN),
