@@ -29,6 +29,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::extrapolation_error::ExtrapolationCorrection;
 use super::force::{Force, ForceJet, NoForce, force_jet, force_value};
 use super::lagrangian::{Hessian, Jet, Lagrangian, hessian, jet, velocity_from_momentum};
 use super::scheme::{GalerkinScheme, Method};
@@ -87,28 +88,9 @@ pub struct GalerkinIntegrator<L, const N: usize, F = NoForce> {
     start: Vec<SVector<f64, N>>,
     previous: Option<(f64, SVector<f64, N>)>,
     previous_controls: Vec<SVector<f64, N>>,
-    /// This step's extrapolated controls before correction.
-    extrapolated: Vec<SVector<f64, N>>,
-    /// The last step's extrapolation error `e_k` (converged − extrapolated)
-    /// and its change `e_k − e_{k−1}` since the step before.
-    extrapolation_error: Vec<SVector<f64, N>>,
-    error_trend: Vec<SVector<f64, N>>,
-    /// What the next extrapolation adds of them.
-    correction: Correction,
-    /// Whether this step's controls were extrapolated from the previous step.
-    extrapolating: bool,
-}
-
-/// What a continuing step's extrapolation adds of the last step's
-/// extrapolation error ([`GalerkinIntegrator`]'s predictor).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Correction {
-    /// Nothing (a new trajectory).
-    None,
-    /// The error `e_k`.
-    Error,
-    /// `e_k + (e_k − e_{k−1})`.
-    ErrorAndTrend,
+    /// The correction of the extrapolated controls by the last steps'
+    /// extrapolation errors.
+    correction: ExtrapolationCorrection<N>,
 }
 
 /// Which set of equations the Newton solve handles.
@@ -122,8 +104,6 @@ enum Mode {
 
 /// Marks the kept Jacobian's part of the checkpoint carry.
 const JACOBIAN_CARRY_TAG: f64 = -3.0;
-/// Marks the extrapolation error's part of the checkpoint carry.
-const EXTRAPOLATION_CARRY_TAG: f64 = -4.0;
 
 /// What the Newton iterations of the Galerkin integrators linearise, named in
 /// a singular-Jacobian error.
@@ -312,11 +292,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             start: vec![zero; m + 1],
             previous: None,
             previous_controls: vec![zero; m + 1],
-            extrapolated: vec![zero; m + 1],
-            extrapolation_error: vec![zero; m + 1],
-            error_trend: vec![zero; m + 1],
-            correction: Correction::None,
-            extrapolating: false,
+            correction: ExtrapolationCorrection::new(m + 1),
             scheme,
         })
     }
@@ -505,19 +481,12 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
 
     /// Initial guess for a step from `(t, q, p)`: extrapolate the previous
     /// step's curve when this step continues it, corrected by the last
-    /// step's extrapolation error `e_k` (converged − extrapolated controls),
-    /// and by its trend `e_k − e_{k−1}` while that is smooth; else a straight
-    /// line with the velocity of the continuous inverse Legendre map. Along a
-    /// trajectory `e_k` varies smoothly, so each correction leaves an error
-    /// about one order of `h` smaller (the separable path's force predictor
-    /// uses the same idea). Measured on Kepler e = 0.6, h = 2π/1000, Gauss
-    /// s = 2: the first Newton update falls from ~4e-6 (extrapolation alone)
-    /// to ~2e-7 (with `e_k`) and 4e-13 … 1e-8 (with the trend).
+    /// steps' extrapolation errors ([`ExtrapolationCorrection`]); else a
+    /// straight line with the velocity of the continuous inverse Legendre map.
     fn predict(&mut self, t: f64, q: &SVector<f64, N>, p: &SVector<f64, N>) {
         let m = self.scheme.intervals();
         self.base = *q;
-        self.extrapolating = self.continues(t, q);
-        if self.extrapolating {
+        if self.continues(t, q) {
             // Q^ν = Σ_μ l_μ(1 + d_ν) Q^μ_prev and q = Q^m_prev, in increments.
             let last = self.previous_controls[m];
             for nu in 0..=m {
@@ -525,65 +494,20 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
                 for mu in 0..=m {
                     z += self.previous_controls[mu] * self.scheme.extrapolation(nu, mu);
                 }
-                self.extrapolated[nu] = z;
+                self.controls[nu] = z;
             }
-            self.extrapolated[0] = SVector::zeros();
-            self.controls.copy_from_slice(&self.extrapolated);
-            let trend = match self.correction {
-                Correction::None => None,
-                Correction::Error => Some(0.0),
-                Correction::ErrorAndTrend => Some(1.0),
-            };
-            if let Some(w) = trend {
-                for ((z, e), d) in self
-                    .controls
-                    .iter_mut()
-                    .zip(&self.extrapolation_error)
-                    .zip(&self.error_trend)
-                {
-                    *z += e + d * w;
-                }
-            }
+            self.controls[0] = SVector::zeros();
+            self.correction.correct(&mut self.controls);
             return;
         }
         self.compensation = (SVector::zeros(), SVector::zeros());
-        self.correction = Correction::None;
+        self.correction.reset();
         // A new trajectory: no Jacobian kept from another one.
         self.jacobian_kept = false;
         let v = velocity_from_momentum(&self.lagrangian, t, q, p).unwrap_or_else(|_| SVector::zeros());
         for nu in 0..=m {
             self.controls[nu] = v * (self.scheme.control_nodes()[nu] * self.h);
         }
-    }
-
-    /// After a converged step: remember its controls and, if they were
-    /// extrapolated, the extrapolation error and its trend. The trend is used
-    /// only while it is at most half the error (a smooth sequence): where the
-    /// error is round-off noise its differences would add noise.
-    fn remember_controls(&mut self) {
-        self.previous_controls.copy_from_slice(&self.controls);
-        if !self.extrapolating {
-            return;
-        }
-        let (mut size, mut change) = (0.0_f64, 0.0_f64);
-        for (((e, d), z), x) in self
-            .extrapolation_error
-            .iter_mut()
-            .zip(self.error_trend.iter_mut())
-            .zip(&self.controls)
-            .zip(&self.extrapolated)
-        {
-            let error = z - x;
-            *d = error - *e;
-            *e = error;
-            size = size.max(error.amax());
-            change = change.max(d.amax());
-        }
-        self.correction = match self.correction {
-            Correction::None => Correction::Error,
-            _ if change <= 0.5 * size => Correction::ErrorAndTrend,
-            _ => Correction::Error,
-        };
     }
 
     /// Whether a step from `(t, q)` continues the previous step exactly.
@@ -615,7 +539,8 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             });
         }
         self.previous = Some((next.t, next.q));
-        self.remember_controls();
+        self.previous_controls.copy_from_slice(&self.controls);
+        self.correction.remember(&self.controls);
         Ok((next, report))
     }
 
@@ -761,15 +686,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
         if self.jacobian_kept {
             self.lu.save_factors(out);
         }
-        out.push(EXTRAPOLATION_CARRY_TAG);
-        out.push(match self.correction {
-            Correction::None => 0.0,
-            Correction::Error => 1.0,
-            Correction::ErrorAndTrend => 2.0,
-        });
-        for z in self.extrapolation_error.iter().chain(&self.error_trend) {
-            out.extend(z.iter());
-        }
+        self.correction.save(out);
     }
     fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
         self.previous = crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..])));
@@ -787,25 +704,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
                 self.lu.restore_factors(words)?;
             }
         }
-        self.correction = Correction::None;
-        if words.take_tag(EXTRAPOLATION_CARRY_TAG) {
-            let kind = words.one()?;
-            self.correction = match kind {
-                0.0 => Correction::None,
-                1.0 => Correction::Error,
-                2.0 => Correction::ErrorAndTrend,
-                _ => {
-                    return Err(Error::InvalidParameter {
-                        name: "checkpoint".into(),
-                        value: kind.to_string(),
-                        reason: "extrapolation correction must be 0, 1 or 2".into(),
-                    });
-                }
-            };
-            for z in self.extrapolation_error.iter_mut().chain(self.error_trend.iter_mut()) {
-                *z = SVector::from_column_slice(words.take(N)?);
-            }
-        }
+        self.correction.restore(words)?;
         Ok(())
     }
     fn step(&mut self, index: usize, state: &PhaseState<N>) -> Result<(PhaseState<N>, StepStats)> {
