@@ -4,7 +4,6 @@
 pub mod duplication;
 pub mod dynamic;
 pub mod dynamic_legendre;
-mod extrapolation_error;
 pub mod force;
 pub mod galerkin;
 pub mod lagrangian;
