@@ -120,3 +120,36 @@ fn newton_failure_carries_step_time_and_residual() {
         other => panic!("expected a Newton failure, got {other:?}"),
     }
 }
+
+/// `L = ½v² + ¼q⁴` (q'' = q³) from q = 1, p = 1 blows up at
+/// t* = ∫₁^∞ dq/√(½ + q⁴/2) ≈ 1.31. Past the point where the midpoint
+/// equations' continuing root disappears, Newton may find another root far
+/// away: the step is refused with a typed error instead, before t*, and
+/// everything computed until then is finite.
+#[test]
+fn a_blow_up_stops_the_run_instead_of_jumping_to_another_root() {
+    struct Quartic;
+    impl Lagrangian<1> for Quartic {
+        fn lagrangian<D: Scalar>(&self, _t: D, q: &SVector<D, 1>, v: &SVector<D, 1>) -> D {
+            v[0] * v[0] * 0.5 + q[0] * q[0] * q[0] * q[0] * 0.25
+        }
+    }
+    for method in [Method::Midpoint, Method::GalerkinGauss(2)] {
+        let mut map =
+            GalerkinIntegrator::new(Quartic, GalerkinScheme::new(method).expect("valid"), 0.01).expect("valid");
+        let run = integrate(
+            &mut map,
+            PhaseState::new(0.0, Vector1::new(1.0), Vector1::new(1.0)),
+            500,
+            1,
+        );
+        let t_end = run.states.last().expect("states").t;
+        assert!(
+            matches!(run.failure, Some(Error::NewtonFailure { .. })),
+            "{method:?}: {:?}",
+            run.failure
+        );
+        assert!(t_end < 1.32, "{method:?}: ran to t = {t_end}");
+        assert!(run.states.iter().all(|x| x.q[0].is_finite() && x.p[0].is_finite()));
+    }
+}

@@ -81,6 +81,11 @@ impl<const N: usize> ExtrapolationCorrection<N> {
         }
     }
 
+    /// Whether this step's guess is an extrapolation of the previous step.
+    pub(crate) fn is_active(&self) -> bool {
+        self.active
+    }
+
     /// After a converged step from a corrected guess: its error and trend.
     pub(crate) fn remember(&mut self, converged: &[SVector<f64, N>]) {
         if !self.active {

@@ -523,10 +523,30 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
         state.check()?;
         let (t, q, p) = (state.t, state.q, state.p);
         self.predict(t, &q, &p);
+        let m = self.scheme.intervals();
+        let predicted = self.controls[m];
         let report = self
             .newton(Mode::Step, t, &p, index)
             .inspect_err(|_| self.previous = None)?;
-        let m = self.scheme.intervals();
+        // A continuing step's prediction is off by a high power of h. A
+        // correction larger than both |q_k| and the predicted increment means
+        // Newton found another root of the step equations (they have several
+        // when h is far beyond the dynamics' time scale, as past a blow-up):
+        // not a continuation of the trajectory.
+        let correction = (self.controls[m] - predicted).amax();
+        if self.correction.is_active() && correction > q.amax().max(predicted.amax()) {
+            self.previous = None;
+            return Err(Error::NewtonFailure {
+                step: index,
+                t,
+                residual: report.residual,
+                iterations: report.iterations,
+                reason: format!(
+                    "the step left the solutions continuing the trajectory (its Newton correction {correction:.3e} \
+                     exceeds |q| and the predicted increment): the step is too large for the dynamics here"
+                ),
+            });
+        }
         // q_{k+1} = q_k + Zᵐ and p_{k+1} = G_m = p_k + h Σᵢ bᵢ ∂L/∂q(i) (since Σ_ν G_ν =
         // h Σᵢ bᵢ ∂L/∂q(i) and the other G_ν vanish), summed with compensation.
         let (q_next, cq) = kahan_add(&q, &self.controls[m], &self.compensation.0);
