@@ -85,18 +85,43 @@ pub struct Hessian<const N: usize> {
     pub vv: SMatrix<f64, N, N>,
 }
 
+/// `V(t, q)` ([`Lagrangian::potential_energy`]) and `∇V`, exact (one
+/// forward-mode pass over `V` alone).
+#[inline]
+pub(crate) fn potential_gradient<const N: usize, L: Lagrangian<N>>(
+    l: &L,
+    t: f64,
+    q: &SVector<f64, N>,
+) -> (f64, SVector<f64, N>) {
+    num_dual::gradient(
+        |qd: SVector<DualSVec64<N>, N>| l.potential_energy(DualSVec64::<N>::from(t), &qd),
+        q,
+    )
+}
+
+/// `V(t, q)`, `∇V` and `∇²V`, exact (one second-order pass over `V` alone).
+pub(crate) fn potential_hessian<const N: usize, L: Lagrangian<N>>(
+    l: &L,
+    t: f64,
+    q: &SVector<f64, N>,
+) -> (f64, SVector<f64, N>, SMatrix<f64, N, N>) {
+    num_dual::hessian(
+        |qd: SVector<Dual2SVec64<N>, N>| l.potential_energy(Dual2SVec64::<N>::from(t), &qd),
+        q,
+    )
+}
+
 /// `L` and its gradient in `q` and `v`, exact (two forward-mode passes; one
 /// pass of `V` alone when `L = ½vᵀMv − V` is declared by
 /// [`Lagrangian::constant_mass`]: then `∂L/∂v = Mv`, `∂L/∂q = −∇V`).
 #[inline]
 pub fn jet<const N: usize, L: Lagrangian<N>>(l: &L, t: f64, q: &SVector<f64, N>, v: &SVector<f64, N>) -> Jet<N> {
     if let Some(mass) = l.constant_mass() {
-        let qd = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from(q[i]).derivative(i));
-        let potential = l.potential_energy(DualSVec64::<N>::from(t), &qd);
+        let (potential, gradient) = potential_gradient(l, t, q);
         let momentum = mass * v;
         return Jet {
-            value: 0.5 * v.dot(&momentum) - potential.re,
-            dq: -potential.eps.unwrap_generic(nalgebra::Const::<N>, U1),
+            value: 0.5 * v.dot(&momentum) - potential,
+            dq: -gradient,
             dv: momentum,
         };
     }
@@ -125,10 +150,7 @@ pub fn hessian<const N: usize, L: Lagrangian<N>>(
     v: &SVector<f64, N>,
 ) -> Hessian<N> {
     if let Some(mass) = l.constant_mass() {
-        let (potential, gradient, curvature) = num_dual::hessian(
-            |qd: SVector<Dual2SVec64<N>, N>| l.potential_energy(Dual2SVec64::<N>::from(t), &qd),
-            q,
-        );
+        let (potential, gradient, curvature) = potential_hessian(l, t, q);
         let momentum = mass * v;
         return Hessian {
             jet: Jet {

@@ -25,11 +25,10 @@
 //! and the step is flagged.
 
 use nalgebra::{SMatrix, SVector};
-use num_dual::DualSVec64;
 
 use super::force::{Force, NoForce};
 use super::galerkin::{GalerkinIntegrator, kahan_add};
-use super::lagrangian::Lagrangian;
+use super::lagrangian::{Lagrangian, potential_gradient};
 use super::scheme::{GalerkinScheme, MAX_STAGES};
 use super::state::{OneStepMap, PhaseState, StepStats, continues};
 use crate::ad::Scalar;
@@ -111,9 +110,7 @@ impl<V: Potential<N>, const N: usize> SeparableLagrangian<V, N> {
     /// The generalised force `−∇V(t, q)`, exact (one forward-mode pass).
     #[inline]
     pub fn conservative_force(&self, t: f64, q: &SVector<f64, N>) -> SVector<f64, N> {
-        let qd = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from(q[i]).derivative(i));
-        let v = self.potential.potential(DualSVec64::<N>::from(t), &qd);
-        -v.eps.unwrap_generic(nalgebra::Const::<N>, nalgebra::U1)
+        -potential_gradient(self, t, q).1
     }
 }
 

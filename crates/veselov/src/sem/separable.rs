@@ -16,11 +16,12 @@
 
 use nalgebra::{Const, U1};
 use nalgebra::{SMatrix, SVector};
-use num_dual::{Derivative, Dual2SVec64, Dual64, DualSVec64, HyperDual64, HyperDualSVec64};
+use num_dual::{Derivative, Dual64, HyperDual64, HyperDualSVec64};
 
 use crate::ad::lift;
 
 use crate::mechanics::Lagrangian;
+use crate::mechanics::lagrangian::{potential_gradient, potential_hessian};
 
 /// A segment `(t₀, q₀) → (t₀ + h, q₁)` of a Lagrangian with constant mass.
 pub(super) struct Segment<'a, L, const N: usize> {
@@ -55,10 +56,7 @@ impl<L: Lagrangian<N>, const N: usize> Segment<'_, L, N> {
     fn weighted_sums(&self, weight: impl Fn(f64) -> f64, with_rate: bool) -> (f64, SVector<f64, N>, f64) {
         let (mut potential, mut gradient, mut rate) = (0.0, SVector::<f64, N>::zeros(), 0.0);
         for (b, c, t, x) in self.nodes() {
-            let (value, grad) = num_dual::gradient(
-                |q: SVector<DualSVec64<N>, N>| self.lagrangian.potential_energy(DualSVec64::from(t), &q),
-                &x,
-            );
+            let (value, grad) = potential_gradient(&self.lagrangian, t, &x);
             potential += b * value;
             gradient += grad * (b * weight(c));
             if with_rate {
@@ -148,10 +146,7 @@ impl<L: Lagrangian<N>, const N: usize> Segment<'_, L, N> {
     pub(super) fn momentum_block(&self) -> SMatrix<f64, N, N> {
         let mut block = -self.mass;
         for (b, c, t, x) in self.nodes() {
-            let (_, _, hessian) = num_dual::hessian(
-                |q: SVector<Dual2SVec64<N>, N>| self.lagrangian.potential_energy(Dual2SVec64::from(t), &q),
-                &x,
-            );
+            let (_, _, hessian) = potential_hessian(&self.lagrangian, t, &x);
             block -= hessian * (self.h * self.h * b * c * (1.0 - c));
         }
         block
