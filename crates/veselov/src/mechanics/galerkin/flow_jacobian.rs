@@ -3,7 +3,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::GalerkinIntegrator;
+use super::{GalerkinIntegrator, Mode};
 use crate::error::Result;
 use crate::mechanics::force::Force;
 use crate::mechanics::lagrangian::Lagrangian;
@@ -17,16 +17,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
         let m = self.scheme.intervals();
         self.eval_hessians(state.t);
         let dim = N * m;
-        for rb in 0..m {
-            for cb in 0..m {
-                let blk = self.action_hessian_block(rb, cb + 1);
-                for a in 0..N {
-                    for b in 0..N {
-                        self.lu.matrix[(rb * N + a) * dim + cb * N + b] = blk[(a, b)];
-                    }
-                }
-            }
-        }
+        self.fill_jacobian(Mode::Step);
         self.jacobian_kept = false;
         self.lu.factor("flow Jacobian")?;
         let h_col0: Vec<SMatrix<f64, N, N>> = (0..=m).map(|nu| self.action_hessian_block(nu, 0)).collect();

@@ -180,24 +180,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> NewtonSystem for ControlPoin
     /// Right-hand side −R and Jacobian rows ν = row0.., columns μ = 1..=col_end.
     fn assemble(&mut self) {
         self.write_residual();
-        let (row0, unknowns) = self.mode.layout(self.integrator.scheme.intervals());
-        let col_end = unknowns;
-        let dim = N * unknowns;
-        let s = &mut *self.integrator;
-        for (rb, nu) in (row0..row0 + unknowns).enumerate() {
-            for (cb, mu) in (1..=col_end).enumerate() {
-                let blk = s.action_hessian_block(nu, mu);
-                for a in 0..N {
-                    for b in 0..N {
-                        let idx = (rb * N + a) * dim + cb * N + b;
-                        match self.mode {
-                            Mode::Step => s.lu.matrix[idx] = blk[(a, b)],
-                            Mode::BoundaryValue => s.lu_bvp.matrix[idx] = blk[(a, b)],
-                        }
-                    }
-                }
-            }
-        }
+        self.integrator.fill_jacobian(self.mode);
     }
 
     fn linear_system(&mut self) -> (&mut DenseLu, &mut [f64]) {
@@ -391,6 +374,27 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> GalerkinIntegrator<L, N, F> 
             }
         }
         self.assemble_gradient(true);
+    }
+
+    /// The Jacobian of `mode`'s equations (rows `ν = row0..`, columns
+    /// `μ = 1..=unknowns`) from the stage Hessians, into its linear system.
+    fn fill_jacobian(&mut self, mode: Mode) {
+        let (row0, unknowns) = mode.layout(self.scheme.intervals());
+        let dim = N * unknowns;
+        for (rb, nu) in (row0..row0 + unknowns).enumerate() {
+            for (cb, mu) in (1..=unknowns).enumerate() {
+                let blk = self.action_hessian_block(nu, mu);
+                let matrix = match mode {
+                    Mode::Step => &mut self.lu.matrix,
+                    Mode::BoundaryValue => &mut self.lu_bvp.matrix,
+                };
+                for a in 0..N {
+                    for b in 0..N {
+                        matrix[(rb * N + a) * dim + cb * N + b] = blk[(a, b)];
+                    }
+                }
+            }
+        }
     }
 
     /// Block `∂G_ν/∂Q^μ = ∂²S/∂Q^ν∂Q^μ` from the stage Hessians.
