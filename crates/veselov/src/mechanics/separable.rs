@@ -30,7 +30,7 @@ use super::force::{Force, NoForce};
 use super::galerkin::{GalerkinIntegrator, kahan_add};
 use super::lagrangian::{Lagrangian, potential_gradient};
 use super::scheme::{GalerkinScheme, MAX_STAGES};
-use super::state::{OneStepMap, PhaseState, StepStats, continues};
+use super::state::{OneStepMap, PhaseState, StepStats, continues, restore_step_end, save_step_end};
 use crate::ad::Scalar;
 use crate::error::{Error, Result};
 
@@ -466,12 +466,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
     /// The end `(t, q)` of the last step, its stage forces (the predictor),
     /// the Kahan compensation terms, then the Newton fallback's own carry.
     fn save_carry(&self, out: &mut Vec<f64>) {
-        let end = self.previous.map(|(t, q)| {
-            let mut r = vec![t];
-            r.extend(q.iter());
-            r
-        });
-        crate::run::save_option(out, end.as_deref(), 1 + N);
+        save_step_end(out, self.previous);
         out.extend(self.forces[..self.s].iter().flat_map(|g| g.iter()));
         out.extend(self.compensation.0.iter().chain(self.compensation.1.iter()));
         out.push(self.last_work);
@@ -492,7 +487,7 @@ impl<V: Potential<N>, const N: usize, F: Force<N>> OneStepMap<N> for SeparableIn
         self.general.save_carry(out);
     }
     fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
-        self.previous = crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..])));
+        self.previous = restore_step_end(words)?;
         for g in self.forces[..self.s].iter_mut() {
             *g = SVector::from_column_slice(words.take(N)?);
         }

@@ -64,6 +64,24 @@ pub(crate) fn continues<const N: usize>(t_end: f64, q_end: &SVector<f64, N>, t: 
     q_end == q && (t_end - t).abs() <= 8.0 * f64::EPSILON * t.abs().max(1.0)
 }
 
+/// Append the end `(t, q)` of a one-step map's last step (or its absence)
+/// to a checkpoint carry.
+pub(crate) fn save_step_end<const N: usize>(out: &mut Vec<f64>, end: Option<(f64, SVector<f64, N>)>) {
+    let record = end.map(|(t, q)| {
+        let mut r = vec![t];
+        r.extend(q.iter());
+        r
+    });
+    crate::run::save_option(out, record.as_deref(), 1 + N);
+}
+
+/// Read what [`save_step_end`] wrote.
+pub(crate) fn restore_step_end<const N: usize>(
+    words: &mut crate::run::Words<'_>,
+) -> Result<Option<(f64, SVector<f64, N>)>> {
+    Ok(crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..]))))
+}
+
 pub use crate::run::StepStats;
 
 /// The Jacobian of a one-step map `(q, p) ↦ (q', p')` in `N × N` blocks.

@@ -35,7 +35,7 @@ mod flow_jacobian;
 use super::force::{Force, ForceJet, NoForce, force_jet, force_value};
 use super::lagrangian::{Hessian, Jet, Lagrangian, hessian, jet, velocity_from_momentum};
 use super::scheme::{GalerkinScheme, Method};
-use super::state::{OneStepMap, PhaseState, StepStats, continues};
+use super::state::{OneStepMap, PhaseState, StepStats, continues, restore_step_end, save_step_end};
 use crate::error::{Error, Result, check_finite, check_step};
 use crate::solve::{
     DenseLu, LineSearch, NewtonOptions, NewtonReport, NewtonStop, NewtonSystem, SimplifiedNewtonSystem, solve_newton,
@@ -635,12 +635,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
     /// The end `(t, q)` of the last step and its control points (the
     /// predictor of the next step), and the Kahan compensation terms.
     fn save_carry(&self, out: &mut Vec<f64>) {
-        let end = self.previous.map(|(t, q)| {
-            let mut r = vec![t];
-            r.extend(q.iter());
-            r
-        });
-        crate::run::save_option(out, end.as_deref(), 1 + N);
+        save_step_end(out, self.previous);
         out.extend(self.previous_controls.iter().flat_map(|z| z.iter()));
         out.extend(self.compensation.0.iter().chain(self.compensation.1.iter()));
         // The kept Jacobian's factors, behind a tag (absent from checkpoints
@@ -653,7 +648,7 @@ impl<L: Lagrangian<N>, const N: usize, F: Force<N>> OneStepMap<N> for GalerkinIn
         self.correction.save(out);
     }
     fn restore_carry(&mut self, words: &mut crate::run::Words<'_>) -> Result<()> {
-        self.previous = crate::run::restore_option(words, 1 + N)?.map(|r| (r[0], SVector::from_column_slice(&r[1..])));
+        self.previous = restore_step_end(words)?;
         for z in self.previous_controls.iter_mut() {
             *z = SVector::from_column_slice(words.take(N)?);
         }
