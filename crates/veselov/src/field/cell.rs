@@ -76,6 +76,13 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// chart ([`solve_legendre`](super::legendre::solve_legendre)), which
     /// stays the reference; an implementation must solve the same equations
     /// to round-off and report its outcome the same way.
+    ///
+    /// An implementation that has the solved cells' gradients at hand may
+    /// also write ∂L_{(v,σ)}/∂y_l (l = 1 … n, with z as the last vertex) into
+    /// `gradients[σ(n + 1) + l]` — position 0 and the cells outside the
+    /// action zero, as the marcher stores them — and say so in
+    /// [`SolvedVertex::gradients_written`]; the marcher then skips its own
+    /// evaluation of them.
     fn solve_last_vertex(
         &self,
         _star: &VertexStar<'_, F::Point<f64>>,
@@ -83,9 +90,21 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         _mu_scale: f64,
         _start: &F::Point<f64>,
         _options: &CauchyOptions,
-    ) -> Option<(F::Point<f64>, VertexOutcome)> {
+        _gradients: &mut [SVector<f64, M>],
+    ) -> Option<SolvedVertex<F::Point<f64>>> {
         None
     }
+}
+
+/// A vertex solved by [`DiscreteLagrangian::solve_last_vertex`].
+#[derive(Clone, Copy, Debug)]
+pub struct SolvedVertex<P> {
+    /// The last vertex's value z (the start value on failure).
+    pub value: P,
+    /// The solve's outcome.
+    pub outcome: VertexOutcome,
+    /// Whether the solved cells' gradients at positions 1 … n were written.
+    pub gradients_written: bool,
 }
 
 /// F^l_β at the vertex values `y` and its derivative with respect to the

@@ -56,6 +56,18 @@ pub trait Fibre<const M: usize>: Copy + Debug + Send + Sync + 'static {
     /// (errors near the cut locus of a rotation part).
     fn log<D: Scalar>(y: &Self::Point<D>, z: &Self::Point<D>) -> Result<SVector<D, M>, LieError>;
 
+    /// The linear extrapolation z = y·τ(log(x, y)) of the step from x to y
+    /// (the Cauchy integrator's first guess for the next value along the
+    /// flow); y itself where the logarithm fails. A fibre whose chart is a
+    /// group's exponential may compute it as y·x⁻¹·y, the same point without
+    /// the logarithm and the exponential.
+    fn extrapolate(x: &Self::Point<f64>, y: &Self::Point<f64>) -> Self::Point<f64> {
+        match Self::log(x, y) {
+            Ok(xi) => Self::retract(y, &xi),
+            Err(_) => *y,
+        }
+    }
+
     /// Project a point that has drifted from the fibre (a rotation that is no
     /// longer orthogonal to round-off) back onto it; identity on ℝ^M.
     fn renormalize(y: &Self::Point<f64>) -> Self::Point<f64>;
@@ -154,6 +166,10 @@ impl Fibre<3> for Rotations {
     fn log<D: Scalar>(y: &SO3<D>, z: &SO3<D>) -> Result<SVector<D, 3>, LieError> {
         so3::log(&y.inverse().compose(z))
     }
+    /// R_y R_xᵀ R_y = R_y exp(log(R_xᵀR_y)).
+    fn extrapolate(x: &SO3<f64>, y: &SO3<f64>) -> SO3<f64> {
+        SO3::from_matrix_unchecked(y.matrix() * (x.matrix().transpose() * y.matrix()))
+    }
     fn renormalize(y: &SO3<f64>) -> SO3<f64> {
         SO3::from_matrix_unchecked(newton_schulz(y.matrix()))
     }
@@ -249,6 +265,13 @@ impl Fibre<6> for PositionRotation {
         let b = Rotations::log(&y.rotation, &z.rotation)?;
         Ok(SVector::<D, 6>::new(a[0], a[1], a[2], b[0], b[1], b[2]))
     }
+    /// (2r_y − r_x, R_y R_xᵀ R_y), as [`Rotations::extrapolate`].
+    fn extrapolate(x: &Pose<f64>, y: &Pose<f64>) -> Pose<f64> {
+        Pose::new(
+            y.position * 2.0 - x.position,
+            Rotations::extrapolate(&x.rotation, &y.rotation),
+        )
+    }
     fn renormalize(y: &Pose<f64>) -> Pose<f64> {
         Pose::new(y.position, Rotations::renormalize(&y.rotation))
     }
@@ -288,6 +311,19 @@ mod tests {
             Pose::new(Vector3::new(1.0, 2.0, 3.0), r),
             SVector::from([0.1, -0.2, 0.3, 0.5, 0.4, -0.6]),
         );
+    }
+
+    /// The group extrapolations y·x⁻¹·y equal the chart's y·τ(log(x, y)).
+    #[test]
+    fn extrapolation_is_the_chart_step_repeated() {
+        let x = Pose::new(Vector3::new(1.0, 2.0, 3.0), so3::exp(&Vector3::new(0.3, -1.1, 0.7)));
+        let y = Pose::new(Vector3::new(0.5, 2.5, 2.0), so3::exp(&Vector3::new(0.9, -0.4, 1.2)));
+        let chart = PositionRotation::retract(&y, &PositionRotation::log(&x, &y).expect("inside the cut locus"));
+        let group = PositionRotation::extrapolate(&x, &y);
+        assert!((chart.position - group.position).amax() < 1e-15);
+        assert!((chart.rotation.matrix() - group.rotation.matrix()).amax() < 1e-14);
+        let r = Rotations::extrapolate(&x.rotation, &y.rotation);
+        assert_eq!(r.matrix(), group.rotation.matrix());
     }
 
     type Outer<const M: usize> = num_dual::DualSVec<num_dual::DualSVec64<M>, M>;

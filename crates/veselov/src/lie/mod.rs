@@ -117,7 +117,7 @@ use num_dual::DualNum;
 mod family;
 pub mod retraction;
 pub mod se3;
-mod series;
+pub(crate) mod series;
 pub mod so3;
 
 pub use family::{GroupFamily, RigidMotions, Rotations};

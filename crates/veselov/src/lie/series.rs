@@ -153,16 +153,93 @@ const ATAN_C: [f64; 12] = [
     -0.043478260869565216,
 ];
 
-/// Horner evaluation of Σ cₙ xⁿ on the scalar type.
-#[inline]
-fn horner<D: DualNum<Primitive = f64> + Copy>(x: D, coeffs: &[f64]) -> D {
-    coeffs.iter().rev().fold(D::from(0.0), |acc, &c| acc * x + c)
+/// Upper ends of the ranges of x on which an `f64` evaluation sums only the
+/// leading terms of a series ([`term_counts`]).
+const TIERS: [f64; 5] = [1e-6, 1e-4, 1e-2, 0.1, 1.0];
+
+/// For each bound X of [`TIERS`], the number N of leading coefficients of
+/// Σ cₙxⁿ whose omitted tail Σ_{n ≥ N} |cₙ|Xⁿ is at most 2⁻⁵⁸|c₀|: below
+/// a quarter of an ulp of every function here, each of which stays above
+/// |c₀|/2 on the range its series is used for.
+const fn term_counts<const N: usize>(c: &[f64; N]) -> [usize; 5] {
+    let mut counts = [N; 5];
+    let mut t = 0;
+    while t < TIERS.len() {
+        let limit = c[0].abs() * (1.0 / 288_230_376_151_711_744.0); // 2⁻⁵⁸|c₀|
+        let (mut n, mut tail) = (N, 0.0);
+        while n > 1 {
+            let mut term = c[n - 1].abs();
+            let mut k = 1;
+            while k < n {
+                term *= TIERS[t];
+                k += 1;
+            }
+            if tail + term > limit {
+                break;
+            }
+            tail += term;
+            n -= 1;
+        }
+        counts[t] = n;
+        t += 1;
+    }
+    counts
+}
+
+/// A truncated Taylor series Σ cₙxⁿ with its term counts per tier.
+struct Series<const N: usize> {
+    coeffs: [f64; N],
+    counts: [usize; 5],
+}
+
+impl<const N: usize> Series<N> {
+    const fn new(coeffs: [f64; N]) -> Self {
+        Self {
+            counts: term_counts(&coeffs),
+            coeffs,
+        }
+    }
+
+    /// Horner evaluation on the scalar type: every term for dual numbers (so
+    /// each derivative part is exact to round-off too), only the terms that
+    /// matter at this x for `f64` ([`term_counts`]).
+    #[inline]
+    fn eval<D: DualNum<Primitive = f64> + Copy>(&self, x: D) -> D {
+        let mut n = N;
+        if D::NDERIV == 0 {
+            let xr = x.re().abs();
+            if let Some(t) = TIERS.iter().position(|&bound| xr <= bound) {
+                n = self.counts[t];
+            }
+        }
+        self.coeffs[..n].iter().rev().fold(D::from(0.0), |acc, &c| acc * x + c)
+    }
+}
+
+const SIN: Series<16> = Series::new(SIN_C);
+const COS: Series<16> = Series::new(COS_C);
+const SIN3: Series<16> = Series::new(SIN3_C);
+const Q2: Series<16> = Series::new(Q2_C);
+const Q3: Series<16> = Series::new(Q3_C);
+const DLOG: Series<16> = Series::new(DLOG_C);
+const ATAN: Series<12> = Series::new(ATAN_C);
+const DLOG_PRIME: Series<15> = Series::new(derivative(&DLOG_C));
+
+/// The coefficients (n + 1)c_{n+1} of the derivative of Σ cₙxⁿ.
+const fn derivative(c: &[f64; 16]) -> [f64; 15] {
+    let mut d = [0.0; 15];
+    let mut n = 0;
+    while n < 15 {
+        d[n] = (n + 1) as f64 * c[n + 1];
+        n += 1;
+    }
+    d
 }
 
 /// sin θ/θ as a function of x = θ².
 pub(crate) fn sinc<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
     if x.re() < 1.0 {
-        horner(x, &SIN_C)
+        SIN.eval(x)
     } else {
         let t = x.sqrt();
         t.sin() / t
@@ -172,7 +249,7 @@ pub(crate) fn sinc<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
 /// (1 − cos θ)/θ² as a function of x = θ².
 pub(crate) fn cosc<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
     if x.re() < 1.0 {
-        horner(x, &COS_C)
+        COS.eval(x)
     } else {
         let s = (x.sqrt() * 0.5).sin();
         s * s * 2.0 / x
@@ -182,7 +259,7 @@ pub(crate) fn cosc<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
 /// (θ − sin θ)/θ³ as a function of x = θ².
 pub(crate) fn sin3<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
     if x.re() < 4.0 {
-        horner(x, &SIN3_C)
+        SIN3.eval(x)
     } else {
         let t = x.sqrt();
         (t - t.sin()) / (t * x)
@@ -192,7 +269,7 @@ pub(crate) fn sin3<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
 /// (θ² + 2 cos θ − 2)/(2θ⁴) as a function of x = θ².
 pub(crate) fn q2<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
     if x.re() < 4.0 {
-        horner(x, &Q2_C)
+        Q2.eval(x)
     } else {
         let t = x.sqrt();
         (x + t.cos() * 2.0 - 2.0) / (x * x * 2.0)
@@ -202,7 +279,7 @@ pub(crate) fn q2<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
 /// (2θ − 3 sin θ + θ cos θ)/(2θ⁵) as a function of x = θ².
 pub(crate) fn q3<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
     if x.re() < 4.0 {
-        horner(x, &Q3_C)
+        Q3.eval(x)
     } else {
         let t = x.sqrt();
         let (s, c) = t.sin_cos();
@@ -214,11 +291,22 @@ pub(crate) fn q3<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
 /// x = θ². Finite for 0 ≤ θ < 2π (k(π) = 1/π²); singular at θ = 2π.
 pub(crate) fn dlog<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
     if x.re() < 4.0 {
-        horner(x, &DLOG_C)
+        DLOG.eval(x)
     } else {
         let t = x.sqrt();
         let (s, c) = (t * 0.5).sin_cos();
         x.recip() - c / (t * s * 2.0)
+    }
+}
+
+/// [`dlog`] k(x) and its derivative dk/dx in `f64` (the derivative series
+/// summed like the function's; dual numbers on the closed form above x = 4).
+pub(crate) fn dlog_and_derivative(x: f64) -> (f64, f64) {
+    if x < 4.0 {
+        (DLOG.eval(x), DLOG_PRIME.eval(x))
+    } else {
+        let k = dlog(num_dual::Dual64::from_re(x).derivative());
+        (k.re, k.eps)
     }
 }
 
@@ -228,7 +316,7 @@ pub(crate) fn dlog<D: DualNum<Primitive = f64> + Copy>(x: D) -> D {
 pub(crate) fn half_angle_ratio<D: DualNum<Primitive = f64> + Copy>(w: D, n2: D) -> D {
     let wr = w.re();
     if wr > 0.0 && n2.re() < 0.01 * wr * wr {
-        horner(n2 / (w * w), &ATAN_C) * 2.0 / w
+        ATAN.eval(n2 / (w * w)) * 2.0 / w
     } else {
         let n = n2.sqrt();
         n.atan2(w) * 2.0 / n
@@ -362,6 +450,49 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The `f64` sums of fewer terms equal the full sums (the real parts of
+    /// the dual evaluations, which sum every term) to an ulp, on each tier and
+    /// at its ends; dk/dx likewise against the dual part.
+    #[test]
+    fn truncated_sums_equal_the_full_sums() {
+        let full = |x: f64| {
+            let d = Dual64::from_re(x).derivative();
+            [sinc(d), cosc(d), sin3(d), q2(d), q3(d), dlog(d)]
+        };
+        let mut xs = vec![0.0, 3.9];
+        for &bound in &TIERS {
+            xs.extend([bound * 0.37, bound * 0.999_999, bound, bound * 1.000_001]);
+        }
+        for &x in &xs {
+            let short = ours(x);
+            for (k, (a, b)) in short.iter().zip(full(x)).enumerate() {
+                if k < 2 && x >= 1.0 {
+                    continue;
+                }
+                assert!(
+                    (a - b.re).abs() <= f64::EPSILON * b.re.abs(),
+                    "function {k} at x = {x}: {a} vs {}",
+                    b.re
+                );
+            }
+            let (k, dk) = dlog_and_derivative(x);
+            let d = full(x)[5];
+            assert!((k - d.re).abs() <= f64::EPSILON * d.re, "k at x = {x}");
+            assert!(
+                (dk - d.eps).abs() <= 2.0 * f64::EPSILON * d.eps,
+                "dk/dx at x = {x}: {dk} vs {}",
+                d.eps
+            );
+            let (w, n2) = (1.0, 0.0099 * x.min(1.0));
+            let t = Dual64::from_re(n2).derivative();
+            let r = half_angle_ratio(w, n2);
+            assert!((r - half_angle_ratio(Dual64::from_re(w), t).re).abs() <= f64::EPSILON * r);
+        }
+        // Fewer terms near zero: the point of the tiers.
+        assert!(DLOG.counts[0] <= 4 && DLOG.counts[2] <= 8, "{:?}", DLOG.counts);
+        assert!(SIN.counts[0] <= 3, "{:?}", SIN.counts);
     }
 
     #[test]

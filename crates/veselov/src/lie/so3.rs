@@ -252,7 +252,12 @@ pub(crate) fn rotation_defect<D: DualNum<Primitive = f64> + Copy>(m: &Matrix3<D>
 
 /// Rotation angle (f64) of a unit quaternion with w ≥ 0, and the cut-locus check.
 fn check_cut_locus<D: DualNum<Primitive = f64> + Copy>(w: D, n2: D) -> Result<(), LieError> {
-    let angle = 2.0 * n2.re().sqrt().atan2(w.re());
+    let (w, n2) = (w.re(), n2.re());
+    // Angle ≤ π/2 (n² ≤ w², w > 0): far from the cut locus, no atan2 needed.
+    if w > 0.0 && n2 <= w * w {
+        return Ok(());
+    }
+    let angle = 2.0 * n2.sqrt().atan2(w);
     if angle > PI - CUT_LOCUS_MARGIN || !angle.is_finite() {
         Err(LieError::NearCutLocus { angle })
     } else {

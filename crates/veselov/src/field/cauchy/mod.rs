@@ -56,7 +56,7 @@ const PARALLEL_CHUNK: usize = 128;
 /// this much (waking a thread costs a few µs). Chunking decides only who
 /// solves which vertex, never what is computed: results stay bit-identical
 /// for every thread count.
-const CHUNK_WORK_NS: f64 = 50_000.0;
+const CHUNK_WORK_NS: f64 = 20_000.0;
 
 /// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
 pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
@@ -368,12 +368,25 @@ where
         sigma: usize,
         top: Option<F::Point<f64>>,
     ) -> (TopCell, [F::Point<f64>; MAX_LATTICE_DIMENSION + 1]) {
+        let mut y = [self.values[self.value_slot(w) * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
+        let cell = self.cell_values_into(w, i, sigma, top, &mut y);
+        (cell, y)
+    }
+
+    /// [`cell_values`](Self::cell_values) written into `y[..=n]`.
+    fn cell_values_into(
+        &self,
+        w: i64,
+        i: usize,
+        sigma: usize,
+        top: Option<F::Point<f64>>,
+        y: &mut [F::Point<f64>],
+    ) -> TopCell {
         let n = self.torus.dimension();
         let size = self.torus.level_size();
         let ring = 2 * n + 1;
         let first = self.value_slot(w);
-        let base = self.values[first * size + i];
-        let mut y = [base; MAX_LATTICE_DIMENSION + 1];
+        y[0] = self.values[first * size + i];
         for (l, slot) in y.iter_mut().enumerate().take(n + 1).skip(1) {
             let level_slot = if first + l >= ring { first + l - ring } else { first + l };
             *slot = self.values[level_slot * size + self.up(i, sigma, l)];
@@ -381,12 +394,11 @@ where
         if let Some(z) = top {
             y[n] = z;
         }
-        let cell = TopCell {
+        TopCell {
             index: 0,
             shape: sigma,
             origin: self.origin(w, i),
-        };
-        (cell, y)
+        }
     }
 
     /// The vertex gradients of the n! cells based at (w, i) at positions
@@ -441,38 +453,37 @@ where
         (mu, scale)
     }
 
-    /// Solves EL_v = 0 for y_{Δv}, v = (w, i); returns y_{Δv} and the solve's outcome.
+    /// Solves EL_v = 0 for y_{Δv}, v = (w, i); returns y_{Δv}, the solve's
+    /// outcome and whether the model's own solve already wrote the solved
+    /// cells' gradients into `grads` ([`DiscreteLagrangian::solve_last_vertex`]).
     /// Outside the window y_{Δv} = y_v (never read).
-    fn solve_vertex(&self, w: i64, i: usize) -> (F::Point<f64>, VertexOutcome) {
+    fn solve_vertex(&self, w: i64, i: usize, grads: &mut [SVector<f64, M>]) -> (F::Point<f64>, VertexOutcome, bool) {
         let n = self.torus.dimension();
         if !self.is_active(w, i) {
-            return (self.value(w, i), VertexOutcome::default());
+            return (self.value(w, i), VertexOutcome::default(), false);
         }
         if let Some(data) = &self.dirichlet {
             let target = self.up(i, 0, n);
             if let Some(z) = data(&self.origin(w + n as i64, target)) {
-                return (z, VertexOutcome::default());
+                return (z, VertexOutcome::default(), false);
             }
         }
         let (mu, mu_scale) = self.momentum(w, i);
         let yv = self.value(w, i);
-        let back = self.down(i, 0, n);
-        let z = match F::log(&self.value(w - n as i64, back), &yv) {
-            Ok(xi) => F::retract(&yv, &xi),
-            Err(_) => yv,
-        };
+        let z = F::extrapolate(&self.value(w - n as i64, self.down(i, 0, n)), &yv);
         let star = |sigma: usize, out: &mut [F::Point<f64>]| {
             if sigma >= self.perms.len() || !self.cell_active(w, i, sigma) {
                 return None;
             }
-            let (cell, y) = self.cell_values(w, i, sigma, None);
-            out[..=n].copy_from_slice(&y[..=n]);
-            Some(cell)
+            Some(self.cell_values_into(w, i, sigma, None, out))
         };
-        if let Some(solved) = self.lag.solve_last_vertex(&star, &mu, mu_scale, &z, &self.options) {
-            return solved;
+        if let Some(solved) = self
+            .lag
+            .solve_last_vertex(&star, &mu, mu_scale, &z, &self.options, grads)
+        {
+            return (solved.value, solved.outcome, solved.gradients_written);
         }
-        solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, with_jacobian| {
+        let (z, outcome) = solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, with_jacobian| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();
             let mut scale = 0.0;
@@ -508,7 +519,8 @@ where
                 }
             }
             (leg, with_jacobian.then_some(jac), scale)
-        })
+        });
+        (z, outcome, false)
     }
 
     /// Solves every vertex of level `level()`, which determines level
@@ -528,14 +540,14 @@ where
         {
             let this = &*self;
             let solve = |(i, ((value, grads), outcome)): VertexSlot<'_, F::Point<f64>, M>| {
-                let (z, o) = this.solve_vertex(w, i);
+                let (z, o, written) = this.solve_vertex(w, i, grads);
                 *value = z;
                 *outcome = o;
-                if o.failure.is_none() {
+                if o.failure.is_none() && !written {
                     this.cell_gradients(w, i, Some(z), grads);
                 }
             };
-            if threads > 1 {
+            if threads > 1 && size > self.chunk {
                 next_values
                     .par_iter_mut()
                     .zip(next_grads.par_chunks_mut(per_vertex))
@@ -544,7 +556,7 @@ where
                     .enumerate()
                     .for_each(solve);
             } else {
-                // One thread: no hand-over to the pool at all.
+                // One thread, or one chunk: no hand-over to the pool at all.
                 next_values
                     .iter_mut()
                     .zip(next_grads.chunks_mut(per_vertex))

@@ -11,17 +11,18 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
+use super::cosserat_step::{RotationArm, RotationEquation};
 use super::error::CellError;
 use super::rod_potential::{NoPotential, RodPotential, nearest_point};
 use super::smooth::SmoothDensity;
 use super::suitability::{CellCheck, check_rotations};
-use crate::ad::{Scalar, const_mat3_vec, mat3_vec};
+use crate::ad::{Scalar, const_mat3_vec};
 use crate::error::Result;
-use crate::field::cell::{DiscreteLagrangian, VertexStar};
+use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::lattice::invalid;
-use crate::field::legendre::{CauchyOptions, VertexOutcome};
+use crate::field::legendre::CauchyOptions;
 use crate::lie::so3;
 
 /// Constant material parameters of the rod (6.1): mass density ρ ≥ 0,
@@ -169,7 +170,7 @@ pub struct CosseratCell<P = NoPotential> {
 }
 
 /// The quantities of Prop. 6.5 on one triangle.
-struct Cell<D> {
+pub(super) struct Cell<D> {
     sigma: f64,
     s0: f64,
     a: Vector3<D>,
@@ -309,11 +310,24 @@ impl<P: RodPotential> CosseratCell<P> {
         };
         let (a, b) = (log(1)?, log(2)?);
         let s0 = self.material_coordinate(cell);
+        Ok(self.quantities(sigma, s0, [&y[0], &y[1], &y[2]], a, b))
+    }
+
+    /// The quantities of Prop. 6.5 from the cell's values and logarithms
+    /// a = log(R₀ᵀR₁), b = log(R₀ᵀR₂) (R₂ itself is not read).
+    pub(super) fn quantities<D: Scalar>(
+        &self,
+        sigma: f64,
+        s0: f64,
+        y: [&Pose<D>; 3],
+        a: Vector3<D>,
+        b: Vector3<D>,
+    ) -> Cell<D> {
         let p = self.parameters_at(s0);
         let sds = sigma * self.ds;
         let g = (y[1].position * D::from(2.0) - y[0].position - y[2].position) / D::from(sds);
         let eps = y[0].rotation.matrix().transpose() * g - p.strain.map(D::from);
-        Ok(Cell {
+        Cell {
             sigma,
             s0,
             u: (a * D::from(2.0) - b) / D::from(sds),
@@ -323,7 +337,7 @@ impl<P: RodPotential> CosseratCell<P> {
             b,
             g,
             eps,
-        })
+        }
     }
 
     /// Prop. 6.5 with its failure named.
@@ -359,67 +373,50 @@ impl<P: RodPotential> CosseratCell<P> {
     /// As [`CosseratCell::try_cell_lagrangian`].
     pub fn gradients(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<[SVector<f64, 6>; 3], CellError> {
         let c = self.cell(cell, y)?;
-        let p = self.parameters_at(c.s0);
-        let (ds, st) = (self.ds, c.sigma * self.dt);
         let r0 = y[0].rotation.matrix();
         let da = so3::dexp_inv(&(-c.a));
         let db = so3::dexp_inv(&(-c.b));
-        let c1e = r0 * p.c1 * c.eps;
-        let jw = p.inertia * c.omega;
-        let c2u = p.c2 * c.u;
-        let gr = [
+        let arm = RotationArm { a: c.a, da };
+        let equation = RotationEquation::new(self.parameters_at(c.s0), self.ds, self.dt, &[arm], 0.0);
+        let first = join(
             self.position_gradient(c.sigma, c.s0, &y[0], &c.v, &c.eps),
-            -c1e * (st / 2.0),
-            c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0),
-        ];
-        let gq = [
-            self.rotation_terms_with(c.sigma, c.s0, &c.a, &da, &c.b, &db) + self.strain_torque(c.s0, r0, &c.g, &c.eps),
-            -da.transpose() * c2u * (st / 2.0),
-            db.transpose() * jw * (ds / 4.0) + db.transpose() * c2u * (st / 4.0),
-        ];
-        Ok(std::array::from_fn(|k| {
-            SVector::<f64, 6>::new(gr[k][0], gr[k][1], gr[k][2], gq[k][0], gq[k][1], gq[k][2])
-        }))
+            equation.value_with(&c.b, &db) + self.strain_torque(c.s0, r0, &c.g, &c.eps),
+        );
+        let [second, third] = self.later_gradients(&c, r0, &da, &db);
+        Ok([first, second, third])
+    }
+
+    /// The gradients at positions 1 and 2 (note 003 §3.5), from the cell's
+    /// quantities, R₀, D_a and D_b:
+    /// (−(σΔt/2)R₀C₁ε; −(σΔt/2)D_aᵀC₂u) and
+    /// ((ρΔs/4)v_d + (σΔt/4)R₀C₁ε; D_bᵀ((Δs/4)Jω_d + (σΔt/4)C₂u)).
+    pub(super) fn later_gradients(
+        &self,
+        c: &Cell<f64>,
+        r0: &Matrix3<f64>,
+        da: &Matrix3<f64>,
+        db: &Matrix3<f64>,
+    ) -> [SVector<f64, 6>; 2] {
+        let p = self.parameters_at(c.s0);
+        let (ds, st) = (self.ds, c.sigma * self.dt);
+        let c1e = r0 * (p.c1 * c.eps);
+        let c2u = p.c2 * c.u;
+        [
+            join(-c1e * (st / 2.0), -(da.transpose() * c2u) * (st / 2.0)),
+            join(
+                c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0),
+                db.transpose() * (p.inertia * c.omega * (ds / 4.0) + c2u * (st / 4.0)),
+            ),
+        ]
     }
 }
 
+/// (x; y) ∈ ℝ⁶.
+fn join(x: Vector3<f64>, y: Vector3<f64>) -> SVector<f64, 6> {
+    SVector::<f64, 6>::new(x[0], x[1], x[2], y[0], y[1], y[2])
+}
+
 impl<P: RodPotential> CosseratCell<P> {
-    /// The terms of ∇_{R₀}L_β that depend on b = log(R₀ᵀR₂) (note 003 §3.5):
-    /// −(Δs/4)D_bJω_d + (σΔt/4)(2D_a − D_b)C₂u with D_b = dlog b,
-    /// ω_d = b/Δt, u = (2a − b)/(σΔs), over any scalar (the rotation Newton
-    /// of the split step differentiates them in b). `da` = D_a.
-    pub(crate) fn rotation_terms<D: Scalar>(
-        &self,
-        sigma: f64,
-        s0: f64,
-        a: &Vector3<f64>,
-        da: &Matrix3<f64>,
-        b: &Vector3<D>,
-    ) -> Vector3<D> {
-        self.rotation_terms_with(sigma, s0, a, da, b, &so3::dexp_inv(&(-b)))
-    }
-
-    /// [`rotation_terms`](Self::rotation_terms) with D_b given.
-    #[allow(clippy::too_many_arguments)]
-    fn rotation_terms_with<D: Scalar>(
-        &self,
-        sigma: f64,
-        s0: f64,
-        a: &Vector3<f64>,
-        da: &Matrix3<f64>,
-        b: &Vector3<D>,
-        db: &Matrix3<D>,
-    ) -> Vector3<D> {
-        let p = self.parameters_at(s0);
-        let omega = b / D::from(self.dt);
-        let u = (a.map(D::from) * D::from(2.0) - b) / D::from(sigma * self.ds);
-        let c2u = const_mat3_vec(&p.c2, &u);
-        let jw = const_mat3_vec(&p.inertia, &omega);
-        // −(Δs/4)D_bJω + (σΔt/4)(2D_a − D_b)C₂u, with D_a constant.
-        -mat3_vec(db, &jw) * D::from(self.ds / 4.0)
-            + (const_mat3_vec(da, &c2u) * D::from(2.0) - mat3_vec(db, &c2u)) * D::from(sigma * self.dt / 4.0)
-    }
-
     /// ∇_{r₀}L_β = −(ρΔs/4)v_d + (σΔt/4)R₀C₁ε − (ΔsΔt/8)∇_rP(s₀, r₀)
     /// (note 003 §3.5, kinetic sign corrected; ∇_rP by forward-mode AD).
     pub(crate) fn position_gradient(
@@ -624,7 +621,7 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
     }
 
     /// The split step of note 003 §3.6 ([`super::cosserat_step`]) when the
-    /// closed forms are enabled.
+    /// closed forms are enabled; it writes the solved cells' gradients.
     fn solve_last_vertex(
         &self,
         star: &VertexStar<'_, Pose<f64>>,
@@ -632,9 +629,10 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
         mu_scale: f64,
         start: &Pose<f64>,
         options: &CauchyOptions,
-    ) -> Option<(Pose<f64>, VertexOutcome)> {
+        gradients: &mut [SVector<f64, 6>],
+    ) -> Option<SolvedVertex<Pose<f64>>> {
         self.analytic
-            .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, start, options))
+            .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, start, options, gradients))
     }
 }
 
