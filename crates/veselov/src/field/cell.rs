@@ -50,6 +50,20 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         false
     }
 
+    /// ∂L_β/∂y_a and its derivative with respect to y_b (the block of
+    /// [`mixed_block`]) when the Lagrangian computes them itself; `None`
+    /// (default) for the nested-dual pass ([`mixed_block_dual`]), which stays
+    /// the reference.
+    fn analytic_block(
+        &self,
+        _cell: &TopCell,
+        _y: &[F::Point<f64>],
+        _a: usize,
+        _b: usize,
+    ) -> Option<(SVector<f64, M>, SMatrix<f64, M, M>)> {
+        None
+    }
+
     /// Whether the cells carry discrete forces (default `false`; then
     /// [`cell_force`](Self::cell_force) is never called).
     fn has_forces(&self) -> bool {
@@ -193,11 +207,47 @@ where
     ))
 }
 
+/// ∂L_β/∂y_l: the Lagrangian's closed form
+/// ([`DiscreteLagrangian::analytic_gradients`]) where it offers one, the
+/// dual pass ([`vertex_gradient`]) otherwise.
+pub fn exact_gradient<F, L, const M: usize>(lag: &L, cell: &TopCell, y: &[F::Point<f64>], l: usize) -> SVector<f64, M>
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    let mut exact = [SVector::zeros(); MAX_CELL_VERTICES];
+    if y.len() <= MAX_CELL_VERTICES && lag.analytic_gradients(cell, y, &mut exact[..y.len()]) {
+        return exact[l];
+    }
+    vertex_gradient::<F, L, M>(lag, cell, y, l).1
+}
+
 /// ∂L_β/∂y_a and its derivative with respect to y_b:
 /// `J[(i, j)] = ∂/∂ζ_j (∂L_β/∂y_a)_i` at y_b·τ(ζ), ζ = 0. For b = a it is
-/// the second derivative of L_β(…, y_a·τ(ξ)·τ(ζ), …) at ξ = ζ = 0 (the
-/// Hessian in the chart; symmetric on ℝ^M).
+/// the second derivative of L_β(…, y_a·τ(ζ)·τ(ξ), …) at ξ = ζ = 0: the
+/// derivative of the gradient at the moved point y_a·τ(ζ), in that point's
+/// chart — the Jacobian of a vertex residual under Newton's update
+/// y_a ← y_a·τ(δ) (the Hessian, symmetric, on ℝ^M).
+///
+/// The Lagrangian's own evaluation ([`DiscreteLagrangian::analytic_block`])
+/// where it has one, the nested-dual pass ([`mixed_block_dual`]) otherwise.
 pub fn mixed_block<F, L, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+    a: usize,
+    b: usize,
+) -> (SVector<f64, M>, SMatrix<f64, M, M>)
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    lag.analytic_block(cell, y, a, b)
+        .unwrap_or_else(|| mixed_block_dual::<F, L, M>(lag, cell, y, a, b))
+}
+
+/// [`mixed_block`] by nested dual numbers over L_β (the reference).
+pub fn mixed_block_dual<F, L, const M: usize>(
     lag: &L,
     cell: &TopCell,
     y: &[F::Point<f64>],
@@ -214,8 +264,15 @@ where
     // Inner directions seed y_a, outer directions seed y_b.
     let inner: SVector<Outer<M>, M> = seeds::<f64, M>().map(Outer::<M>::from_re);
     let outer: SVector<Outer<M>, M> = seeds::<DualSVec64<M>, M>();
-    let ya = F::retract_seeded(&y[a], &inner);
-    let ya = if a == b { F::retract(&ya, &outer) } else { ya };
+    // For b = a the outer step comes first, y_a·τ(ζ)·τ(ξ): the gradient at
+    // the moved point in its own chart, which is what Newton's update
+    // y_a ← y_a·τ(δ) changes (on a group, y_a·τ(ξ)·τ(ζ) would differ by a
+    // bracket term of the size of the gradient itself).
+    let ya = if a == b {
+        F::retract(&F::retract_seeded(&y[a], &outer), &inner)
+    } else {
+        F::retract_seeded(&y[a], &inner)
+    };
     let yb = F::retract_seeded(&y[b], &outer);
     let value = with_values(
         k,

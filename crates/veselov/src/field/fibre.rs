@@ -35,8 +35,14 @@ pub trait Fibre<const M: usize>: Copy + Debug + Send + Sync + 'static {
     /// Number of `f64` coordinates a point is written with ([`Fibre::write`]).
     const COORDINATES: usize;
 
+    /// The point with every scalar mapped by `f` (for example lifted into
+    /// dual numbers).
+    fn map<D: Scalar, E: Scalar>(y: &Self::Point<D>, f: impl Fn(D) -> E + Copy) -> Self::Point<E>;
+
     /// Lift an `f64` point into constants of the scalar type `D`.
-    fn lift<D: Scalar>(y: &Self::Point<f64>) -> Self::Point<D>;
+    fn lift<D: Scalar>(y: &Self::Point<f64>) -> Self::Point<D> {
+        Self::map(y, D::from)
+    }
 
     /// The chart y·τ(ξ).
     fn retract<D: Scalar>(y: &Self::Point<D>, xi: &SVector<D, M>) -> Self::Point<D>;
@@ -97,8 +103,8 @@ impl<const M: usize> Fibre<M> for Euclidean<M> {
     const NAME: &'static str = "R^m";
     const COORDINATES: usize = M;
 
-    fn lift<D: Scalar>(y: &SVector<f64, M>) -> SVector<D, M> {
-        y.map(D::from)
+    fn map<D: Scalar, E: Scalar>(y: &SVector<D, M>, f: impl Fn(D) -> E + Copy) -> SVector<E, M> {
+        y.map(f)
     }
     fn retract<D: Scalar>(y: &SVector<D, M>, xi: &SVector<D, M>) -> SVector<D, M> {
         y + xi
@@ -154,8 +160,8 @@ impl Fibre<3> for Rotations {
     const NAME: &'static str = "SO(3)";
     const COORDINATES: usize = 9;
 
-    fn lift<D: Scalar>(y: &SO3<f64>) -> SO3<D> {
-        SO3::from_matrix_unchecked(y.matrix().map(D::from))
+    fn map<D: Scalar, E: Scalar>(y: &SO3<D>, f: impl Fn(D) -> E + Copy) -> SO3<E> {
+        SO3::from_matrix_unchecked(y.matrix().map(f))
     }
     fn retract<D: Scalar>(y: &SO3<D>, xi: &SVector<D, 3>) -> SO3<D> {
         y.compose(&so3::exp(xi))
@@ -190,8 +196,8 @@ impl Fibre<6> for RigidMotions {
     const NAME: &'static str = "SE(3)";
     const COORDINATES: usize = 12;
 
-    fn lift<D: Scalar>(y: &SE3<f64>) -> SE3<D> {
-        SE3::new(Rotations::lift(y.rotation()), y.translation().map(D::from))
+    fn map<D: Scalar, E: Scalar>(y: &SE3<D>, f: impl Fn(D) -> E + Copy) -> SE3<E> {
+        SE3::new(Rotations::map(y.rotation(), f), y.translation().map(f))
     }
     fn retract<D: Scalar>(y: &SE3<D>, xi: &SVector<D, 6>) -> SE3<D> {
         y.compose(&se3::exp(xi))
@@ -247,8 +253,8 @@ impl Fibre<6> for PositionRotation {
     const NAME: &'static str = "R^3 x SO(3)";
     const COORDINATES: usize = 12;
 
-    fn lift<D: Scalar>(y: &Pose<f64>) -> Pose<D> {
-        Pose::new(y.position.map(D::from), Rotations::lift(&y.rotation))
+    fn map<D: Scalar, E: Scalar>(y: &Pose<D>, f: impl Fn(D) -> E + Copy) -> Pose<E> {
+        Pose::new(y.position.map(f), Rotations::map(&y.rotation, f))
     }
     fn retract<D: Scalar>(y: &Pose<D>, xi: &SVector<D, 6>) -> Pose<D> {
         let a = Vector3::new(xi[0], xi[1], xi[2]);

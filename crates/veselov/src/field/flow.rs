@@ -19,7 +19,7 @@
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, force_block, mixed_block, vertex_force, vertex_gradient};
+use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, force_block, mixed_block, vertex_force};
 use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre_from};
@@ -177,7 +177,7 @@ where
             if contains(&verts[..k]).is_none() {
                 let y: [F::Point<f64>; MAX_CELL_VERTICES] = std::array::from_fn(|l| self.values[verts[l.min(k - 1)]]);
                 let cell = self.complex.cell(e.cell);
-                let g = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position).1;
+                let g = exact_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position);
                 mu -= g;
                 mu_scale += g.amax();
                 if self.lag.has_forces() {
@@ -204,7 +204,7 @@ where
                         jac += block;
                         g
                     } else {
-                        vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position).1
+                        exact_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position)
                     };
                     leg += g;
                     scale += g.amax();

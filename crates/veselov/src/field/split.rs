@@ -26,8 +26,8 @@
 
 use std::marker::PhantomData;
 
-use nalgebra::{Const, SVector, U1};
-use num_dual::DualSVec64;
+use nalgebra::{Const, SMatrix, SVector, U1};
+use num_dual::{DualSVec, DualSVec64};
 
 use super::cell::DiscreteLagrangian;
 use super::complex::TopCell;
@@ -44,7 +44,21 @@ pub trait Increment<F: Fibre<M>, const M: usize>: Send + Sync + 'static {
     fn increment<D: Scalar>(y1: &F::Point<D>, y2: &F::Point<D>) -> std::result::Result<SVector<D, M>, LieError>;
     /// y₁·τ(x).
     fn advance<D: Scalar>(y1: &F::Point<D>, x: &SVector<D, M>) -> F::Point<D>;
+    /// x and its derivatives A₁ = ∂x/∂ε₁, A₂ = ∂x/∂ε₂ in the fibre's charts
+    /// y₁·ρ(ε₁), y₂·ρ(ε₂) at ε = 0 (closed form, for the exact gradients of
+    /// [`SplitLagrangian`]).
+    ///
+    /// # Errors
+    /// As [`increment`](Self::increment).
+    fn increment_derivatives<D: Scalar>(
+        y1: &F::Point<D>,
+        y2: &F::Point<D>,
+    ) -> std::result::Result<Derivatives<D, M>, LieError>;
 }
+
+/// An increment x with its derivatives (x, ∂x/∂ε₁, ∂x/∂ε₂)
+/// ([`Increment::increment_derivatives`]).
+pub type Derivatives<D, const M: usize> = (SVector<D, M>, SMatrix<D, M, M>, SMatrix<D, M, M>);
 
 /// The vector-space increment y₂ − y₁ on ℝ^M.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -57,6 +71,13 @@ impl<const M: usize> Increment<Euclidean<M>, M> for Difference {
     }
     fn advance<D: Scalar>(y1: &SVector<D, M>, x: &SVector<D, M>) -> SVector<D, M> {
         y1 + x
+    }
+    /// (y₂ − y₁, −I, I).
+    fn increment_derivatives<D: Scalar>(
+        y1: &SVector<D, M>,
+        y2: &SVector<D, M>,
+    ) -> std::result::Result<Derivatives<D, M>, LieError> {
+        Ok((y2 - y1, -SMatrix::identity(), SMatrix::identity()))
     }
 }
 
@@ -75,6 +96,15 @@ where
     fn advance<D: Scalar>(g1: &SE3<D>, x: &SVector<D, 6>) -> SE3<D> {
         g1.compose(&R::tau(x))
     }
+    /// In the charts g·exp(ε) of [`RigidMotions`], with d^Rτ the
+    /// right-trivialised derivative ([`Retraction::dtau`]):
+    /// exp(−ε₁)τ(x) = τ(x + δ) gives δ = −d^Rτ⁻¹_x ε₁, and τ(x)exp(ε₂) =
+    /// τ(x + δ) gives δ = d^Rτ⁻¹_x Ad_{τ(x)} ε₂ = d^Rτ⁻¹_{−x} ε₂ (for the
+    /// exponential and the Cayley map, Ad_{τ(x)} d^Rτ_{−x} = d^Rτ_x).
+    fn increment_derivatives<D: Scalar>(g1: &SE3<D>, g2: &SE3<D>) -> std::result::Result<Derivatives<D, 6>, LieError> {
+        let x = R::tau_inv(&g1.inverse().compose(g2))?;
+        Ok((x, -R::dtau_inv(&x), R::dtau_inv(&(-x))))
+    }
 }
 
 /// The density of a split Lagrangian: kinetic energy K(ξ), stored energy
@@ -87,6 +117,11 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     /// Π(y) (default 0).
     fn potential<D: Scalar>(&self, _y: &F::Point<D>) -> D {
         D::zero()
+    }
+    /// Whether Π may be non-zero (default `true`; `false` lets the exact
+    /// gradients skip ∇Π).
+    fn has_potential(&self) -> bool {
+        true
     }
     /// Whether [`damping`](Self::damping) is non-zero (default `false`).
     fn is_damped(&self) -> bool {
@@ -198,6 +233,60 @@ impl<I, S> SplitLagrangian<I, S> {
     }
 }
 
+impl<I, S> SplitLagrangian<I, S> {
+    /// The exact gradients (∂ℒ/∂y₁, ∂ℒ/∂y₂, ∂ℒ/∂y₃) over any scalar, from
+    /// the increments' derivatives ([`Increment::increment_derivatives`]:
+    /// x_t = Δtξ and x_s = Δsη with A₁, A₂ each) and ∇K(ξ), ∇Φ(η), ∇Π(y)
+    /// (dual passes over the density alone):
+    ///
+    /// * ∂ℒ/∂y₁ = ΔsA₁,ₜᵀ∇K − ΔtA₁,ₛᵀ∇Φ − ½ΔsΔt∇Π(y₁)
+    /// * ∂ℒ/∂y₂ = ΔsA₂,ₜᵀ∇K
+    /// * ∂ℒ/∂y₃ = −ΔtA₂,ₛᵀ∇Φ − ½ΔsΔt∇Π(y₃)
+    ///
+    /// `None` at the cut locus.
+    pub fn closed_gradients<F: Fibre<M>, D: Scalar, const M: usize>(&self, y: &[F::Point<D>]) -> Option<[SVector<D, M>; 3]>
+    where
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        let (xt, a1t, a2t) = I::increment_derivatives(&y[0], &y[1]).ok()?;
+        let (xs, a1s, a2s) = I::increment_derivatives(&y[0], &y[2]).ok()?;
+        let (ds, dt) = (self.ds, self.dt);
+        let dk = scalar_gradient(|x| self.density.kinetic(x), &xt.map(|v| v * (1.0 / dt))).map(|v| v * ds);
+        let dphi = scalar_gradient(|x| self.density.stored(x), &xs.map(|v| v * (1.0 / ds))).map(|v| v * dt);
+        let mut first = a1t.tr_mul(&dk) - a1s.tr_mul(&dphi);
+        let mut third = -a2s.tr_mul(&dphi);
+        if self.density.has_potential() {
+            let half = D::from(0.5 * ds * dt);
+            first -= self.potential_gradient::<F, D, M>(&y[0]) * half;
+            third -= self.potential_gradient::<F, D, M>(&y[2]) * half;
+        }
+        Some([first, a2t.tr_mul(&dk), third])
+    }
+
+    /// ∇Π(y) in the fibre's chart y·ρ(ε) (one dual pass).
+    fn potential_gradient<F: Fibre<M>, D: Scalar, const M: usize>(&self, y: &F::Point<D>) -> SVector<D, M>
+    where
+        S: SplitDensity<F, M>,
+    {
+        let seeded = SVector::<DualSVec<D, M>, M>::from_fn(|i, _| DualSVec::<D, M>::from_re(D::zero()).derivative(i));
+        let lifted = F::map(y, DualSVec::<D, M>::from_re);
+        self.density
+            .potential(&F::retract(&lifted, &seeded))
+            .eps
+            .unwrap_generic(Const::<M>, U1)
+    }
+}
+
+/// ∇f(x) over any scalar by one dual pass of M directions.
+fn scalar_gradient<D: Scalar, const M: usize>(
+    f: impl Fn(&SVector<DualSVec<D, M>, M>) -> DualSVec<D, M>,
+    x: &SVector<D, M>,
+) -> SVector<D, M> {
+    let seeded = SVector::<DualSVec<D, M>, M>::from_fn(|i, _| DualSVec::<D, M>::from_re(x[i]).derivative(i));
+    f(&seeded).eps.unwrap_generic(Const::<M>, U1)
+}
+
 /// f(x) and ∇f(x) by one dual pass.
 fn gradient<const M: usize>(
     f: impl Fn(&SVector<DualSVec64<M>, M>) -> DualSVec64<M>,
@@ -224,6 +313,49 @@ where
             }
             Err(_) => D::from(f64::NAN),
         }
+    }
+    /// The exact gradients in closed form ([`SplitLagrangian::closed_gradients`]).
+    fn analytic_gradients(&self, _cell: &TopCell, y: &[F::Point<f64>], out: &mut [SVector<f64, M>]) -> bool {
+        if y.len() != 3 || out.len() < 3 {
+            return false;
+        }
+        match self.closed_gradients::<F, f64, M>(y) {
+            Some(g) => out[..3].copy_from_slice(&g),
+            None => out[..3].fill(SVector::from_element(f64::NAN)),
+        }
+        true
+    }
+    /// ∂ℒ/∂y_a and its derivative in y_b by one first-order dual pass of
+    /// M directions over the closed-form gradients, y_b·exp(ζ) seeded.
+    fn analytic_block(
+        &self,
+        _cell: &TopCell,
+        y: &[F::Point<f64>],
+        a: usize,
+        b: usize,
+    ) -> Option<(SVector<f64, M>, SMatrix<f64, M, M>)> {
+        if y.len() != 3 || a > 2 || b > 2 {
+            return None;
+        }
+        let seeds = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(0.0).derivative(i));
+        let values: [F::Point<DualSVec64<M>>; 3] = std::array::from_fn(|l| {
+            if l == b {
+                F::retract_seeded(&y[l], &seeds)
+            } else {
+                F::lift(&y[l])
+            }
+        });
+        let Some(g) = self.closed_gradients::<F, DualSVec64<M>, M>(&values) else {
+            return Some((
+                SVector::from_element(f64::NAN),
+                SMatrix::from_element(f64::NAN),
+            ));
+        };
+        let ga = &g[a];
+        Some((
+            ga.map(|x| x.re),
+            SMatrix::from_fn(|i, j| ga[i].eps.unwrap_generic(Const::<M>, U1)[j]),
+        ))
     }
     fn depends(&self, _cell: &TopCell, l: usize, k: usize) -> bool {
         !matches!((l, k), (1, 2) | (2, 1))
@@ -277,6 +409,9 @@ impl<const M: usize> DiagonalQuadratic<M> {
 }
 
 impl<F: Fibre<M>, const M: usize> SplitDensity<F, M> for DiagonalQuadratic<M> {
+    fn has_potential(&self) -> bool {
+        false
+    }
     fn kinetic<D: Scalar>(&self, xi: &SVector<D, M>) -> D {
         Self::quadratic(&self.inertia, xi, &[0.0; M])
     }

@@ -32,7 +32,9 @@ use std::sync::Arc;
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, force_block, mixed_block, vertex_force, vertex_gradient};
+use super::cell::{
+    DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, force_block, mixed_block, vertex_force, vertex_gradient,
+};
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
 use super::fibre::Fibre;
 pub use super::legendre::{CauchyOptions, LevelReport};
@@ -497,12 +499,7 @@ where
                     jac += block;
                     g
                 } else {
-                    let mut exact = [SVector::zeros(); MAX_LATTICE_DIMENSION + 1];
-                    if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n]) {
-                        exact[0]
-                    } else {
-                        vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], 0).1
-                    }
+                    exact_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], 0)
                 };
                 leg += g;
                 scale += g.amax();

@@ -84,6 +84,9 @@ impl SplitDensity<RigidMotions, 6> for BeamDensity {
         let m = self.mass_per_length();
         -(r[0] * self.gravity[0] + r[1] * self.gravity[1] + r[2] * self.gravity[2]) * m
     }
+    fn has_potential(&self) -> bool {
+        self.gravity.iter().any(|&g| g != 0.0)
+    }
     fn is_damped(&self) -> bool {
         self.damping.iter().any(|&c| c > 0.0)
     }
