@@ -154,7 +154,10 @@ fn closed_form_gradients_match_the_dual_pass<R: Retraction<6, Family = veselov::
         }
     }
     assert!(worst <= 1e-13, "closed form vs dual pass: {worst:.1e}");
-    assert!(worst_block <= 1e-13, "closed-form blocks vs nested duals: {worst_block:.1e}");
+    assert!(
+        worst_block <= 1e-13,
+        "closed-form blocks vs nested duals: {worst_block:.1e}"
+    );
     // Central differences: O(h²) ≈ 1e-12 truncation plus ε/h ≈ 1e-10 round-off.
     assert!(worst_fd <= 1e-8, "blocks vs central differences: {worst_fd:.1e}");
 }
@@ -188,7 +191,10 @@ fn closed_form_gradients_are_the_dual_pass_gradients() {
     ));
     for (l, g) in exact.iter().enumerate() {
         let reference = vertex_gradient::<Euclidean<2>, _, 2>(&lag, &cell, &y, l).1;
-        assert!((g - reference).amax() <= 1e-14 * reference.amax().max(1.0), "position {l}");
+        assert!(
+            (g - reference).amax() <= 1e-14 * reference.amax().max(1.0),
+            "position {l}"
+        );
     }
 }
 

@@ -96,7 +96,9 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// `gradients[σ(n + 1) + l]` — position 0 and the cells outside the
     /// action zero, as the marcher stores them — and say so in
     /// [`SolvedVertex::gradients_written`]; the marcher then skips its own
-    /// evaluation of them.
+    /// evaluation of them. They must be the bits the marcher's own evaluation
+    /// would give from the stored value z (a march restored from a
+    /// checkpoint recomputes them so).
     fn solve_last_vertex(
         &self,
         _star: &VertexStar<'_, F::Point<f64>>,
@@ -166,7 +168,7 @@ const SMALL_CELL: usize = 4;
 
 /// Calls `f` on the `k` values `value(0) … value(k − 1)` held in a stack
 /// array just large enough for common cells.
-fn with_values<P: Copy, R>(k: usize, value: impl Fn(usize) -> P, f: impl FnOnce(&[P]) -> R) -> R {
+pub(crate) fn with_values<P: Copy, R>(k: usize, value: impl Fn(usize) -> P, f: impl FnOnce(&[P]) -> R) -> R {
     debug_assert!((1..=MAX_CELL_VERTICES).contains(&k));
     if k <= SMALL_CELL {
         let v: [P; SMALL_CELL] = std::array::from_fn(|i| value(i.min(k - 1)));
@@ -215,9 +217,17 @@ where
     F: Fibre<M>,
     L: DiscreteLagrangian<F, M> + ?Sized,
 {
-    let mut exact = [SVector::zeros(); MAX_CELL_VERTICES];
-    if y.len() <= MAX_CELL_VERTICES && lag.analytic_gradients(cell, y, &mut exact[..y.len()]) {
-        return exact[l];
+    let k = y.len();
+    if k <= SMALL_CELL {
+        let mut out = [SVector::zeros(); SMALL_CELL];
+        if lag.analytic_gradients(cell, y, &mut out[..k]) {
+            return out[l];
+        }
+    } else if k <= MAX_CELL_VERTICES {
+        let mut out = [SVector::zeros(); MAX_CELL_VERTICES];
+        if lag.analytic_gradients(cell, y, &mut out[..k]) {
+            return out[l];
+        }
     }
     vertex_gradient::<F, L, M>(lag, cell, y, l).1
 }

@@ -19,7 +19,9 @@
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, force_block, mixed_block, vertex_force};
+use super::cell::{
+    DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, force_block, mixed_block, vertex_force, with_values,
+};
 use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre_from};
@@ -175,16 +177,21 @@ where
         for e in star {
             let k = self.complex.cell_vertices(e.cell, &mut verts);
             if contains(&verts[..k]).is_none() {
-                let y: [F::Point<f64>; MAX_CELL_VERTICES] = std::array::from_fn(|l| self.values[verts[l.min(k - 1)]]);
                 let cell = self.complex.cell(e.cell);
-                let g = exact_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position);
-                mu -= g;
-                mu_scale += g.amax();
-                if self.lag.has_forces() {
-                    let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..k], e.position);
-                    mu -= f;
-                    mu_scale += f.amax();
-                }
+                with_values(
+                    k,
+                    |l| self.values[verts[l]],
+                    |y| {
+                        let g = exact_gradient::<F, L, M>(&self.lag, &cell, y, e.position);
+                        mu -= g;
+                        mu_scale += g.amax();
+                        if self.lag.has_forces() {
+                            let f = vertex_force::<F, L, M>(&self.lag, &cell, y, e.position);
+                            mu -= f;
+                            mu_scale += f.amax();
+                        }
+                    },
+                );
             }
         }
         let legendre = |z: &F::Point<f64>, with_jacobian: bool| {
@@ -195,25 +202,29 @@ where
             for e in star {
                 let k = self.complex.cell_vertices(e.cell, &mut verts);
                 if let Some(pos) = contains(&verts[..k]) {
-                    let y: [F::Point<f64>; MAX_CELL_VERTICES] =
-                        std::array::from_fn(|l| if l == pos { *z } else { self.values[verts[l.min(k - 1)]] });
                     let cell = self.complex.cell(e.cell);
-                    // The Jacobian (nested duals) only when Newton asks for it.
-                    let g = if with_jacobian {
-                        let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..k], e.position, pos);
-                        jac += block;
-                        g
-                    } else {
-                        exact_gradient::<F, L, M>(&self.lag, &cell, &y[..k], e.position)
-                    };
-                    leg += g;
-                    scale += g.amax();
-                    if self.lag.has_forces() {
-                        let (f, block) = force_block::<F, L, M>(&self.lag, &cell, &y[..k], e.position, pos);
-                        leg += f;
-                        jac += block;
-                        scale += f.amax();
-                    }
+                    with_values(
+                        k,
+                        |l| if l == pos { *z } else { self.values[verts[l]] },
+                        |y| {
+                            // The Jacobian block only when Newton asks for it.
+                            let g = if with_jacobian {
+                                let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, y, e.position, pos);
+                                jac += block;
+                                g
+                            } else {
+                                exact_gradient::<F, L, M>(&self.lag, &cell, y, e.position)
+                            };
+                            leg += g;
+                            scale += g.amax();
+                            if self.lag.has_forces() {
+                                let (f, block) = force_block::<F, L, M>(&self.lag, &cell, y, e.position, pos);
+                                leg += f;
+                                jac += block;
+                                scale += f.amax();
+                            }
+                        },
+                    );
                 }
             }
             (leg, with_jacobian.then_some(jac), scale)

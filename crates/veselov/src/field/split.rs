@@ -244,7 +244,10 @@ impl<I, S> SplitLagrangian<I, S> {
     /// * ∂ℒ/∂y₃ = −ΔtA₂,ₛᵀ∇Φ − ½ΔsΔt∇Π(y₃)
     ///
     /// `None` at the cut locus.
-    pub fn closed_gradients<F: Fibre<M>, D: Scalar, const M: usize>(&self, y: &[F::Point<D>]) -> Option<[SVector<D, M>; 3]>
+    pub fn closed_gradients<F: Fibre<M>, D: Scalar, const M: usize>(
+        &self,
+        y: &[F::Point<D>],
+    ) -> Option<[SVector<D, M>; 3]>
     where
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
@@ -346,10 +349,7 @@ where
             }
         });
         let Some(g) = self.closed_gradients::<F, DualSVec64<M>, M>(&values) else {
-            return Some((
-                SVector::from_element(f64::NAN),
-                SMatrix::from_element(f64::NAN),
-            ));
+            return Some((SVector::from_element(f64::NAN), SMatrix::from_element(f64::NAN)));
         };
         let ga = &g[a];
         Some((

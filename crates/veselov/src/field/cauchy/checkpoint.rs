@@ -9,7 +9,9 @@ use crate::{Error, Result};
 /// A checkpoint of a march: the level and the 2n known levels above the
 /// cut, each value by its coordinates ([`Fibre::write`], read back exactly
 /// by [`Fibre::read`]); the cell gradients are recomputed from them by the
-/// same code as during the march, so the restored march continues bit for
+/// same operations as during the march (a model's own vertex solve that
+/// writes them, [`DiscreteLagrangian::solve_last_vertex`], must compute them
+/// from the stored values too), so the restored march continues bit for
 /// bit. Dirichlet data are part of the set-up, not of the checkpoint.
 impl<F, L, const M: usize> Checkpoint for CauchyMarcher<F, L, M>
 where

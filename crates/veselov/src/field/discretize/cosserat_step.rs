@@ -276,9 +276,15 @@ pub(crate) fn split_solve<P: RodPotential>(
                 return fail(Failure::CutLocus, outcome);
             }
             let rotation = y0.rotation.compose(&so3::exp(&b));
+            let value = PositionRotation::renormalize(&Pose::new(r2, rotation));
+            // The gradients from the stored value, as the marcher computes
+            // them from values (a resumed march recomputes them so).
+            let Ok(b) = Rotations::log(&y0.rotation, &value.rotation) else {
+                return fail(Failure::CutLocus, outcome);
+            };
             write_gradients(lag, cells, s0, &y0, &r2, &b, gradients);
             return SolvedVertex {
-                value: PositionRotation::renormalize(&Pose::new(r2, rotation)),
+                value,
                 outcome,
                 gradients_written: true,
             };
@@ -302,7 +308,9 @@ pub(crate) fn split_solve<P: RodPotential>(
 }
 
 /// The solved cells' gradients at positions 1 and 2 with the top
-/// (r₂, R₀ exp(b̂)), into the marcher's layout (zero elsewhere).
+/// (r₂, R₀ exp(b̂)), into the marcher's layout (zero elsewhere): the same
+/// operations as [`CosseratCell::gradients`] on those values, so the same
+/// bits.
 fn write_gradients<P: RodPotential>(
     lag: &CosseratCell<P>,
     cells: &[StarCell],
@@ -313,7 +321,7 @@ fn write_gradients<P: RodPotential>(
     gradients: &mut [SVector<f64, 6>],
 ) {
     gradients.fill(SVector::zeros());
-    let db = dlog_matrix(b, series::dlog_and_derivative(b.norm_squared()).0);
+    let db = so3::dexp_inv(&(-b));
     let top = Pose::new(*r2, y0.rotation);
     for c in cells {
         let q = lag.quantities(c.sigma, s0, [y0, &c.y1, &top], c.arm.a, *b);
