@@ -1,6 +1,8 @@
 //! The SE(3) beam on seed 000's lattice: nanoseconds per node update (one
-//! 6-D Newton solve of the core's flow marcher; its nested-dual Jacobian
-//! through the Cayley map is kept from the node's previous level while it
+//! 6-D Newton solve of the core's flow marcher on the closed-form gradients
+//! of the split Lagrangian through the Cayley map; its exact Jacobian, one
+//! first-order dual pass over those gradients, is kept from the node's
+//! previous level while it
 //! contracts) for time evolution (a free–free beam, A = 16
 //! space cells: 16 updates per level, the slaved node included) and space
 //! evolution (zero momentum, N = 16 time cells: 16 updates per column).

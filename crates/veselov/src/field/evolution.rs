@@ -289,8 +289,7 @@ where
         };
         // Starting guesses: the linear extrapolation y_ℓ·τ(log(y_{ℓ−1}, y_ℓ)).
         for c in 0..=cross {
-            let (y0, y1) = (self.value(1, c), self.value(0, c));
-            let guess = F::log(&y0, &y1).map_or(y1, |x| F::retract(&y1, &x));
+            let guess = F::extrapolate(&self.value(1, c), &self.value(0, c));
             let v = self.vertex(2, c);
             self.marcher.set(v, guess, false);
         }

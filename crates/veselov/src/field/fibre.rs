@@ -215,6 +215,10 @@ impl Fibre<6> for RigidMotions {
     fn log<D: Scalar>(y: &SE3<D>, z: &SE3<D>) -> Result<SVector<D, 6>, LieError> {
         se3::log(&y.inverse().compose(z))
     }
+    /// g_y g_x⁻¹ g_y = g_y exp(log(g_x⁻¹g_y)).
+    fn extrapolate(x: &SE3<f64>, y: &SE3<f64>) -> SE3<f64> {
+        y.compose(&x.inverse().compose(y))
+    }
     fn renormalize(y: &SE3<f64>) -> SE3<f64> {
         SE3::new(Rotations::renormalize(y.rotation()), *y.translation())
     }
@@ -330,6 +334,11 @@ mod tests {
         assert!((chart.rotation.matrix() - group.rotation.matrix()).amax() < 1e-14);
         let r = Rotations::extrapolate(&x.rotation, &y.rotation);
         assert_eq!(r.matrix(), group.rotation.matrix());
+        let (gx, gy) = (SE3::new(x.rotation, x.position), SE3::new(y.rotation, y.position));
+        let chart = RigidMotions::retract(&gy, &RigidMotions::log(&gx, &gy).expect("inside the cut locus"));
+        let group = RigidMotions::extrapolate(&gx, &gy);
+        assert!((chart.rotation().matrix() - group.rotation().matrix()).amax() < 1e-14);
+        assert!((chart.translation() - group.translation()).amax() < 1e-14);
     }
 
     type Outer<const M: usize> = num_dual::DualSVec<num_dual::DualSVec64<M>, M>;

@@ -55,7 +55,7 @@ pub struct LevelReport {
 pub struct VertexOutcome {
     /// Newton iterations (Jacobian evaluations beyond the first residual).
     pub iterations: usize,
-    /// Jacobian evaluations (nested-dual passes).
+    /// Jacobian evaluations (exact: closed forms or dual passes).
     pub jacobians: usize,
     /// Final max|Leg_v − μ_v| relative to the size of the terms.
     pub relative_residual: f64,

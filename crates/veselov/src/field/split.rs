@@ -99,8 +99,10 @@ where
     /// In the charts g·exp(ε) of [`RigidMotions`], with d^Rτ the
     /// right-trivialised derivative ([`Retraction::dtau`]):
     /// exp(−ε₁)τ(x) = τ(x + δ) gives δ = −d^Rτ⁻¹_x ε₁, and τ(x)exp(ε₂) =
-    /// τ(x + δ) gives δ = d^Rτ⁻¹_x Ad_{τ(x)} ε₂ = d^Rτ⁻¹_{−x} ε₂ (for the
-    /// exponential and the Cayley map, Ad_{τ(x)} d^Rτ_{−x} = d^Rτ_x).
+    /// τ(x + δ) gives δ = d^Rτ⁻¹_x Ad_{τ(x)} ε₂ = d^Rτ⁻¹_{−x} ε₂: inverting
+    /// τ(x + εδ) = τ(ε d^Rτ_x δ)τ(x) gives Ad_{τ(x)} d^Rτ_{−x} = d^Rτ_x for
+    /// every retraction with τ(−x) = τ(x)⁻¹, as the exponential and the
+    /// Cayley map are.
     fn increment_derivatives<D: Scalar>(g1: &SE3<D>, g2: &SE3<D>) -> std::result::Result<Derivatives<D, 6>, LieError> {
         let x = R::tau_inv(&g1.inverse().compose(g2))?;
         Ok((x, -R::dtau_inv(&x), R::dtau_inv(&(-x))))
@@ -243,7 +245,7 @@ impl<I, S> SplitLagrangian<I, S> {
     /// * ∂ℒ/∂y₂ = ΔsA₂,ₜᵀ∇K
     /// * ∂ℒ/∂y₃ = −ΔtA₂,ₛᵀ∇Φ − ½ΔsΔt∇Π(y₃)
     ///
-    /// `None` at the cut locus.
+    /// `None` at the cut locus or unless `y` holds the triangle's three values.
     pub fn closed_gradients<F: Fibre<M>, D: Scalar, const M: usize>(
         &self,
         y: &[F::Point<D>],
@@ -252,6 +254,9 @@ impl<I, S> SplitLagrangian<I, S> {
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
     {
+        if y.len() != 3 {
+            return None;
+        }
         let (xt, a1t, a2t) = I::increment_derivatives(&y[0], &y[1]).ok()?;
         let (xs, a1s, a2s) = I::increment_derivatives(&y[0], &y[2]).ok()?;
         let (ds, dt) = (self.ds, self.dt);
