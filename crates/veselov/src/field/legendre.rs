@@ -185,7 +185,9 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
             outcome.failure = Some(Failure::NonFinite);
             return (z, outcome);
         }
-        if F::log(&z, &next).is_err() {
+        // A step with every coordinate below 1 rotates by at most √3 < π
+        // minus the margin: only a larger one can reach the cut locus.
+        if delta.amax() >= 1.0 && F::log(&z, &next).is_err() {
             outcome.failure = Some(Failure::CutLocus);
             return (z, outcome);
         }

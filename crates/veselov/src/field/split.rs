@@ -116,6 +116,14 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     fn kinetic<D: Scalar>(&self, xi: &SVector<D, M>) -> D;
     /// Φ(η).
     fn stored<D: Scalar>(&self, eta: &SVector<D, M>) -> D;
+    /// ∇K(ξ) (default: one dual pass over K).
+    fn kinetic_gradient<D: Scalar>(&self, xi: &SVector<D, M>) -> SVector<D, M> {
+        scalar_gradient(|x| self.kinetic(x), xi)
+    }
+    /// ∇Φ(η) (default: one dual pass over Φ).
+    fn stored_gradient<D: Scalar>(&self, eta: &SVector<D, M>) -> SVector<D, M> {
+        scalar_gradient(|x| self.stored(x), eta)
+    }
     /// Π(y) (default 0).
     fn potential<D: Scalar>(&self, _y: &F::Point<D>) -> D {
         D::zero()
@@ -228,8 +236,8 @@ impl<I, S> SplitLagrangian<I, S> {
         let Ok((xi, eta)) = self.jet::<F, f64, M>(y) else {
             return (f64::NAN, f64::NAN);
         };
-        let (k, dk) = gradient(|x| self.density.kinetic(x), &xi);
-        let (phi, dphi) = gradient(|x| self.density.stored(x), &eta);
+        let (k, dk) = (self.density.kinetic(&xi), self.density.kinetic_gradient(&xi));
+        let (phi, dphi) = (self.density.stored(&eta), self.density.stored_gradient(&eta));
         let pi = self.cell_potential::<F, f64, M>(y);
         (dk.dot(&xi) - k + phi + pi, -dphi.dot(&eta) - k + phi + pi)
     }
@@ -260,8 +268,14 @@ impl<I, S> SplitLagrangian<I, S> {
         let (xt, a1t, a2t) = I::increment_derivatives(&y[0], &y[1]).ok()?;
         let (xs, a1s, a2s) = I::increment_derivatives(&y[0], &y[2]).ok()?;
         let (ds, dt) = (self.ds, self.dt);
-        let dk = scalar_gradient(|x| self.density.kinetic(x), &xt.map(|v| v * (1.0 / dt))).map(|v| v * ds);
-        let dphi = scalar_gradient(|x| self.density.stored(x), &xs.map(|v| v * (1.0 / ds))).map(|v| v * dt);
+        let dk = self
+            .density
+            .kinetic_gradient(&xt.map(|v| v * (1.0 / dt)))
+            .map(|v| v * ds);
+        let dphi = self
+            .density
+            .stored_gradient(&xs.map(|v| v * (1.0 / ds)))
+            .map(|v| v * dt);
         let mut first = a1t.tr_mul(&dk) - a1s.tr_mul(&dphi);
         let mut third = -a2s.tr_mul(&dphi);
         if self.density.has_potential() {
@@ -293,16 +307,6 @@ fn scalar_gradient<D: Scalar, const M: usize>(
 ) -> SVector<D, M> {
     let seeded = SVector::<DualSVec<D, M>, M>::from_fn(|i, _| DualSVec::<D, M>::from_re(x[i]).derivative(i));
     f(&seeded).eps.unwrap_generic(Const::<M>, U1)
-}
-
-/// f(x) and ∇f(x) by one dual pass.
-fn gradient<const M: usize>(
-    f: impl Fn(&SVector<DualSVec64<M>, M>) -> DualSVec64<M>,
-    x: &SVector<f64, M>,
-) -> (f64, SVector<f64, M>) {
-    let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
-    let v = f(&seeded);
-    (v.re, v.eps.unwrap_generic(Const::<M>, U1))
 }
 
 impl<F, I, S, const M: usize> DiscreteLagrangian<F, M> for SplitLagrangian<I, S>
@@ -402,6 +406,11 @@ pub struct DiagonalQuadratic<const M: usize> {
 }
 
 impl<const M: usize> DiagonalQuadratic<M> {
+    /// Its gradient (wₖ(xₖ − rₖ))ₖ.
+    pub fn quadratic_gradient<D: Scalar>(w: &[f64; M], x: &SVector<D, M>, r: &[f64; M]) -> SVector<D, M> {
+        SVector::from_fn(|k, _| (x[k] - r[k]) * w[k])
+    }
+
     /// ½ Σ wₖ(xₖ − rₖ)².
     pub fn quadratic<D: Scalar>(w: &[f64; M], x: &SVector<D, M>, r: &[f64; M]) -> D {
         let mut sum = D::zero();
@@ -422,5 +431,11 @@ impl<F: Fibre<M>, const M: usize> SplitDensity<F, M> for DiagonalQuadratic<M> {
     }
     fn stored<D: Scalar>(&self, eta: &SVector<D, M>) -> D {
         Self::quadratic(&self.stiffness, eta, &self.reference)
+    }
+    fn kinetic_gradient<D: Scalar>(&self, xi: &SVector<D, M>) -> SVector<D, M> {
+        Self::quadratic_gradient(&self.inertia, xi, &[0.0; M])
+    }
+    fn stored_gradient<D: Scalar>(&self, eta: &SVector<D, M>) -> SVector<D, M> {
+        Self::quadratic_gradient(&self.stiffness, eta, &self.reference)
     }
 }

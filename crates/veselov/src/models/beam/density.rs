@@ -78,6 +78,12 @@ impl SplitDensity<RigidMotions, 6> for BeamDensity {
     fn stored<D: Scalar>(&self, eta: &SVector<D, 6>) -> D {
         quadratic(&self.properties.stiffness, eta, &E6)
     }
+    fn kinetic_gradient<D: Scalar>(&self, xi: &SVector<D, 6>) -> SVector<D, 6> {
+        DiagonalQuadratic::<6>::quadratic_gradient(&self.properties.inertia, xi, &[0.0; 6])
+    }
+    fn stored_gradient<D: Scalar>(&self, eta: &SVector<D, 6>) -> SVector<D, 6> {
+        DiagonalQuadratic::<6>::quadratic_gradient(&self.properties.stiffness, eta, &E6)
+    }
     #[inline]
     fn potential<D: Scalar>(&self, g: &SE3<D>) -> D {
         let r = g.translation();
