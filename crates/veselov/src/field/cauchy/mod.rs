@@ -54,11 +54,18 @@ type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f
 const PARALLEL_CHUNK: usize = 128;
 
 /// The work one thread takes at least in later levels: the chunk is sized
-/// from the previous level's measured cost per vertex so that it holds about
-/// this much (waking a thread costs a few µs). Chunking decides only who
-/// solves which vertex, never what is computed: results stay bit-identical
-/// for every thread count.
+/// from the cost per vertex measured on the last level solved on one thread
+/// so that it holds about this much. Chunking decides only who solves which
+/// vertex, never what is computed: results stay bit-identical for every
+/// thread count.
 const CHUNK_WORK_NS: f64 = 20_000.0;
+
+/// The least work of a level solved in parallel. Handing work to pool
+/// threads that went to sleep while the run did other things between levels
+/// (diagnostics, output) costs tens of µs per level: a 41-node loaded rod
+/// (about 50 µs per level) ran 30 % slower on two threads than on one when
+/// its levels were split.
+const PARALLEL_LEVEL_NS: f64 = 150_000.0;
 
 /// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
 pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
@@ -533,7 +540,7 @@ where
         let mut next_grads = std::mem::take(&mut self.next_grads);
         let mut outcomes = std::mem::take(&mut self.outcomes);
         let started = std::time::Instant::now();
-        let threads = rayon::current_num_threads();
+        let parallel = rayon::current_num_threads() > 1 && size > self.chunk;
         {
             let this = &*self;
             let solve = |(i, ((value, grads), outcome)): VertexSlot<'_, F::Point<f64>, M>| {
@@ -544,7 +551,7 @@ where
                     this.cell_gradients(w, i, Some(z), grads);
                 }
             };
-            if threads > 1 && size > self.chunk {
+            if parallel {
                 next_values
                     .par_iter_mut()
                     .zip(next_grads.par_chunks_mut(per_vertex))
@@ -562,12 +569,16 @@ where
                     .for_each(solve);
             }
         }
-        // The level's work: its wall time times the threads that shared it.
-        let chunks = size.div_ceil(self.chunk.max(1));
-        let sharing = threads.min(chunks).max(1);
-        let vertex_ns = started.elapsed().as_nanos() as f64 * sharing as f64 / size.max(1) as f64;
-        if vertex_ns > 0.0 {
-            self.chunk = ((CHUNK_WORK_NS / vertex_ns).ceil() as usize).clamp(1, size.max(1));
+        // The cost per vertex, measured on a level solved on this thread
+        // alone (a parallel level's wall time also holds the hand-over to
+        // the pool, which would shrink the chunks and feed on itself).
+        let vertex_ns = started.elapsed().as_nanos() as f64 / size.max(1) as f64;
+        if !parallel && vertex_ns > 0.0 {
+            self.chunk = if vertex_ns * (size as f64) < PARALLEL_LEVEL_NS {
+                size.max(1)
+            } else {
+                ((CHUNK_WORK_NS / vertex_ns).ceil() as usize).clamp(1, size.max(1))
+            };
         }
         let failure = outcomes
             .iter()
