@@ -25,9 +25,9 @@ use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
 
 use crate::beam::{BeamSetup, BeamStart};
 use crate::error::CliError;
-use crate::output::{Table, write_json};
+use crate::output::Table;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, summary, words_error};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, words_error};
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, output_dir};
 
@@ -443,15 +443,15 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         "energy_max": obs.energy_range[1],
     });
     let t_final = level as f64 * step_length;
-    let value = summary::common(
+    crate::pipeline::finish::write_summary(
+        &dir,
         &outcome.status,
         outcome.last_step,
         t_final,
         session.wall_seconds(),
         outcome.iterations,
         own,
-    );
-    write_json(&dir.join("summary.json"), &value)?;
+    )?;
     if let Some(e) = obs.error.take() {
         return Err(e);
     }
@@ -467,11 +467,7 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
             dir.display()
         );
     }
-    match outcome.status {
-        Status::Failed(error) => Err(CliError::Run { error, dir }),
-        Status::Interrupted => Err(CliError::Interrupted { dir }),
-        _ => Ok(()),
-    }
+    crate::pipeline::finish::conclude(outcome.status, &dir)
 }
 
 /// Centreline snapshots (positions of the frames), the centreline animation

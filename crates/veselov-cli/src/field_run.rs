@@ -16,11 +16,11 @@ use veselov::run::{Checkpoint, Control, Observer, Outcome, Status, StepStats, St
 use crate::error::CliError;
 use crate::field::LoadedField;
 use crate::figures::{FieldView, draw_field};
-use crate::output::{Table, write_json};
+use crate::output::Table;
 use crate::pipeline::readback::{MAX_PLOT_SNAPSHOTS, rows_for_plots, table_for_plots};
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
 use crate::pipeline::table::{Acc, Tracker};
-use crate::pipeline::{Resumable, Session, restore, summary, words_error};
+use crate::pipeline::{Resumable, Session, restore, words_error};
 
 /// Measures the newest level pair of a state: (energy, charge).
 type Measure<'a, S> = Box<dyn Fn(&S) -> (f64, Option<f64>) + 'a>;
@@ -358,8 +358,7 @@ fn close<S>(
         "recentred_by": info.recentred_by,
     });
     let steps = levels.saturating_sub(1) as u64;
-    let value = summary::common(&status, steps, t_final, session.wall_seconds(), iterations, own);
-    write_json(&dir.join("summary.json"), &value)?;
+    crate::pipeline::finish::write_summary(dir, &status, steps, t_final, session.wall_seconds(), iterations, own)?;
     if let Some(e) = obs.error.take() {
         return Err(e);
     }
@@ -386,14 +385,7 @@ fn close<S>(
             dir.display()
         );
     }
-    match status {
-        Status::Failed(error) => Err(CliError::Run {
-            error,
-            dir: dir.clone(),
-        }),
-        Status::Interrupted => Err(CliError::Interrupted { dir: dir.clone() }),
-        _ => Ok(()),
-    }
+    crate::pipeline::finish::conclude(status, dir)
 }
 
 /// The figures of a 1+1 lattice run of `model` (`components` values per

@@ -35,10 +35,10 @@ use veselov::models::rod::{EndCondition, angular_momentum, energy, linear_moment
 use veselov::run::{Checkpoint, Control, Observer, Status, StepStats, StopWhen, Words};
 
 use crate::error::CliError;
-use crate::output::{Table, write_json};
+use crate::output::Table;
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, summary, words_error};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, words_error};
 use crate::rod::RodSetup;
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, output_dir};
@@ -504,15 +504,15 @@ where
         "linear_momentum_balance_error": if free { json!(obs.balance_error[0]) } else { json!(null) },
         "angular_momentum_balance_error": if free { json!(obs.balance_error[1]) } else { json!(null) },
     });
-    let value = summary::common(
+    crate::pipeline::finish::write_summary(
+        &dir,
         &outcome.status,
         outcome.last_step,
         t_final,
         session.wall_seconds(),
         outcome.iterations,
         own,
-    );
-    write_json(&dir.join("summary.json"), &value)?;
+    )?;
     if let Some(e) = obs.error.take() {
         return Err(e);
     }
@@ -535,11 +535,7 @@ where
             dir.display()
         );
     }
-    match outcome.status {
-        Status::Failed(error) => Err(CliError::Run { error, dir }),
-        Status::Interrupted => Err(CliError::Interrupted { dir }),
-        _ => Ok(()),
-    }
+    crate::pipeline::finish::conclude(outcome.status, &dir)
 }
 
 /// Centreline snapshots (x–z and y–z), the centreline animation

@@ -50,10 +50,10 @@ use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
 
 use crate::error::CliError;
 use crate::field::{FieldModelSpec, FieldTimeSpec};
-use crate::output::{Table, write_json};
+use crate::output::Table;
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, summary, words_error};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, words_error};
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, check_plot_format, finite_value, key_error, output_dir, parse_toml, positive_value};
 
@@ -506,15 +506,15 @@ where
             None => json!({}),
         },
     });
-    let value = summary::common(
+    crate::pipeline::finish::write_summary(
+        &dir,
         &outcome.status,
         outcome.last_step,
         t_final,
         session.wall_seconds(),
         outcome.iterations,
         own,
-    );
-    write_json(&dir.join("summary.json"), &value)?;
+    )?;
     if let Some(e) = obs.error.take() {
         return Err(e);
     }
@@ -539,11 +539,7 @@ where
             dir.display()
         );
     }
-    match outcome.status {
-        Status::Failed(error) => Err(CliError::Run { error, dir }),
-        Status::Interrupted => Err(CliError::Interrupted { dir }),
-        _ => Ok(()),
-    }
+    crate::pipeline::finish::conclude(outcome.status, &dir)
 }
 
 /// Values per vertex of the field of `model`: 2 for the complex

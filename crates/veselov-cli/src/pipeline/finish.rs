@@ -125,12 +125,33 @@ pub fn finish<S: Clone>(
     if !session.quiet {
         println!("{}; outputs in {}", report(&table), dir.display());
     }
+    conclude(status, dir)
+}
+
+/// Writes `dir/summary.json`: the common keys of a run that ended with
+/// `status` after `steps` steps at `t_final`, then the kind's own keys.
+pub fn write_summary(
+    dir: &Path,
+    status: &Status,
+    steps: u64,
+    t_final: f64,
+    wall_seconds: f64,
+    iterations: u64,
+    own: serde_json::Value,
+) -> Result<(), CliError> {
+    let value = super::summary::common(status, steps, t_final, wall_seconds, iterations, own);
+    write_json(&dir.join("summary.json"), &value)
+}
+
+/// The command's result for a run that ended with `status`, its outputs in
+/// `dir`: `Ok`, or the run's failure or interruption.
+pub fn conclude(status: Status, dir: &Path) -> Result<(), CliError> {
     match status {
         Status::Failed(error) => Err(CliError::Run {
             error,
-            dir: dir.clone(),
+            dir: dir.to_path_buf(),
         }),
-        Status::Interrupted => Err(CliError::Interrupted { dir: dir.clone() }),
+        Status::Interrupted => Err(CliError::Interrupted { dir: dir.to_path_buf() }),
         _ => Ok(()),
     }
 }
