@@ -84,8 +84,10 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// Σ_σ (∂L_{(v,σ)}/∂y_v + F⁰_{(v,σ)})(y_v, …, z) = μ over the cells
     /// (v, σ) based at v, whose last vertex is z. `star(σ, out)` writes the
     /// values of cell σ (the last one a placeholder) into `out` and returns
-    /// the cell, or `None` when the cell is not part of the action; `start`
-    /// is the extrapolated first guess, `mu_scale` the size of μ's terms.
+    /// the cell, or `None` when the cell is not part of the action;
+    /// `previous` is the value one flow step back, y_{v−Δ} (the generic
+    /// first guess is [`Fibre::extrapolate`]`(previous, y_v)`; a model may
+    /// take a cheaper one of its own), `mu_scale` the size of μ's terms.
     /// Returns `None` (default) to use the generic Newton in the fibre's
     /// chart ([`solve_legendre`](super::legendre::solve_legendre)), which
     /// stays the reference; an implementation must solve the same equations
@@ -104,7 +106,7 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         _star: &VertexStar<'_, F::Point<f64>>,
         _mu: &SVector<f64, M>,
         _mu_scale: f64,
-        _start: &F::Point<f64>,
+        _previous: &F::Point<f64>,
         _options: &CauchyOptions,
         _gradients: &mut [SVector<f64, M>],
     ) -> Option<SolvedVertex<F::Point<f64>>> {
@@ -115,7 +117,8 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
 /// A vertex solved by [`DiscreteLagrangian::solve_last_vertex`].
 #[derive(Clone, Copy, Debug)]
 pub struct SolvedVertex<P> {
-    /// The last vertex's value z (the start value on failure).
+    /// The last vertex's value z (unspecified on failure: the marcher
+    /// then keeps its state).
     pub value: P,
     /// The solve's outcome.
     pub outcome: VertexOutcome,

@@ -48,14 +48,11 @@ mod momentum;
 /// value, its cells' gradients and its outcome.
 type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f64, M>]), &'a mut VertexOutcome));
 
-/// The fewest vertices one thread takes in the first level: below about
-/// this many vertices of a few µs each (the rod) the cost of waking a
-/// second thread exceeds the work it takes over.
-const PARALLEL_CHUNK: usize = 128;
-
-/// The work one thread takes at least in later levels: the chunk is sized
-/// from the cost per vertex measured on the last level solved on one thread
-/// so that it holds about this much. Chunking decides only who solves which
+/// The work one thread takes at least: the chunk is sized from the cost per
+/// vertex measured on the last level solved on one thread so that it holds
+/// about this much. The first level is always solved on the calling thread
+/// (a level solved in parallel is never measured: if the first one were,
+/// the chunk would keep its first guess for the whole march). Chunking decides only who solves which
 /// vertex, never what is computed: results stay bit-identical for every
 /// thread count.
 const CHUNK_WORK_NS: f64 = 20_000.0;
@@ -240,7 +237,7 @@ where
             next_values: vec![data[0][0]; size],
             next_grads: vec![SVector::zeros(); size * per_vertex],
             outcomes: vec![VertexOutcome::default(); size],
-            chunk: PARALLEL_CHUNK,
+            chunk: usize::MAX,
             lag,
             torus,
             options,
@@ -478,8 +475,7 @@ where
             }
         }
         let (mu, mu_scale) = self.momentum(w, i);
-        let yv = self.value(w, i);
-        let z = F::extrapolate(&self.value(w - n as i64, self.down(i, 0, n)), &yv);
+        let previous = self.value(w - n as i64, self.down(i, 0, n));
         let star = |sigma: usize, out: &mut [F::Point<f64>]| {
             if sigma >= self.perms.len() || !self.cell_active(w, i, sigma) {
                 return None;
@@ -488,10 +484,11 @@ where
         };
         if let Some(solved) = self
             .lag
-            .solve_last_vertex(&star, &mu, mu_scale, &z, &self.options, grads)
+            .solve_last_vertex(&star, &mu, mu_scale, &previous, &self.options, grads)
         {
             return (solved.value, solved.outcome, solved.gradients_written);
         }
+        let z = F::extrapolate(&previous, &self.value(w, i));
         let (z, outcome) = solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, with_jacobian| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();

@@ -16,7 +16,7 @@ use super::error::CellError;
 use super::rod_potential::{NoPotential, RodPotential, nearest_point};
 use super::smooth::SmoothDensity;
 use super::suitability::{CellCheck, check_rotations};
-use crate::ad::{Scalar, const_mat3_vec};
+use crate::ad::{Scalar, const_mat3_vec, mat3_vec};
 use crate::error::Result;
 use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexStar};
 use crate::field::complex::TopCell;
@@ -429,7 +429,7 @@ impl<P: RodPotential> CosseratCell<P> {
     ) -> Vector3<f64> {
         let p = self.parameters_at(s0);
         let grad_p = self.density.potential.gradient(s0, &y0.position);
-        -v * (p.rho * self.ds / 4.0) + y0.rotation.matrix() * p.c1 * eps * (sigma * self.dt / 4.0)
+        -v * (p.rho * self.ds / 4.0) + mat3_vec(y0.rotation.matrix(), &(p.c1 * eps)) * (sigma * self.dt / 4.0)
             - grad_p * (self.ds * self.dt / 8.0)
     }
 
@@ -441,7 +441,7 @@ impl<P: RodPotential> CosseratCell<P> {
         g: &Vector3<f64>,
         eps: &Vector3<f64>,
     ) -> Vector3<f64> {
-        so3::hat(&(r0.transpose() * g)) * self.parameters_at(s0).c1 * eps * self.area()
+        (r0.transpose() * g).cross(&(self.parameters_at(s0).c1 * eps)) * self.area()
     }
 
     /// g = (2r₁ − r₀ − r₂)/(σΔs) and ε = R₀ᵀg − e of Prop. 6.5.
@@ -627,12 +627,12 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
         star: &VertexStar<'_, Pose<f64>>,
         mu: &SVector<f64, 6>,
         mu_scale: f64,
-        start: &Pose<f64>,
+        previous: &Pose<f64>,
         options: &CauchyOptions,
         gradients: &mut [SVector<f64, 6>],
     ) -> Option<SolvedVertex<Pose<f64>>> {
         self.analytic
-            .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, start, options, gradients))
+            .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, previous, options, gradients))
     }
 }
 

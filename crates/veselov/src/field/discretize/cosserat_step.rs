@@ -24,6 +24,7 @@ use nalgebra::{Matrix3, SVector, Vector3};
 
 use super::cosserat::{CosseratCell, RodParameters};
 use super::rod_potential::RodPotential;
+use crate::ad::{mat3_mul, mat3_vec};
 use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
@@ -82,7 +83,7 @@ impl RotationEquation {
         Self {
             linear: (p.c2() * kappa - p.inertia() * lambda) * n,
             offset: p.c2() * a_sum * (-2.0 * kappa),
-            slope: da_sum * p.c2() * (-2.0 * kappa) - Matrix3::identity() * (n * damping),
+            slope: mat3_mul(&da_sum, p.c2()) * (-2.0 * kappa) - Matrix3::identity() * (n * damping),
             constant: constant * (4.0 * kappa),
         }
     }
@@ -104,7 +105,7 @@ impl RotationEquation {
         let d_dlog = -so3::hat(&x) * 0.5
             + (Matrix3::identity() * bx + b * x.transpose() - x * b.transpose() * 2.0) * k
             + b2x * b.transpose() * (2.0 * dk);
-        (value, db * self.linear + d_dlog + self.slope, db)
+        (value, mat3_mul(&db, &self.linear) + d_dlog + self.slope, db)
     }
 }
 
@@ -119,7 +120,10 @@ struct StarCell {
 }
 
 /// Solves the vertex equation of the rod by the split step (see the module
-/// documentation), from `start`; reports like the generic solve and writes
+/// documentation) from the value one flow step back, `previous`
+/// (y_{v−Δ}: the first guesses are r₂ = 2r₀ − r₋ and b = log(R₋ᵀR₀), the
+/// linear extrapolation without its products); reports like the generic
+/// solve and writes
 /// the solved cells' gradients at positions 1, 2 into `gradients` (the
 /// marcher's layout: cell σ at 3σ + l).
 pub(crate) fn split_solve<P: RodPotential>(
@@ -127,7 +131,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     star: &VertexStar<'_, Pose<f64>>,
     mu: &SVector<f64, 6>,
     mu_scale: f64,
-    start: &Pose<f64>,
+    previous: &Pose<f64>,
     options: &CauchyOptions,
     gradients: &mut [SVector<f64, 6>],
 ) -> SolvedVertex<Pose<f64>> {
@@ -135,7 +139,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let fail = |failure, mut outcome: VertexOutcome| {
         outcome.failure = Some(failure);
         SolvedVertex {
-            value: *start,
+            value: *previous,
             outcome,
             gradients_written: false,
         }
@@ -154,7 +158,7 @@ pub(crate) fn split_solve<P: RodPotential>(
             origin: [0; crate::field::complex::MAX_LATTICE_DIMENSION],
         },
         sigma: 1.0,
-        y1: *start,
+        y1: *previous,
         arm: RotationArm {
             a: Vector3::zeros(),
             da: Matrix3::zeros(),
@@ -162,7 +166,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     };
     let mut cells = [blank; 2];
     let mut count = 0;
-    let mut y = [*start; 3];
+    let mut y = [*previous; 3];
     for shape in 0..2 {
         if let Some(cell) = star(shape, &mut y) {
             let Ok(a) = Rotations::log(&y[0].rotation, &y[1].rotation) else {
@@ -192,12 +196,13 @@ pub(crate) fn split_solve<P: RodPotential>(
     let loaded = damp_r > 0.0 || lag.loads().is_some();
     let mut leg_r = Vector3::zeros();
     let mut scale = mu_scale;
+    let start = Pose::new(y0.position * 2.0 - previous.position, y0.rotation);
     let v = (start.position - y0.position) / dt;
     for c in cells {
         let (_, eps) = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &start.position);
         let g = lag.position_gradient(c.sigma, s0, &y0, &v, &eps);
         let f = if loaded {
-            lag.cell_force(&c.cell, &[y0, c.y1, *start], 0)
+            lag.cell_force(&c.cell, &[y0, c.y1, start], 0)
                 .fixed_rows::<3>(0)
                 .into_owned()
         } else {
@@ -206,16 +211,18 @@ pub(crate) fn split_solve<P: RodPotential>(
         leg_r += g + f;
         scale += g.amax() + f.amax();
     }
+    // ∂Leg_r/∂r₂ = −n R₀KR₀ᵀ with K = αI + βC₁, inverted through K alone.
     let n = count as f64;
-    let matrix = -(Matrix3::identity() * (p.rho() * ds / (4.0 * dt) + lag.area() * damp_r / (2.0 * dt))
-        + r0m * p.c1() * r0m.transpose() * (dt / (4.0 * ds)))
-        * n;
-    let rhs = mu.fixed_rows::<3>(0) - leg_r;
-    let Some(step) = matrix.lu().solve(&rhs) else {
+    let stiffness = Matrix3::identity() * (p.rho() * ds / (4.0 * dt) + lag.area() * damp_r / (2.0 * dt))
+        + p.c1() * (dt / (4.0 * ds));
+    let Some(compliance) = stiffness.try_inverse() else {
         return fail(Failure::Singular, outcome);
     };
+    let rhs = mu.fixed_rows::<3>(0) - leg_r;
+    let step = mat3_vec(&r0m, &(compliance * r0m.tr_mul(&rhs))) * (-1.0 / n);
     let r2 = start.position + step;
-    let residual_r = (leg_r + matrix * step - mu.fixed_rows::<3>(0)).amax();
+    let applied = mat3_vec(&r0m, &(stiffness * r0m.tr_mul(&step))) * (-n);
+    let residual_r = (leg_r + applied - mu.fixed_rows::<3>(0)).amax();
     if !residual_r.is_finite() {
         return fail(Failure::NonFinite, outcome);
     }
@@ -242,7 +249,7 @@ pub(crate) fn split_solve<P: RodPotential>(
         *arm = c.arm;
     }
     let equation = RotationEquation::new(&p, ds, dt, &arms[..count], lag.area() * damp_q / (2.0 * dt));
-    let mut b = Rotations::log(&y0.rotation, &start.rotation).unwrap_or_else(|_| Vector3::zeros());
+    let mut b = Rotations::log(&previous.rotation, &y0.rotation).unwrap_or_else(|_| Vector3::zeros());
     // Newton with the exact Jacobian (closed form, as cheap as the residual).
     let mut previous = f64::INFINITY;
     let mut last_step = f64::INFINITY;
