@@ -162,6 +162,10 @@ pub struct CosseratCell<P = NoPotential> {
     pub density: CosseratDensity<P>,
     ds: f64,
     dt: f64,
+    /// 1/Δs and 1/Δt: the cell quantities multiply by them (a division per
+    /// component cost as much as the rest of a quantity).
+    inv_ds: f64,
+    inv_dt: f64,
     analytic: bool,
     loads: Option<RodLoads>,
     /// Material parameters per material point s_k = kΔs/2 (k = 0, 1, …),
@@ -197,6 +201,8 @@ impl<P: RodPotential> CosseratCell<P> {
             density,
             ds,
             dt,
+            inv_ds: ds.recip(),
+            inv_dt: dt.recip(),
             analytic: true,
             loads: None,
             profile: None,
@@ -324,15 +330,15 @@ impl<P: RodPotential> CosseratCell<P> {
         b: Vector3<D>,
     ) -> Cell<D> {
         let p = self.parameters_at(s0);
-        let sds = sigma * self.ds;
-        let g = (y[1].position * D::from(2.0) - y[0].position - y[2].position) / D::from(sds);
+        let inv_sds = D::from(sigma * self.inv_ds);
+        let g = (y[1].position * D::from(2.0) - y[0].position - y[2].position) * inv_sds;
         let eps = y[0].rotation.matrix().transpose() * g - p.strain.map(D::from);
         Cell {
             sigma,
             s0,
-            u: (a * D::from(2.0) - b) / D::from(sds),
-            omega: b / D::from(self.dt),
-            v: (y[2].position - y[0].position) / D::from(self.dt),
+            u: (a * D::from(2.0) - b) * inv_sds,
+            omega: b * D::from(self.inv_dt),
+            v: (y[2].position - y[0].position) * D::from(self.inv_dt),
             a,
             b,
             g,
@@ -453,7 +459,7 @@ impl<P: RodPotential> CosseratCell<P> {
         r1: &Vector3<f64>,
         r2: &Vector3<f64>,
     ) -> (Vector3<f64>, Vector3<f64>) {
-        let g = (r1 * 2.0 - y0.position - r2) / (sigma * self.ds);
+        let g = (r1 * 2.0 - y0.position - r2) * (sigma * self.inv_ds);
         (g, y0.rotation.matrix().transpose() * g - self.parameters_at(s0).strain)
     }
 

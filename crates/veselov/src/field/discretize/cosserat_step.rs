@@ -197,7 +197,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let mut leg_r = Vector3::zeros();
     let mut scale = mu_scale;
     let start = Pose::new(y0.position * 2.0 - previous.position, y0.rotation);
-    let v = (start.position - y0.position) / dt;
+    let v = (start.position - y0.position) * dt.recip();
     for c in cells {
         let (_, eps) = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &start.position);
         let g = lag.position_gradient(c.sigma, s0, &y0, &v, &eps);
