@@ -1,13 +1,14 @@
 //! The SE(3) beam on seed 000's lattice: nanoseconds per node update (one
-//! 6-D Newton solve of the core's flow marcher on the closed-form gradients
-//! of the split Lagrangian through the Cayley map; its exact Jacobian, one
-//! first-order dual pass over those gradients, is kept from the node's
-//! previous level while it
-//! contracts) for time evolution (a free–free beam, A = 16
-//! space cells: 16 updates per level, the slaved node included) and space
+//! 6-D Newton solve of the core's flow marcher, through the Cayley map: in
+//! the moving increment x = τ⁻¹(g₁⁻¹g₂) of the split Lagrangian, with its
+//! Jacobian one dual pass at the start, refreshed when an iteration
+//! contracts less than fourfold; the slaved node by the generic solve in
+//! the chart of SE(3)) for time evolution (a free–free beam, A = 16 space
+//! cells: 16 updates per level, the slaved node included) and space
 //! evolution (zero momentum, N = 16 time cells: 16 updates per column).
-//! One sample steps 4 levels: divide its time by 64. Newton iterations per node are printed
-//! once before the timings (a machine-independent count).
+//! One sample steps 4 levels: divide its time by 64. Newton iterations and
+//! Jacobians per node are printed once before the timings (machine-independent
+//! counts).
 
 use std::hint::black_box;
 

@@ -50,6 +50,13 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         false
     }
 
+    /// The one exact gradient ∂L_β/∂y_l, when the Lagrangian computes it
+    /// for less than all of them ([`analytic_gradients`](Self::analytic_gradients),
+    /// whose value it must equal bit for bit); `None` (default) otherwise.
+    fn analytic_gradient(&self, _cell: &TopCell, _y: &[F::Point<f64>], _l: usize) -> Option<SVector<f64, M>> {
+        None
+    }
+
     /// ∂L_β/∂y_a and its derivative with respect to y_b (the block of
     /// [`mixed_block`]) when the Lagrangian computes them itself; `None`
     /// (default) for the nested-dual pass ([`mixed_block_dual`]), which stays
@@ -110,6 +117,26 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         _options: &CauchyOptions,
         _gradients: &mut [SVector<f64, M>],
     ) -> Option<SolvedVertex<F::Point<f64>>> {
+        None
+    }
+
+    /// A model's own solve of a flow step (v, Δv) of the flow marcher
+    /// ([`FlowMarcher`](super::flow::FlowMarcher)) when Δv lies in exactly
+    /// one top cell of v's star, `cell`, as its vertex `position` ≥ 1 with v
+    /// as vertex 0: find z with ∂L_β/∂y₀ + F⁰_β = μ at the values `y` with z
+    /// at `position` (`y[position]` holds the first guess). Returns `None`
+    /// (default) to use the generic Newton in the fibre's chart, which stays
+    /// the reference; an implementation must solve the same equation to
+    /// round-off and report its outcome the same way.
+    fn solve_cell_vertex(
+        &self,
+        _cell: &TopCell,
+        _y: &[F::Point<f64>],
+        _position: usize,
+        _mu: &SVector<f64, M>,
+        _mu_scale: f64,
+        _options: &CauchyOptions,
+    ) -> Option<(F::Point<f64>, VertexOutcome)> {
         None
     }
 }
@@ -213,13 +240,17 @@ where
 }
 
 /// ∂L_β/∂y_l: the Lagrangian's closed form
-/// ([`DiscreteLagrangian::analytic_gradients`]) where it offers one, the
+/// ([`DiscreteLagrangian::analytic_gradient`], else
+/// [`DiscreteLagrangian::analytic_gradients`]) where it offers one, the
 /// dual pass ([`vertex_gradient`]) otherwise.
 pub fn exact_gradient<F, L, const M: usize>(lag: &L, cell: &TopCell, y: &[F::Point<f64>], l: usize) -> SVector<f64, M>
 where
     F: Fibre<M>,
     L: DiscreteLagrangian<F, M> + ?Sized,
 {
+    if let Some(g) = lag.analytic_gradient(cell, y, l) {
+        return g;
+    }
     let k = y.len();
     if k <= SMALL_CELL {
         let mut out = [SVector::zeros(); SMALL_CELL];

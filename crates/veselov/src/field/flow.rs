@@ -194,6 +194,27 @@ where
                 );
             }
         }
+        // Δv in one cell only, v its first vertex: the model may solve there.
+        let mut holders = star.iter().filter_map(|e| {
+            let k = self.complex.cell_vertices(e.cell, &mut verts);
+            contains(&verts[..k]).map(|pos| (e, pos, k))
+        });
+        if let (Some((e, pos, k)), None) = (holders.next(), holders.next())
+            && e.position == 0
+            && pos > 0
+        {
+            let mut cell_verts = [0; MAX_CELL_VERTICES];
+            self.complex.cell_vertices(e.cell, &mut cell_verts);
+            let cell = self.complex.cell(e.cell);
+            let solved = with_values(
+                k,
+                |l| if l == pos { guess } else { self.values[cell_verts[l]] },
+                |y| self.lag.solve_cell_vertex(&cell, y, pos, &mu, mu_scale, &self.options),
+            );
+            if let Some(solved) = solved {
+                return solved;
+            }
+        }
         let legendre = |z: &F::Point<f64>, with_jacobian: bool| {
             let mut leg = SVector::<f64, M>::zeros();
             let mut jac = SMatrix::<f64, M, M>::zeros();

@@ -32,9 +32,12 @@ use num_dual::{DualSVec, DualSVec64};
 use super::cell::DiscreteLagrangian;
 use super::complex::TopCell;
 use super::fibre::{Euclidean, Fibre, RigidMotions};
+use super::legendre::{CauchyOptions, VertexOutcome};
 use crate::ad::Scalar;
 use crate::lie::{LieError, Retraction, SE3};
 use crate::{Error, Result};
+
+mod solve;
 
 /// How two vertex values give a (dimensionless) increment x with y₂ = y₁·τ(x).
 pub trait Increment<F: Fibre<M>, const M: usize>: Send + Sync + 'static {
@@ -54,6 +57,12 @@ pub trait Increment<F: Fibre<M>, const M: usize>: Send + Sync + 'static {
         y1: &F::Point<D>,
         y2: &F::Point<D>,
     ) -> std::result::Result<Derivatives<D, M>, LieError>;
+    /// A₁ = ∂x/∂ε₁ as a function of the increment x alone (it is one: the
+    /// vertex solve of [`SplitLagrangian`] iterates on x).
+    fn first_derivative<D: Scalar>(x: &SVector<D, M>) -> SMatrix<D, M, M>;
+    /// Whether [`increment`](Self::increment) reads x back from
+    /// [`advance`](Self::advance)`(y₁, x)`.
+    fn in_chart(x: &SVector<f64, M>) -> bool;
 }
 
 /// An increment x with its derivatives (x, ∂x/∂ε₁, ∂x/∂ε₂)
@@ -78,6 +87,14 @@ impl<const M: usize> Increment<Euclidean<M>, M> for Difference {
         y2: &SVector<D, M>,
     ) -> std::result::Result<Derivatives<D, M>, LieError> {
         Ok((y2 - y1, -SMatrix::identity(), SMatrix::identity()))
+    }
+    /// −I.
+    fn first_derivative<D: Scalar>(_x: &SVector<D, M>) -> SMatrix<D, M, M> {
+        -SMatrix::identity()
+    }
+    /// Always.
+    fn in_chart(_x: &SVector<f64, M>) -> bool {
+        true
     }
 }
 
@@ -105,7 +122,15 @@ where
     /// Cayley map are.
     fn increment_derivatives<D: Scalar>(g1: &SE3<D>, g2: &SE3<D>) -> std::result::Result<Derivatives<D, 6>, LieError> {
         let x = R::tau_inv(&g1.inverse().compose(g2))?;
-        Ok((x, -R::dtau_inv(&x), R::dtau_inv(&(-x))))
+        Ok((x, Self::first_derivative(&x), R::dtau_inv(&(-x))))
+    }
+    /// −d^Rτ⁻¹_x.
+    fn first_derivative<D: Scalar>(x: &SVector<D, 6>) -> SMatrix<D, 6, 6> {
+        -R::dtau_inv(x)
+    }
+    /// τ(x) rotates by less than π − [`crate::lie::CUT_LOCUS_MARGIN`].
+    fn in_chart(x: &SVector<f64, 6>) -> bool {
+        R::rotation_angle(x) < std::f64::consts::PI - crate::lie::CUT_LOCUS_MARGIN
     }
 }
 
@@ -265,25 +290,72 @@ impl<I, S> SplitLagrangian<I, S> {
         if y.len() != 3 {
             return None;
         }
-        let (xt, a1t, a2t) = I::increment_derivatives(&y[0], &y[1]).ok()?;
-        let (xs, a1s, a2s) = I::increment_derivatives(&y[0], &y[2]).ok()?;
-        let (ds, dt) = (self.ds, self.dt);
-        let dk = self
-            .density
-            .kinetic_gradient(&xt.map(|v| v * (1.0 / dt)))
-            .map(|v| v * ds);
-        let dphi = self
-            .density
-            .stored_gradient(&xs.map(|v| v * (1.0 / ds)))
-            .map(|v| v * dt);
-        let mut first = a1t.tr_mul(&dk) - a1s.tr_mul(&dphi);
-        let mut third = -a2s.tr_mul(&dphi);
+        let (first_t, second) = self.time_edge::<F, D, M>(&y[0], &y[1])?;
+        let (first_s, mut third) = self.space_edge::<F, D, M>(&y[0], &y[2])?;
+        let mut first = first_t + first_s;
         if self.density.has_potential() {
-            let half = D::from(0.5 * ds * dt);
+            let half = D::from(0.5 * self.ds * self.dt);
             first -= self.potential_gradient::<F, D, M>(&y[0]) * half;
             third -= self.potential_gradient::<F, D, M>(&y[2]) * half;
         }
-        Some([first, a2t.tr_mul(&dk), third])
+        Some([first, second, third])
+    }
+
+    /// The kinetic terms of the time edge (y₁, y₂): (ΔsA₁,ₜᵀ∇K, ΔsA₂,ₜᵀ∇K).
+    fn time_edge<F: Fibre<M>, D: Scalar, const M: usize>(
+        &self,
+        y1: &F::Point<D>,
+        y2: &F::Point<D>,
+    ) -> Option<(SVector<D, M>, SVector<D, M>)>
+    where
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        let (x, a1, a2) = I::increment_derivatives(y1, y2).ok()?;
+        let dk = self
+            .density
+            .kinetic_gradient(&x.map(|v| v * (1.0 / self.dt)))
+            .map(|v| v * self.ds);
+        Some((a1.tr_mul(&dk), a2.tr_mul(&dk)))
+    }
+
+    /// The stored-energy terms of the space edge (y₁, y₃):
+    /// (−ΔtA₁,ₛᵀ∇Φ, −ΔtA₂,ₛᵀ∇Φ).
+    fn space_edge<F: Fibre<M>, D: Scalar, const M: usize>(
+        &self,
+        y1: &F::Point<D>,
+        y3: &F::Point<D>,
+    ) -> Option<(SVector<D, M>, SVector<D, M>)>
+    where
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        let (x, a1, a2) = I::increment_derivatives(y1, y3).ok()?;
+        let dphi = self
+            .density
+            .stored_gradient(&x.map(|v| v * (1.0 / self.ds)))
+            .map(|v| v * self.dt);
+        Some((-a1.tr_mul(&dphi), -a2.tr_mul(&dphi)))
+    }
+
+    /// ∂ℒ/∂y_l alone, from the one edge it needs for l = 1 (time) and
+    /// l = 2 (space): the bits of [`closed_gradients`](Self::closed_gradients).
+    fn closed_gradient<F: Fibre<M>, const M: usize>(&self, y: &[F::Point<f64>], l: usize) -> Option<SVector<f64, M>>
+    where
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        match l {
+            1 => Some(self.time_edge::<F, f64, M>(&y[0], &y[1])?.1),
+            2 => {
+                let mut third = self.space_edge::<F, f64, M>(&y[0], &y[2])?.1;
+                if self.density.has_potential() {
+                    third -= self.potential_gradient::<F, f64, M>(&y[2]) * (0.5 * self.ds * self.dt);
+                }
+                Some(third)
+            }
+            _ => Some(self.closed_gradients::<F, f64, M>(y)?[0]),
+        }
     }
 
     /// ∇Π(y) in the fibre's chart y·ρ(ε) (one dual pass).
@@ -337,6 +409,17 @@ where
         }
         true
     }
+    /// ∂ℒ/∂y_l from the edges it needs ([`SplitLagrangian::closed_gradients`]'s
+    /// bits; NaN at the cut locus).
+    fn analytic_gradient(&self, _cell: &TopCell, y: &[F::Point<f64>], l: usize) -> Option<SVector<f64, M>> {
+        if y.len() != 3 || l > 2 {
+            return None;
+        }
+        Some(
+            self.closed_gradient::<F, M>(y, l)
+                .unwrap_or(SVector::from_element(f64::NAN)),
+        )
+    }
     /// ∂ℒ/∂y_a and its derivative in y_b by one first-order dual pass of
     /// M directions over the closed-form gradients, y_b·exp(ζ) seeded.
     fn analytic_block(
@@ -365,6 +448,19 @@ where
             ga.map(|x| x.re),
             SMatrix::from_fn(|i, j| ga[i].eps.unwrap_generic(Const::<M>, U1)[j]),
         ))
+    }
+    /// The flow step in the moving increment alone
+    /// ([`SplitLagrangian::solve_increment`]).
+    fn solve_cell_vertex(
+        &self,
+        _cell: &TopCell,
+        y: &[F::Point<f64>],
+        position: usize,
+        mu: &SVector<f64, M>,
+        mu_scale: f64,
+        options: &CauchyOptions,
+    ) -> Option<(F::Point<f64>, VertexOutcome)> {
+        self.solve_increment::<F, M>(y, position, mu, mu_scale, options)
     }
     fn depends(&self, _cell: &TopCell, l: usize, k: usize) -> bool {
         !matches!((l, k), (1, 2) | (2, 1))

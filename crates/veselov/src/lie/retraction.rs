@@ -37,6 +37,16 @@ pub trait Retraction<const N: usize> {
 
     /// Its inverse d^Rτ⁻¹_ξ = (d^Rτ_ξ)⁻¹ (closed form).
     fn dtau_inv<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, N>) -> SMatrix<D, N, N>;
+
+    /// The rotation angle of τ(ξ), from ξ alone: τ⁻¹(τ(ξ)) = ξ exactly when
+    /// it is below π − [`CUT_LOCUS_MARGIN`](super::CUT_LOCUS_MARGIN) (the
+    /// exponential chart wraps past π; τ⁻¹ refuses angles beyond the margin).
+    fn rotation_angle(xi: &SVector<f64, N>) -> f64;
+}
+
+/// |ω| of the rotation part ω = (ξ₀, ξ₁, ξ₂) (angular first on SE(3)).
+fn rotation_norm<const N: usize>(xi: &SVector<f64, N>) -> f64 {
+    xi.fixed_rows::<3>(0).norm()
 }
 
 /// The exponential map as a retraction.
@@ -62,6 +72,10 @@ impl Retraction<3> for ExpMap {
     fn dtau_inv<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 3>) -> SMatrix<D, 3, 3> {
         so3::dexp_inv(xi)
     }
+    /// |ω|.
+    fn rotation_angle(xi: &SVector<f64, 3>) -> f64 {
+        rotation_norm(xi)
+    }
 }
 
 impl Retraction<3> for CayleyMap {
@@ -77,6 +91,10 @@ impl Retraction<3> for CayleyMap {
     }
     fn dtau_inv<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 3>) -> SMatrix<D, 3, 3> {
         so3::dcay_inv(xi)
+    }
+    /// 2 atan(|ω|/2).
+    fn rotation_angle(xi: &SVector<f64, 3>) -> f64 {
+        2.0 * (0.5 * rotation_norm(xi)).atan()
     }
 }
 
@@ -94,6 +112,10 @@ impl Retraction<6> for ExpMap {
     fn dtau_inv<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 6>) -> SMatrix<D, 6, 6> {
         se3::dexp_inv(xi)
     }
+    /// |ω|.
+    fn rotation_angle(xi: &SVector<f64, 6>) -> f64 {
+        rotation_norm(xi)
+    }
 }
 
 impl Retraction<6> for CayleyMap {
@@ -109,6 +131,10 @@ impl Retraction<6> for CayleyMap {
     }
     fn dtau_inv<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 6>) -> SMatrix<D, 6, 6> {
         se3::dcay_inv(xi)
+    }
+    /// 2 atan(|ω|/2).
+    fn rotation_angle(xi: &SVector<f64, 6>) -> f64 {
+        2.0 * (0.5 * rotation_norm(xi)).atan()
     }
 }
 
@@ -192,6 +218,38 @@ mod tests {
     }
 
     /// The retraction is selected by the argument type without annotations.
+    /// The rotation angle from ξ alone is the angle of τ(ξ) (the norm of
+    /// its logarithm), and τ⁻¹(τ(ξ)) = ξ below π − margin; the exponential
+    /// chart wraps beyond π.
+    #[test]
+    fn rotation_angle_is_the_angle_of_tau() {
+        use crate::lie::CUT_LOCUS_MARGIN;
+        use std::f64::consts::PI;
+        let dir = SVector::<f64, 3>::new(0.3, -0.8, 0.5).normalize();
+        for scale in [1e-9, 0.3, 1.0, 2.5, 3.0, 10.0, 1e3] {
+            let w = dir * scale;
+            let x = SVector::<f64, 6>::new(w[0], w[1], w[2], 0.4, -0.2, 1.1);
+            for (angle, rotation) in [
+                (ExpMap::rotation_angle(&w), ExpMap::tau(&w)),
+                (CayleyMap::rotation_angle(&w), CayleyMap::tau(&w)),
+                (ExpMap::rotation_angle(&x), *ExpMap::tau(&x).rotation()),
+                (CayleyMap::rotation_angle(&x), *CayleyMap::tau(&x).rotation()),
+            ] {
+                if angle < PI - CUT_LOCUS_MARGIN {
+                    let log = so3::log(&rotation).expect("inside the chart");
+                    assert!((log.norm() - angle).abs() <= 1e-12 * (1.0 + angle), "{scale}: {angle}");
+                }
+            }
+            if ExpMap::rotation_angle(&x) < PI - CUT_LOCUS_MARGIN {
+                assert!((ExpMap::tau_inv(&ExpMap::tau(&x)).expect("chart") - x).amax() < 1e-12 * (1.0 + scale));
+            } else if let Ok(back) = ExpMap::tau_inv(&ExpMap::tau(&x)) {
+                assert!((back - x).amax() > 1e-3, "the exponential chart wraps past π");
+            }
+            let back = CayleyMap::tau_inv(&CayleyMap::tau(&x)).expect("Cayley chart");
+            assert!((back - x).amax() < 1e-10 * (1.0 + scale * scale), "{scale}");
+        }
+    }
+
     #[test]
     fn inference_by_dimension() {
         let r = ExpMap::tau(&SVector::<f64, 3>::new(0.1, 0.2, 0.3));
