@@ -124,10 +124,13 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// ([`FlowMarcher`](super::flow::FlowMarcher)) when Δv lies in exactly
     /// one top cell of v's star, `cell`, as its vertex `position` ≥ 1 with v
     /// as vertex 0: find z with ∂L_β/∂y₀ + F⁰_β = μ at the values `y` with z
-    /// at `position` (`y[position]` holds the first guess). Returns `None`
-    /// (default) to use the generic Newton in the fibre's chart, which stays
-    /// the reference; an implementation must solve the same equation to
-    /// round-off and report its outcome the same way.
+    /// at `position` (`y[position]` holds the first guess). `kept` is the
+    /// Newton Jacobian of the same node's last solve, in whatever
+    /// coordinates this solve iterates in (it leaves its own there). Returns
+    /// `None` (default) to use the generic Newton in the fibre's chart,
+    /// which stays the reference; an implementation must solve the same
+    /// equation to round-off and report its outcome the same way.
+    #[allow(clippy::too_many_arguments)]
     fn solve_cell_vertex(
         &self,
         _cell: &TopCell,
@@ -136,6 +139,7 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         _mu: &SVector<f64, M>,
         _mu_scale: f64,
         _options: &CauchyOptions,
+        _kept: &mut Option<SMatrix<f64, M, M>>,
     ) -> Option<(F::Point<f64>, VertexOutcome)> {
         None
     }

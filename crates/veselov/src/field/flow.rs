@@ -209,7 +209,10 @@ where
             let solved = with_values(
                 k,
                 |l| if l == pos { guess } else { self.values[cell_verts[l]] },
-                |y| self.lag.solve_cell_vertex(&cell, y, pos, &mu, mu_scale, &self.options),
+                |y| {
+                    self.lag
+                        .solve_cell_vertex(&cell, y, pos, &mu, mu_scale, &self.options, kept)
+                },
             );
             if let Some(solved) = solved {
                 return solved;

@@ -8,7 +8,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::fibre::Fibre;
-use crate::solve::solve_small;
+use crate::solve::SmallLu;
 
 /// Options of the vertex solves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,6 +127,8 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     let mut outcome = VertexOutcome::default();
     let mut previous = f64::INFINITY;
     let mut jacobian: Option<SMatrix<f64, M, M>> = kept.take().filter(|j| j.iter().all(|x| x.is_finite()));
+    // The factors of the Jacobian in use, kept while it is.
+    let mut factors = jacobian.and_then(|j| SmallLu::factor(&j).0);
     let mut fresh = false;
     let mut point_scale = jacobian.map_or(0.0, |j| j.amax() * (1.0 + coordinate_size::<F, M>(&z)));
     let mut last_step = f64::INFINITY;
@@ -143,6 +145,7 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         if let Some(j) = jac {
             point_scale = j.amax() * (1.0 + coordinate_size::<F, M>(&z));
             jacobian = Some(j);
+            factors = SmallLu::factor(&j).0;
             fresh = true;
             outcome.jacobians += 1;
         } else {
@@ -170,15 +173,11 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         if it == options.max_iterations {
             break;
         }
-        let Some(j) = jacobian else {
+        let Some(lu) = &factors else {
             outcome.failure = Some(Failure::Singular);
             return (z, outcome);
         };
-        let (delta, pivot) = solve_small(&j, &(-residual));
-        if pivot == 0.0 {
-            outcome.failure = Some(Failure::Singular);
-            return (z, outcome);
-        }
+        let delta = lu.solve(&(-residual));
         last_step = delta.amax();
         let next = F::retract(&z, &delta);
         if !F::is_finite(&next) {

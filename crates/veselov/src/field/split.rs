@@ -451,6 +451,7 @@ where
     }
     /// The flow step in the moving increment alone
     /// ([`SplitLagrangian::solve_increment`]).
+    #[allow(clippy::too_many_arguments)]
     fn solve_cell_vertex(
         &self,
         _cell: &TopCell,
@@ -459,8 +460,9 @@ where
         mu: &SVector<f64, M>,
         mu_scale: f64,
         options: &CauchyOptions,
+        kept: &mut Option<SMatrix<f64, M, M>>,
     ) -> Option<(F::Point<f64>, VertexOutcome)> {
-        self.solve_increment::<F, M>(y, position, mu, mu_scale, options)
+        self.solve_increment::<F, M>(y, position, mu, mu_scale, options, kept)
     }
     fn depends(&self, _cell: &TopCell, l: usize, k: usize) -> bool {
         !matches!((l, k), (1, 2) | (2, 1))

@@ -175,56 +175,161 @@ impl DenseLu {
     }
 }
 
-/// Solve the small fixed-size system `A x = b` by Gaussian elimination with
-/// partial pivoting, on the stack. Returns `x` and the smallest pivot relative
-/// to the largest (0 when a pivot vanishes, then `x` is meaningless).
+/// The LU factors of a small fixed-size matrix (Gaussian elimination with
+/// partial pivoting, on the stack): factor once, solve many right-hand sides
+/// — a simplified Newton keeps its Jacobian's factors for every iteration
+/// that reuses it.
+#[derive(Clone, Copy, Debug)]
+pub struct SmallLu<const N: usize> {
+    /// U on and above the diagonal, the elimination multipliers below it.
+    factors: nalgebra::SMatrix<f64, N, N>,
+    /// The row swapped with row k at step k.
+    swaps: [usize; N],
+}
+
+impl<const N: usize> SmallLu<N> {
+    /// The factors of `a` and its smallest pivot relative to the largest
+    /// (0 when a pivot vanishes or is not finite: then `None`).
+    pub fn factor(a: &nalgebra::SMatrix<f64, N, N>) -> (Option<Self>, f64) {
+        let mut a = *a;
+        let mut swaps = [0; N];
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
+        for k in 0..N {
+            let mut piv = k;
+            for r in (k + 1)..N {
+                if a[(r, k)].abs() > a[(piv, k)].abs() {
+                    piv = r;
+                }
+            }
+            let p = a[(piv, k)].abs();
+            if p == 0.0 || !p.is_finite() {
+                return (None, 0.0);
+            }
+            lo = lo.min(p);
+            hi = hi.max(p);
+            swaps[k] = piv;
+            if piv != k {
+                a.swap_rows(k, piv);
+            }
+            for r in (k + 1)..N {
+                let f = a[(r, k)] / a[(k, k)];
+                a[(r, k)] = f;
+                if f != 0.0 {
+                    for c in (k + 1)..N {
+                        a[(r, c)] -= f * a[(k, c)];
+                    }
+                }
+            }
+        }
+        (Some(Self { factors: a, swaps }), if hi > 0.0 { lo / hi } else { 0.0 })
+    }
+
+    /// x with A x = b.
+    pub fn solve(&self, b: &nalgebra::SVector<f64, N>) -> nalgebra::SVector<f64, N> {
+        let a = &self.factors;
+        let mut x = *b;
+        // The rows in their final order (the multipliers moved with them).
+        for (k, &p) in self.swaps.iter().enumerate() {
+            if p != k {
+                x.swap_rows(k, p);
+            }
+        }
+        for k in 0..N {
+            for r in (k + 1)..N {
+                let f = a[(r, k)];
+                if f != 0.0 {
+                    x[r] -= f * x[k];
+                }
+            }
+        }
+        for i in (0..N).rev() {
+            let mut s = x[i];
+            for j in (i + 1)..N {
+                s -= a[(i, j)] * x[j];
+            }
+            x[i] = s / a[(i, i)];
+        }
+        x
+    }
+}
+
+/// Solve the small fixed-size system `A x = b` ([`SmallLu`]). Returns `x`
+/// and the smallest pivot relative to the largest (0 when a pivot vanishes,
+/// then `x` is meaningless).
 pub fn solve_small<const N: usize>(
     a: &nalgebra::SMatrix<f64, N, N>,
     b: &nalgebra::SVector<f64, N>,
 ) -> (nalgebra::SVector<f64, N>, f64) {
-    let mut a = *a;
-    let mut x = *b;
-    let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
-    for k in 0..N {
-        let mut piv = k;
-        for r in (k + 1)..N {
-            if a[(r, k)].abs() > a[(piv, k)].abs() {
-                piv = r;
+    match SmallLu::factor(a) {
+        (Some(lu), ratio) => (lu.solve(b), ratio),
+        (None, _) => (*b, 0.0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Elimination with the right-hand side carried along (the form
+    /// [`SmallLu`] replaced): factoring first must not change a bit.
+    fn eliminate_with_rhs<const N: usize>(
+        a: &nalgebra::SMatrix<f64, N, N>,
+        b: &nalgebra::SVector<f64, N>,
+    ) -> nalgebra::SVector<f64, N> {
+        let (mut a, mut x) = (*a, *b);
+        for k in 0..N {
+            let mut piv = k;
+            for r in (k + 1)..N {
+                if a[(r, k)].abs() > a[(piv, k)].abs() {
+                    piv = r;
+                }
             }
-        }
-        let p = a[(piv, k)].abs();
-        if p == 0.0 || !p.is_finite() {
-            return (x, 0.0);
-        }
-        lo = lo.min(p);
-        hi = hi.max(p);
-        if piv != k {
             a.swap_rows(k, piv);
             x.swap_rows(k, piv);
-        }
-        for r in (k + 1)..N {
-            let f = a[(r, k)] / a[(k, k)];
-            if f != 0.0 {
+            for r in (k + 1)..N {
+                let f = a[(r, k)] / a[(k, k)];
                 for c in k..N {
                     a[(r, c)] -= f * a[(k, c)];
                 }
                 x[r] -= f * x[k];
             }
         }
-    }
-    for i in (0..N).rev() {
-        let mut s = x[i];
-        for j in (i + 1)..N {
-            s -= a[(i, j)] * x[j];
+        for i in (0..N).rev() {
+            let mut s = x[i];
+            for j in (i + 1)..N {
+                s -= a[(i, j)] * x[j];
+            }
+            x[i] = s / a[(i, i)];
         }
-        x[i] = s / a[(i, i)];
+        x
     }
-    (x, if hi > 0.0 { lo / hi } else { 0.0 })
-}
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+    #[test]
+    fn kept_factors_solve_every_right_hand_side_bit_for_bit() {
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for _ in 0..50 {
+            let a = nalgebra::SMatrix::<f64, 6, 6>::from_fn(|_, _| next());
+            let (lu, ratio) = SmallLu::factor(&a);
+            let lu = lu.expect("regular");
+            assert!(ratio > 0.0);
+            for _ in 0..3 {
+                let b = nalgebra::SVector::<f64, 6>::from_fn(|_, _| next());
+                let x = lu.solve(&b);
+                assert_eq!(x, eliminate_with_rhs(&a, &b));
+                assert_eq!(x, solve_small(&a, &b).0);
+                assert!((a * x - b).amax() < 1e-12 * (1.0 + x.amax()));
+            }
+        }
+        let singular = nalgebra::SMatrix::<f64, 3, 3>::new(1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 0.0, 1.0, 1.0);
+        assert!(SmallLu::factor(&singular).0.is_none());
+        assert_eq!(solve_small(&singular, &nalgebra::SVector::<f64, 3>::zeros()).1, 0.0);
+    }
 
     #[test]
     fn solves_a_pivoting_system() {

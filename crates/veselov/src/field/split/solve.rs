@@ -12,8 +12,9 @@
 //! with c the terms of the other increment, of ∇Π(y₁) and (in space) of the
 //! force, fixed during the solve. Newton iterates on x ∈ ℝ^M — the same
 //! simplified Newton as every vertex solve
-//! ([`solve_legendre`](crate::field::legendre::solve_legendre), on the
-//! vector space of increments), its Jacobian one dual pass over this
+//! ([`solve_legendre_from`](crate::field::legendre::solve_legendre_from),
+//! on the vector space of increments, from the node's Jacobian of the last
+//! level while it contracts), a fresh Jacobian one dual pass over this
 //! function alone — and the value is y₁·τ(x) at the end: no group product,
 //! inverse or τ⁻¹ inside the iteration.
 
@@ -23,7 +24,7 @@ use num_dual::DualSVec64;
 use super::{Increment, SplitDensity, SplitLagrangian};
 use crate::ad::Scalar;
 use crate::field::fibre::{Euclidean, Fibre};
-use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome, solve_legendre};
+use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome, solve_legendre_from};
 
 impl<I, S> SplitLagrangian<I, S> {
     /// The terms of ∂ℒ/∂y₁ + F¹ that move with the increment x of the edge
@@ -76,7 +77,9 @@ impl<I, S> SplitLagrangian<I, S> {
 
     /// Solves the vertex equation of the cell with values `y` (v at 0) for
     /// the vertex at `position` (1 or 2), from `y[position]`, in the moving
-    /// increment (module documentation). `None` — the generic solve then
+    /// increment (module documentation), from the Jacobian `kept` by the
+    /// node's last solve (in increment coordinates; left there for the
+    /// next). `None` — the generic solve then
     /// runs — for another shape of `y`, or when the first guess or the other
     /// edge is at the cut locus of the increment.
     pub(crate) fn solve_increment<F, const M: usize>(
@@ -86,6 +89,7 @@ impl<I, S> SplitLagrangian<I, S> {
         mu: &SVector<f64, M>,
         mu_scale: f64,
         options: &CauchyOptions,
+        kept: &mut Option<SMatrix<f64, M, M>>,
     ) -> Option<(F::Point<f64>, VertexOutcome)>
     where
         F: Fibre<M>,
@@ -98,18 +102,21 @@ impl<I, S> SplitLagrangian<I, S> {
         let fixed = self.fixed_terms::<F, M>(y, position)?;
         let start = I::increment(&y[0], &y[position]).ok()?;
         let fixed_scale = fixed.amax();
-        let (x, mut outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |x, with_jacobian| {
-            if with_jacobian {
-                let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
-                let moving = self.moving_terms::<F, DualSVec64<M>, M>(&seeded, position);
-                let value = moving.map(|v| v.re);
-                let jacobian = SMatrix::<f64, M, M>::from_fn(|i, j| moving[i].eps.unwrap_generic(Const::<M>, U1)[j]);
-                (value + fixed, Some(jacobian), value.amax() + fixed_scale)
-            } else {
-                let value = self.moving_terms::<F, f64, M>(x, position);
-                (value + fixed, None, value.amax() + fixed_scale)
-            }
-        });
+        let (x, mut outcome) =
+            solve_legendre_from::<Euclidean<M>, M>(mu, mu_scale, start, options, kept, |x, with_jacobian| {
+                if with_jacobian {
+                    let seeded =
+                        SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
+                    let moving = self.moving_terms::<F, DualSVec64<M>, M>(&seeded, position);
+                    let value = moving.map(|v| v.re);
+                    let jacobian =
+                        SMatrix::<f64, M, M>::from_fn(|i, j| moving[i].eps.unwrap_generic(Const::<M>, U1)[j]);
+                    (value + fixed, Some(jacobian), value.amax() + fixed_scale)
+                } else {
+                    let value = self.moving_terms::<F, f64, M>(x, position);
+                    (value + fixed, None, value.amax() + fixed_scale)
+                }
+            });
         let z = F::renormalize(&I::advance(&y[0], &x));
         // The solution must be the increment the cell reads back from z (an
         // exponential chart wraps past the cut locus).
