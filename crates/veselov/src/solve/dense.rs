@@ -181,8 +181,9 @@ impl DenseLu {
 /// that reuses it.
 #[derive(Clone, Copy, Debug)]
 pub struct SmallLu<const N: usize> {
-    /// U on and above the diagonal, the elimination multipliers below it.
-    factors: nalgebra::SMatrix<f64, N, N>,
+    /// Rows of U on and above the diagonal, the elimination multipliers
+    /// below it (plain arrays: fixed bounds, no checks left in the loops).
+    factors: [[f64; N]; N],
     /// The row swapped with row k at step k.
     swaps: [usize; N],
 }
@@ -191,65 +192,63 @@ impl<const N: usize> SmallLu<N> {
     /// The factors of `a` and its smallest pivot relative to the largest
     /// (0 when a pivot vanishes or is not finite: then `None`).
     pub fn factor(a: &nalgebra::SMatrix<f64, N, N>) -> (Option<Self>, f64) {
-        let mut a = *a;
+        let mut f: [[f64; N]; N] = std::array::from_fn(|r| std::array::from_fn(|c| a[(r, c)]));
         let mut swaps = [0; N];
         let (mut lo, mut hi) = (f64::INFINITY, 0.0_f64);
         for k in 0..N {
             let mut piv = k;
             for r in (k + 1)..N {
-                if a[(r, k)].abs() > a[(piv, k)].abs() {
+                if f[r][k].abs() > f[piv][k].abs() {
                     piv = r;
                 }
             }
-            let p = a[(piv, k)].abs();
+            let p = f[piv][k].abs();
             if p == 0.0 || !p.is_finite() {
                 return (None, 0.0);
             }
             lo = lo.min(p);
             hi = hi.max(p);
             swaps[k] = piv;
-            if piv != k {
-                a.swap_rows(k, piv);
-            }
-            for r in (k + 1)..N {
-                let f = a[(r, k)] / a[(k, k)];
-                a[(r, k)] = f;
-                if f != 0.0 {
+            f.swap(k, piv);
+            let pivot_row = f[k];
+            for row in f.iter_mut().skip(k + 1) {
+                let m = row[k] / pivot_row[k];
+                row[k] = m;
+                if m != 0.0 {
                     for c in (k + 1)..N {
-                        a[(r, c)] -= f * a[(k, c)];
+                        row[c] -= m * pivot_row[c];
                     }
                 }
             }
         }
-        (Some(Self { factors: a, swaps }), if hi > 0.0 { lo / hi } else { 0.0 })
+        (Some(Self { factors: f, swaps }), if hi > 0.0 { lo / hi } else { 0.0 })
     }
 
     /// x with A x = b.
     pub fn solve(&self, b: &nalgebra::SVector<f64, N>) -> nalgebra::SVector<f64, N> {
-        let a = &self.factors;
-        let mut x = *b;
+        let f = &self.factors;
+        let mut x: [f64; N] = std::array::from_fn(|i| b[i]);
         // The rows in their final order (the multipliers moved with them).
         for (k, &p) in self.swaps.iter().enumerate() {
-            if p != k {
-                x.swap_rows(k, p);
-            }
+            x.swap(k, p);
         }
         for k in 0..N {
+            let xk = x[k];
             for r in (k + 1)..N {
-                let f = a[(r, k)];
-                if f != 0.0 {
-                    x[r] -= f * x[k];
+                let m = f[r][k];
+                if m != 0.0 {
+                    x[r] -= m * xk;
                 }
             }
         }
         for i in (0..N).rev() {
             let mut s = x[i];
             for j in (i + 1)..N {
-                s -= a[(i, j)] * x[j];
+                s -= f[i][j] * x[j];
             }
-            x[i] = s / a[(i, i)];
+            x[i] = s / f[i][i];
         }
-        x
+        nalgebra::SVector::from(x)
     }
 }
 
