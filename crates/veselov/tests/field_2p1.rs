@@ -200,3 +200,79 @@ fn cached_shape_geometry_agrees_with_the_per_cell_path() {
     }
     assert!(worst < 1e-13, "cached and per-cell geometry differ by {worst:e}");
 }
+
+/// The later vertices' gradients from one wide dual pass equal those of one
+/// pass per vertex to round-off, for a scalar field (3 directions) and, on
+/// the 1+1 lattice, a two-component field (4 directions); a frame field's
+/// 18 directions do not fit and are refused.
+#[test]
+fn later_gradients_in_one_pass_are_the_per_vertex_gradients() {
+    use veselov::field::cell::{later_gradients, vertex_gradient};
+    use veselov::field::complex::{TopCell, factorial};
+    use veselov::field::fibre::{Pose, PositionRotation};
+    let scalar = MidpointRule::new(
+        NonlinearWave(SineGordon),
+        CfkNodes::<3>::space_time(0.3, 0.1).expect("node map"),
+    );
+    let pair = MidpointRule::new(
+        NonlinearWave(ComplexKleinGordon { m2: 1.3, lambda: 0.4 }),
+        CfkNodes::<2>::space_time(0.3, 0.1).expect("node map"),
+    );
+    let mut worst: f64 = 0.0;
+    for shape in 0..factorial(3) {
+        let cell = TopCell {
+            index: shape,
+            shape,
+            origin: [0; 8],
+        };
+        let y: Vec<SVector<f64, 1>> = (0..4)
+            .map(|l| SVector::from([(1.3 * l as f64 + 0.4 * shape as f64).sin()]))
+            .collect();
+        let mut wide = [SVector::zeros(); 4];
+        assert!(later_gradients::<Euclidean<1>, _, 1>(&scalar, &cell, &y, &mut wide));
+        for l in 1..4 {
+            let one = vertex_gradient::<Euclidean<1>, _, 1>(&scalar, &cell, &y, l).1;
+            worst = worst.max((wide[l] - one).amax() / one.amax().max(1e-300));
+        }
+    }
+    for shape in 0..factorial(2) {
+        let cell = TopCell {
+            index: shape,
+            shape,
+            origin: [0; 8],
+        };
+        let y: Vec<SVector<f64, 2>> = (0..3)
+            .map(|l| Vector2::new((0.9 * l as f64 + 0.2).cos(), 0.5 * l as f64 - 0.3 * shape as f64))
+            .collect();
+        let mut wide = [SVector::zeros(); 3];
+        assert!(later_gradients::<Euclidean<2>, _, 2>(&pair, &cell, &y, &mut wide));
+        for l in 1..3 {
+            let one = vertex_gradient::<Euclidean<2>, _, 2>(&pair, &cell, &y, l).1;
+            worst = worst.max((wide[l] - one).amax() / one.amax().max(1e-300));
+        }
+    }
+    assert!(worst < 1e-14, "one wide pass and per-vertex passes differ by {worst:e}");
+    let frame = veselov::field::discretize::CosseratCell::new(
+        veselov::field::discretize::CosseratDensity::free(
+            veselov::field::discretize::RodParameters::new(
+                1.0,
+                nalgebra::Matrix3::identity(),
+                nalgebra::Matrix3::identity(),
+                nalgebra::Matrix3::identity(),
+                Vector3::new(0.0, 0.0, 1.0),
+            )
+            .expect("valid"),
+        ),
+        0.1,
+        0.05,
+    )
+    .expect("spacings");
+    let cell = TopCell {
+        index: 0,
+        shape: 0,
+        origin: [0; 8],
+    };
+    let y = [Pose::<f64>::new(Vector3::zeros(), veselov::lie::so3::exp(&Vector3::zeros())); 3];
+    let mut out = [SVector::<f64, 6>::zeros(); 3];
+    assert!(!later_gradients::<PositionRotation, _, 6>(&frame, &cell, &y, &mut out));
+}

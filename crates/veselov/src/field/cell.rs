@@ -243,6 +243,50 @@ where
     ))
 }
 
+/// Directions of the one dual pass of [`later_gradients`].
+const LATER_DIRECTIONS: usize = 4;
+
+/// ∂L_β/∂y_l for every later vertex l = 1 … k − 1 (k = `y.len()`) into
+/// `out[l]`, by one dual pass in which vertex l's chart carries the
+/// directions (l − 1)M … lM − 1: one evaluation of L_β (and of its
+/// transcendental functions) instead of k − 1. Only when those fit in
+/// [`LATER_DIRECTIONS`] (a scalar field on lattices up to dimension 4);
+/// returns `false` otherwise, and the caller takes them one by one
+/// ([`vertex_gradient`], the same numbers to round-off).
+pub fn later_gradients<F, L, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+    out: &mut [SVector<f64, M>],
+) -> bool
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    type Wide = DualSVec64<LATER_DIRECTIONS>;
+    let k = y.len();
+    if k < 2 || (k - 1) * M > LATER_DIRECTIONS || out.len() < k {
+        return false;
+    }
+    let value = with_values(
+        k,
+        |i| {
+            if i == 0 {
+                F::lift::<Wide>(&y[0])
+            } else {
+                let seeds = SVector::<Wide, M>::from_fn(|m, _| Wide::from_re(0.0).derivative((i - 1) * M + m));
+                F::retract_seeded(&y[i], &seeds)
+            }
+        },
+        |v| lag.cell_lagrangian(cell, v),
+    );
+    let eps = value.eps.unwrap_generic(Const::<LATER_DIRECTIONS>, U1);
+    for (l, g) in out.iter_mut().enumerate().take(k).skip(1) {
+        *g = SVector::from_fn(|m, _| eps[(l - 1) * M + m]);
+    }
+    true
+}
+
 /// ∂L_β/∂y_l: the Lagrangian's closed form
 /// ([`DiscreteLagrangian::analytic_gradient`], else
 /// [`DiscreteLagrangian::analytic_gradients`]) where it offers one, the

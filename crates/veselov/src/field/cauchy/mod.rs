@@ -33,7 +33,8 @@ use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
 use super::cell::{
-    DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, force_block, mixed_block, vertex_force, vertex_gradient,
+    DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, force_block, later_gradients, mixed_block, vertex_force,
+    vertex_gradient,
 };
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
 use super::fibre::Fibre;
@@ -63,6 +64,17 @@ const CHUNK_WORK_NS: f64 = 20_000.0;
 /// (about 50 µs per level) ran 30 % slower on two threads than on one when
 /// its levels were split.
 const PARALLEL_LEVEL_NS: f64 = 150_000.0;
+
+/// A vertex (w, i) as the base of its cells ([`CauchyMarcher::base`]).
+#[derive(Clone, Copy)]
+struct Base {
+    /// The value slot of level w.
+    slot: usize,
+    /// The in-level index i.
+    index: usize,
+    /// Canonical coordinates (the window's representative).
+    origin: [i64; MAX_LATTICE_DIMENSION],
+}
 
 /// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
 pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
@@ -301,9 +313,26 @@ where
     /// Whether the simplex (v, σ) based at v = (w, i) enters the action.
     #[inline]
     fn cell_active(&self, w: i64, i: usize, sigma: usize) -> bool {
+        self.cell_active_at(&self.base(w, i), sigma)
+    }
+
+    /// [`cell_active`](Self::cell_active) at a base computed once.
+    #[inline]
+    fn cell_active_at(&self, base: &Base, sigma: usize) -> bool {
         self.window
             .as_ref()
-            .is_none_or(|m| m.contains_cell(&self.origin(w, i), &self.perms[sigma]))
+            .is_none_or(|m| m.contains_cell(&base.origin, &self.perms[sigma]))
+    }
+
+    /// The vertex (w, i) as the base of its cells: its value slot and
+    /// canonical coordinates, computed once for all of them.
+    #[inline]
+    fn base(&self, w: i64, i: usize) -> Base {
+        Base {
+            slot: self.value_slot(w),
+            index: i,
+            origin: self.origin(w, i),
+        }
     }
 
     /// The next level whose equations [`step`](Self::step) solves.
@@ -388,10 +417,22 @@ where
         top: Option<F::Point<f64>>,
         y: &mut [F::Point<f64>],
     ) -> TopCell {
+        self.cell_values_at(&self.base(w, i), sigma, top, y)
+    }
+
+    /// [`cell_values_into`](Self::cell_values_into) at a base computed once.
+    #[inline]
+    fn cell_values_at(
+        &self,
+        base: &Base,
+        sigma: usize,
+        top: Option<F::Point<f64>>,
+        y: &mut [F::Point<f64>],
+    ) -> TopCell {
         let n = self.torus.dimension();
         let size = self.torus.level_size();
         let ring = 2 * n + 1;
-        let first = self.value_slot(w);
+        let (first, i) = (base.slot, base.index);
         y[0] = self.values[first * size + i];
         for (l, slot) in y.iter_mut().enumerate().take(n + 1).skip(1) {
             let level_slot = if first + l >= ring { first + l - ring } else { first + l };
@@ -403,7 +444,7 @@ where
         TopCell {
             index: 0,
             shape: sigma,
-            origin: self.origin(w, i),
+            origin: base.origin,
         }
     }
 
@@ -414,15 +455,21 @@ where
     /// zero gradients: they are not part of the action.
     fn cell_gradients(&self, w: i64, i: usize, top: Option<F::Point<f64>>, out: &mut [SVector<f64, M>]) {
         let n = self.torus.dimension();
+        let base = self.base(w, i);
         for sigma in 0..self.perms.len() {
             out[sigma * (n + 1)] = SVector::zeros();
-            if !self.cell_active(w, i, sigma) {
+            if !self.cell_active_at(&base, sigma) {
                 out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].fill(SVector::zeros());
                 continue;
             }
-            let (cell, y) = self.cell_values(w, i, sigma, top);
+            let mut y = [self.values[base.slot * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
+            let cell = self.cell_values_at(&base, sigma, top, &mut y);
             let mut exact = [SVector::zeros(); MAX_LATTICE_DIMENSION + 1];
             if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n]) {
+                out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].copy_from_slice(&exact[1..=n]);
+                continue;
+            }
+            if later_gradients::<F, L, M>(&self.lag, &cell, &y[..=n], &mut exact[..=n]) {
                 out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].copy_from_slice(&exact[1..=n]);
                 continue;
             }
@@ -476,11 +523,12 @@ where
         }
         let (mu, mu_scale) = self.momentum(w, i);
         let previous = self.value(w - n as i64, self.down(i, 0, n));
+        let base = self.base(w, i);
         let star = |sigma: usize, out: &mut [F::Point<f64>]| {
-            if sigma >= self.perms.len() || !self.cell_active(w, i, sigma) {
+            if sigma >= self.perms.len() || !self.cell_active_at(&base, sigma) {
                 return None;
             }
-            Some(self.cell_values_into(w, i, sigma, None, out))
+            Some(self.cell_values_at(&base, sigma, None, out))
         };
         if let Some(solved) = self
             .lag
@@ -494,10 +542,11 @@ where
             let mut jac = SMatrix::<f64, M, M>::zeros();
             let mut scale = 0.0;
             for sigma in 0..self.perms.len() {
-                if !self.cell_active(w, i, sigma) {
+                if !self.cell_active_at(&base, sigma) {
                     continue;
                 }
-                let (cell, y) = self.cell_values(w, i, sigma, Some(*z));
+                let mut y = [*z; MAX_LATTICE_DIMENSION + 1];
+                let cell = self.cell_values_at(&base, sigma, Some(*z), &mut y);
                 let g = if with_jacobian {
                     let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
                     jac += block;
