@@ -7,6 +7,12 @@
 //! * S_v^Δ = the cells of S_v that contain Δv (Def. 4.2),
 //! * μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} ∂L_β/∂y_v (4.2), Leg_v = Σ_{β ∈ S_v^Δ} ∂L_β/∂y_v (4.3).
 //!
+//! When Δv lies in one cell of the star only, as v's successor in it, the
+//! Lagrangian may solve the equation itself
+//! ([`DiscreteLagrangian::solve_cell_vertex`]: the split Lagrangians of the
+//! beam iterate on the one increment Δv enters); the generic Newton in the
+//! fibre's chart stays the reference and the fall-back.
+//!
 //! The caller supplies the schedule (for example seed 000's rows for time
 //! evolution, Δ(j, a) = (j + 1, a), or its columns for space evolution,
 //! Δ(j, a) = (j, a + 1)); the marcher checks every pair: a flow the complex

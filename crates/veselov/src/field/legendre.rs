@@ -92,7 +92,8 @@ impl Failure {
 /// returns (Leg(z), ∂Leg/∂ζ at z·τ(ζ), ζ = 0 when `jacobian` is asked for,
 /// the size of the summed terms). The Jacobian is evaluated at the start and
 /// again only when an iteration fails to reduce the residual fourfold, so
-/// most iterations cost one gradient pass. Stops when
+/// most iterations cost one gradient pass (and one solve with the kept LU
+/// factors, [`SmallLu`]). Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
 /// stalls at round-off (the residual stops halving) within 100 × tolerance ×
 /// (that size + |∂Leg/∂ζ|·(1 + |z|) from the latest Jacobian), or after a
