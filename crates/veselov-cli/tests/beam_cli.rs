@@ -37,7 +37,11 @@ fn paper_space_evolution_well_posed_reaches_the_end_and_literal_stops_cleanly() 
     assert!(ok, "{err}");
     let s = summary(&out);
     assert_eq!(s["levels"], 40);
-    assert!(s["momentum_map_drift"].as_f64().expect("drift") <= 1e-10, "{s}");
+    // 𝖩_𝖭 constant across the columns to 1e-12 of its terms (measured 8.9e-13:
+    // a stiff steel section whose strains sit near E6, where rounding the
+    // stored node to its increment already costs ~2e-12 unless the vertex
+    // solve takes its residual through the stored value).
+    assert!(s["momentum_map_drift"].as_f64().expect("drift") <= 1e-12, "{s}");
     let (header, m) = csv(&out.join("momentum.csv"));
     assert!(header.join(",").starts_with("level,s,"));
     assert!((m[m.len() - 1][1] - 0.8).abs() < 1e-12);
