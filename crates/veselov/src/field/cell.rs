@@ -128,8 +128,9 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// Newton Jacobian of the same node's last solve, in whatever
     /// coordinates this solve iterates in (it leaves its own there). Returns
     /// `None` (default) to use the generic Newton in the fibre's chart,
-    /// which stays the reference; an implementation must solve the same
-    /// equation to round-off and report its outcome the same way.
+    /// which stays the reference and also takes over a failed solve; an
+    /// implementation must solve the same equation to round-off and report
+    /// its outcome the same way.
     #[allow(clippy::too_many_arguments)]
     fn solve_cell_vertex(
         &self,

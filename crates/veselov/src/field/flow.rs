@@ -11,7 +11,8 @@
 //! Lagrangian may solve the equation itself
 //! ([`DiscreteLagrangian::solve_cell_vertex`]: the split Lagrangians of the
 //! beam iterate on the one increment Δv enters); the generic Newton in the
-//! fibre's chart stays the reference and the fall-back.
+//! fibre's chart stays the reference, and solves the pair when the model's
+//! solve fails.
 //!
 //! The caller supplies the schedule (for example seed 000's rows for time
 //! evolution, Δ(j, a) = (j + 1, a), or its columns for space evolution,
@@ -220,8 +221,12 @@ where
                         .solve_cell_vertex(&cell, y, pos, &mu, mu_scale, &self.options, kept)
                 },
             );
-            if let Some(solved) = solved {
-                return solved;
+            match solved {
+                Some(solved) if solved.1.failure.is_none() => return solved,
+                // Its failure sends the pair to the reference solve, afresh
+                // (the kept Jacobian was in the model's coordinates).
+                Some(_) => *kept = None,
+                None => {}
             }
         }
         let legendre = |z: &F::Point<f64>, with_jacobian: bool| {
