@@ -103,17 +103,20 @@ impl<I, S> SplitLagrangian<I, S> {
         }
         let fixed = self.fixed_terms::<F, M>(y, position)?;
         let start = I::increment(&y[0], &y[position]).ok()?;
-        let fixed_scale = fixed.amax();
+        // The size of the terms as the chart solve measures it: the cell's
+        // ∂ℒ/∂y₁ + F¹ as a whole (plus μ's terms), so both stop alike.
         let evaluate = |x: &SVector<f64, M>, with_jacobian: bool| {
             if with_jacobian {
                 let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
                 let moving = self.moving_terms::<F, DualSVec64<M>, M>(&seeded, position);
                 let value = moving.map(|v| v.re);
                 let jacobian = SMatrix::<f64, M, M>::from_fn(|i, j| moving[i].eps.unwrap_generic(Const::<M>, U1)[j]);
-                (value + fixed, Some(jacobian), value.amax() + fixed_scale)
+                let leg = value + fixed;
+                (leg, Some(jacobian), leg.amax())
             } else {
                 let value = self.moving_terms::<F, f64, M>(x, position);
-                (value + fixed, None, value.amax() + fixed_scale)
+                let leg = value + fixed;
+                (leg, None, leg.amax())
             }
         };
         // The value the cell will hold, and the increment it reads back.
