@@ -181,9 +181,14 @@ where
         let mut mu = SVector::<f64, M>::zeros();
         let mut mu_scale = 0.0;
         let contains = |verts: &[usize]| verts.iter().position(|&u| u == dv);
+        // The cells holding Δv (the first one, with Δv's position, and how many).
+        let (mut holder, mut holders) = (None, 0);
         for e in star {
             let k = self.complex.cell_vertices(e.cell, &mut verts);
-            if contains(&verts[..k]).is_none() {
+            if let Some(pos) = contains(&verts[..k]) {
+                holder = holder.or(Some((e, pos, k, verts)));
+                holders += 1;
+            } else {
                 let cell = self.complex.cell(e.cell);
                 with_values(
                     k,
@@ -202,16 +207,11 @@ where
             }
         }
         // Δv in one cell only, v its first vertex: the model may solve there.
-        let mut holders = star.iter().filter_map(|e| {
-            let k = self.complex.cell_vertices(e.cell, &mut verts);
-            contains(&verts[..k]).map(|pos| (e, pos, k))
-        });
-        if let (Some((e, pos, k)), None) = (holders.next(), holders.next())
+        if let Some((e, pos, k, cell_verts)) = holder
+            && holders == 1
             && e.position == 0
             && pos > 0
         {
-            let mut cell_verts = [0; MAX_CELL_VERTICES];
-            self.complex.cell_vertices(e.cell, &mut cell_verts);
             let cell = self.complex.cell(e.cell);
             let solved = with_values(
                 k,

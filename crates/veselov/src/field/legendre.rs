@@ -128,8 +128,9 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     let mut outcome = VertexOutcome::default();
     let mut previous = f64::INFINITY;
     let mut jacobian: Option<SMatrix<f64, M, M>> = kept.take().filter(|j| j.iter().all(|x| x.is_finite()));
-    // The factors of the Jacobian in use, kept while it is.
-    let mut factors = jacobian.and_then(|j| SmallLu::factor(&j).0);
+    // The factors of the Jacobian in use, taken when a step first needs
+    // them and kept while it is in use.
+    let mut factors: Option<SmallLu<M>> = None;
     let mut fresh = false;
     let mut point_scale = jacobian.map_or(0.0, |j| j.amax() * (1.0 + coordinate_size::<F, M>(&z)));
     let mut last_step = f64::INFINITY;
@@ -146,7 +147,7 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         if let Some(j) = jac {
             point_scale = j.amax() * (1.0 + coordinate_size::<F, M>(&z));
             jacobian = Some(j);
-            factors = SmallLu::factor(&j).0;
+            factors = None;
             fresh = true;
             outcome.jacobians += 1;
         } else {
@@ -173,6 +174,9 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         previous = r;
         if it == options.max_iterations {
             break;
+        }
+        if factors.is_none() {
+            factors = jacobian.and_then(|j| SmallLu::factor(&j).0);
         }
         let Some(lu) = &factors else {
             outcome.failure = Some(Failure::Singular);

@@ -53,9 +53,9 @@ type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f
 /// vertex measured on the last level solved on one thread so that it holds
 /// about this much. The first level is always solved on the calling thread
 /// (a level solved in parallel is never measured: if the first one were,
-/// the chunk would keep its first guess for the whole march). Chunking decides only who solves which
-/// vertex, never what is computed: results stay bit-identical for every
-/// thread count.
+/// the chunk would keep its first guess for the whole march). Chunking
+/// decides only who solves which vertex, never what is computed: results
+/// stay bit-identical for every thread count.
 const CHUNK_WORK_NS: f64 = 20_000.0;
 
 /// The least work of a level solved in parallel. Handing work to pool
@@ -465,11 +465,9 @@ where
             let mut y = [self.values[base.slot * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
             let cell = self.cell_values_at(&base, sigma, top, &mut y);
             let mut exact = [SVector::zeros(); MAX_LATTICE_DIMENSION + 1];
-            if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n]) {
-                out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].copy_from_slice(&exact[1..=n]);
-                continue;
-            }
-            if later_gradients::<F, L, M>(&self.lag, &cell, &y[..=n], &mut exact[..=n]) {
+            if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n])
+                || later_gradients::<F, L, M>(&self.lag, &cell, &y[..=n], &mut exact[..=n])
+            {
                 out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].copy_from_slice(&exact[1..=n]);
                 continue;
             }

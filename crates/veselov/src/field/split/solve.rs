@@ -134,8 +134,12 @@ impl<I, S> SplitLagrangian<I, S> {
         // residual is that of the increment read back from it, the one the
         // march will see — with the same stopping rules; usually one
         // evaluation confirms it.
+        // The last stored value evaluated: the one returned on success.
+        let last = std::cell::Cell::new(None);
         let (x, polish) = solve_legendre_from::<Euclidean<M>, M>(mu, mu_scale, x, options, kept, |x, with_jacobian| {
-            match stored(x).1 {
+            let (z, read) = stored(x);
+            last.set(Some((*x, z)));
+            match read {
                 Ok(read) => evaluate(&read, with_jacobian),
                 Err(_) => (SVector::from_element(f64::NAN), None, f64::NAN),
             }
@@ -144,7 +148,10 @@ impl<I, S> SplitLagrangian<I, S> {
         outcome.jacobians += polish.jacobians;
         outcome.relative_residual = polish.relative_residual;
         outcome.failure = polish.failure;
-        let z = stored(&x).0;
+        let z = match last.get() {
+            Some((evaluated, z)) if evaluated == x => z,
+            _ => stored(&x).0,
+        };
         // The solution must be the increment the cell reads back from z (an
         // exponential chart wraps past the cut locus).
         if outcome.failure.is_none() && !I::in_chart(&x) {
