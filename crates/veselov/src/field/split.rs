@@ -47,27 +47,17 @@ pub trait Increment<F: Fibre<M>, const M: usize>: Send + Sync + 'static {
     fn increment<D: Scalar>(y1: &F::Point<D>, y2: &F::Point<D>) -> std::result::Result<SVector<D, M>, LieError>;
     /// y₁·τ(x).
     fn advance<D: Scalar>(y1: &F::Point<D>, x: &SVector<D, M>) -> F::Point<D>;
-    /// x and its derivatives A₁ = ∂x/∂ε₁, A₂ = ∂x/∂ε₂ in the fibre's charts
-    /// y₁·ρ(ε₁), y₂·ρ(ε₂) at ε = 0 (closed form, for the exact gradients of
-    /// [`SplitLagrangian`]).
-    ///
-    /// # Errors
-    /// As [`increment`](Self::increment).
-    fn increment_derivatives<D: Scalar>(
-        y1: &F::Point<D>,
-        y2: &F::Point<D>,
-    ) -> std::result::Result<Derivatives<D, M>, LieError>;
-    /// A₁ = ∂x/∂ε₁ as a function of the increment x alone (it is one: the
-    /// vertex solve of [`SplitLagrangian`] iterates on x).
-    fn first_derivative<D: Scalar>(x: &SVector<D, M>) -> SMatrix<D, M, M>;
+    /// A₁ᵀp with A₁ = ∂x/∂ε₁ the derivative of the increment x in the
+    /// fibre's chart y₁·ρ(ε₁) at ε₁ = 0 — a function of x alone (closed
+    /// form, for the exact gradients of [`SplitLagrangian`]; the vertex
+    /// solve iterates on x).
+    fn first_transpose_mul<D: Scalar>(x: &SVector<D, M>, p: &SVector<D, M>) -> SVector<D, M>;
+    /// A₂ᵀp with A₂ = ∂x/∂ε₂ in the chart y₂·ρ(ε₂), likewise.
+    fn second_transpose_mul<D: Scalar>(x: &SVector<D, M>, p: &SVector<D, M>) -> SVector<D, M>;
     /// Whether [`increment`](Self::increment) reads x back from
     /// [`advance`](Self::advance)`(y₁, x)`.
     fn in_chart(x: &SVector<f64, M>) -> bool;
 }
-
-/// An increment x with its derivatives (x, ∂x/∂ε₁, ∂x/∂ε₂)
-/// ([`Increment::increment_derivatives`]).
-pub type Derivatives<D, const M: usize> = (SVector<D, M>, SMatrix<D, M, M>, SMatrix<D, M, M>);
 
 /// The vector-space increment y₂ − y₁ on ℝ^M.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -81,16 +71,13 @@ impl<const M: usize> Increment<Euclidean<M>, M> for Difference {
     fn advance<D: Scalar>(y1: &SVector<D, M>, x: &SVector<D, M>) -> SVector<D, M> {
         y1 + x
     }
-    /// (y₂ − y₁, −I, I).
-    fn increment_derivatives<D: Scalar>(
-        y1: &SVector<D, M>,
-        y2: &SVector<D, M>,
-    ) -> std::result::Result<Derivatives<D, M>, LieError> {
-        Ok((y2 - y1, -SMatrix::identity(), SMatrix::identity()))
+    /// A₁ = −I.
+    fn first_transpose_mul<D: Scalar>(_x: &SVector<D, M>, p: &SVector<D, M>) -> SVector<D, M> {
+        -p
     }
-    /// −I.
-    fn first_derivative<D: Scalar>(_x: &SVector<D, M>) -> SMatrix<D, M, M> {
-        -SMatrix::identity()
+    /// A₂ = I.
+    fn second_transpose_mul<D: Scalar>(_x: &SVector<D, M>, p: &SVector<D, M>) -> SVector<D, M> {
+        *p
     }
     /// Always.
     fn in_chart(_x: &SVector<f64, M>) -> bool {
@@ -119,14 +106,13 @@ where
     /// τ(x + δ) gives δ = d^Rτ⁻¹_x Ad_{τ(x)} ε₂ = d^Rτ⁻¹_{−x} ε₂: inverting
     /// τ(x + εδ) = τ(ε d^Rτ_x δ)τ(x) gives Ad_{τ(x)} d^Rτ_{−x} = d^Rτ_x for
     /// every retraction with τ(−x) = τ(x)⁻¹, as the exponential and the
-    /// Cayley map are.
-    fn increment_derivatives<D: Scalar>(g1: &SE3<D>, g2: &SE3<D>) -> std::result::Result<Derivatives<D, 6>, LieError> {
-        let x = R::tau_inv(&g1.inverse().compose(g2))?;
-        Ok((x, Self::first_derivative(&x), R::dtau_inv(&(-x))))
+    /// Cayley map are. A₁ = −d^Rτ⁻¹_x.
+    fn first_transpose_mul<D: Scalar>(x: &SVector<D, 6>, p: &SVector<D, 6>) -> SVector<D, 6> {
+        -R::dtau_inv_tr_mul(x, p)
     }
-    /// −d^Rτ⁻¹_x.
-    fn first_derivative<D: Scalar>(x: &SVector<D, 6>) -> SMatrix<D, 6, 6> {
-        -R::dtau_inv(x)
+    /// A₂ = d^Rτ⁻¹_{−x}.
+    fn second_transpose_mul<D: Scalar>(x: &SVector<D, 6>, p: &SVector<D, 6>) -> SVector<D, 6> {
+        R::dtau_inv_tr_mul(&(-x), p)
     }
     /// τ(x) rotates by less than π − [`crate::lie::CUT_LOCUS_MARGIN`].
     fn in_chart(x: &SVector<f64, 6>) -> bool {
@@ -311,12 +297,12 @@ impl<I, S> SplitLagrangian<I, S> {
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
     {
-        let (x, a1, a2) = I::increment_derivatives(y1, y2).ok()?;
+        let x = I::increment(y1, y2).ok()?;
         let dk = self
             .density
             .kinetic_gradient(&x.map(|v| v * (1.0 / self.dt)))
             .map(|v| v * self.ds);
-        Some((a1.tr_mul(&dk), a2.tr_mul(&dk)))
+        Some((I::first_transpose_mul(&x, &dk), I::second_transpose_mul(&x, &dk)))
     }
 
     /// The stored-energy terms of the space edge (y₁, y₃):
@@ -330,12 +316,12 @@ impl<I, S> SplitLagrangian<I, S> {
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
     {
-        let (x, a1, a2) = I::increment_derivatives(y1, y3).ok()?;
+        let x = I::increment(y1, y3).ok()?;
         let dphi = self
             .density
             .stored_gradient(&x.map(|v| v * (1.0 / self.ds)))
-            .map(|v| v * self.dt);
-        Some((-a1.tr_mul(&dphi), -a2.tr_mul(&dphi)))
+            .map(|v| -(v * self.dt));
+        Some((I::first_transpose_mul(&x, &dphi), I::second_transpose_mul(&x, &dphi)))
     }
 
     /// ∂ℒ/∂y_l alone, from the one edge it needs for l = 1 (time) and

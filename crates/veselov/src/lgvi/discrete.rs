@@ -86,6 +86,6 @@ where
     D: Scalar,
 {
     let (dg, dxi) = action_partials::<G, R, L, D, N>(l, g, xi, h);
-    let nu = R::dtau_inv(&(xi * D::from(h))).transpose() * dxi / D::from(h);
+    let nu = R::dtau_inv_tr_mul(&(xi * D::from(h)), &dxi) / D::from(h);
     (nu - dg - mu, nu)
 }

@@ -129,10 +129,10 @@ where
         let inertia = self.inertia.map(DualSVec64::<N>::from);
         let h = self.h;
         let hd = DualSVec64::<N>::from(h);
-        let residual = |xi: &SVector<f64, N>| R::dtau_inv(&(xi * h)).transpose() * (self.inertia * xi) - m;
+        let residual = |xi: &SVector<f64, N>| R::dtau_inv_tr_mul(&(xi * h), &(self.inertia * xi)) - m;
         let jacobian = |xi: &SVector<f64, N>| {
             let xd = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from(xi[i]).derivative(i));
-            let r = R::dtau_inv(&(xd * hd)).transpose() * (inertia * xd);
+            let r = R::dtau_inv_tr_mul(&(xd * hd), &(inertia * xd));
             SMatrix::<f64, N, N>::from_fn(|i, j| r[i].eps.unwrap_generic(Const::<N>, U1)[j])
         };
         let (xi, _, iterations) = newton_on_algebra(start, None, &self.options, (index, t), residual, jacobian)?;

@@ -38,6 +38,14 @@ pub trait Retraction<const N: usize> {
     /// Its inverse d^Rτ⁻¹_ξ = (d^Rτ_ξ)⁻¹ (closed form).
     fn dtau_inv<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, N>) -> SMatrix<D, N, N>;
 
+    /// (d^Rτ⁻¹_ξ)ᵀ p, the pull-back of a covector p (a momentum) by τ⁻¹ —
+    /// the product every discrete Legendre transform takes. Default: the
+    /// matrix [`dtau_inv`](Self::dtau_inv) transposed times p; the Cayley
+    /// map has it without forming the matrix.
+    fn dtau_inv_tr_mul<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, N>, p: &SVector<D, N>) -> SVector<D, N> {
+        Self::dtau_inv(xi).tr_mul(p)
+    }
+
     /// The rotation angle of τ(ξ), from ξ alone: τ⁻¹(τ(ξ)) = ξ exactly when
     /// it is below π − [`CUT_LOCUS_MARGIN`](super::CUT_LOCUS_MARGIN) (the
     /// exponential chart wraps past π; τ⁻¹ refuses angles beyond the margin).
@@ -47,6 +55,11 @@ pub trait Retraction<const N: usize> {
 /// |ω| of the rotation part ω = (ξ₀, ξ₁, ξ₂) (angular first on SE(3)).
 fn rotation_norm<const N: usize>(xi: &SVector<f64, N>) -> f64 {
     xi.fixed_rows::<3>(0).norm()
+}
+
+/// (dcay⁻¹_ω)ᵀ p = p + ½ ω × p + ¼ ω (ω·p) on so(3) ([`so3::dcay_inv`]).
+fn cayley_rotation_pullback<D: DualNum<Primitive = f64> + Copy>(w: &SVector<D, 3>, p: &SVector<D, 3>) -> SVector<D, 3> {
+    p + w.cross(p) * D::from(0.5) + w * (w.dot(p) * D::from(0.25))
 }
 
 /// The exponential map as a retraction.
@@ -92,6 +105,10 @@ impl Retraction<3> for CayleyMap {
     fn dtau_inv<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 3>) -> SMatrix<D, 3, 3> {
         so3::dcay_inv(xi)
     }
+    /// (I − ω̂/2 + ωωᵀ/4)ᵀ p = p + ½ ω × p + ¼ ω (ω·p).
+    fn dtau_inv_tr_mul<D: DualNum<Primitive = f64> + Copy>(w: &SVector<D, 3>, p: &SVector<D, 3>) -> SVector<D, 3> {
+        cayley_rotation_pullback(w, p)
+    }
     /// 2 atan(|ω|/2).
     fn rotation_angle(xi: &SVector<f64, 3>) -> f64 {
         2.0 * (0.5 * rotation_norm(xi)).atan()
@@ -132,6 +149,17 @@ impl Retraction<6> for CayleyMap {
     fn dtau_inv<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 6>) -> SMatrix<D, 6, 6> {
         se3::dcay_inv(xi)
     }
+    /// With ξ = (ω; v), p = (a; b) and [`se3::dcay_inv`]'s blocks
+    /// [[I − ω̂/2 + ωωᵀ/4, 0], [−½(I − ω̂/2)v̂, I − ω̂/2]]: c = b + ½ ω × b
+    /// and (a + ½ ω × a + ¼ ω (ω·a) + ½ v × c; c).
+    fn dtau_inv_tr_mul<D: DualNum<Primitive = f64> + Copy>(xi: &SVector<D, 6>, p: &SVector<D, 6>) -> SVector<D, 6> {
+        let (w, v) = se3::split(xi);
+        let (a, b) = se3::split(p);
+        let half = D::from(0.5);
+        let c = b + w.cross(&b) * half;
+        let top = cayley_rotation_pullback(&w, &a) + v.cross(&c) * half;
+        se3::join(&top, &c)
+    }
     /// 2 atan(|ω|/2).
     fn rotation_angle(xi: &SVector<f64, 6>) -> f64 {
         2.0 * (0.5 * rotation_norm(xi)).atan()
@@ -159,6 +187,11 @@ mod tests {
         assert!((back - xi).norm() <= 1e-14 * (1.0 + xi.norm()));
         let eye = SMatrix::<f64, N, N>::identity();
         assert!((R::dtau_inv(&xi) * R::dtau(&xi) - eye).abs().max() <= 1e-14);
+        // The pull-back of a covector without the matrix is its transpose
+        // times the covector, to round-off of the products (the entries of
+        // dτ⁻¹ are O(1 + |ξ|²) here, p is O(1)).
+        let pulled = R::dtau_inv_tr_mul(&xi, &d) - R::dtau_inv(&xi).tr_mul(&d);
+        assert!(pulled.amax() <= 8.0 * f64::EPSILON * (1.0 + xi.norm_squared()) * d.amax());
         // The same generic code runs with dual numbers; the dual part of
         // τ⁻¹(τ(εδ)τ(ξ)) with ε dual is dτ⁻¹_ξ δ.
         let gd = R::tau(&d.map(|e| Dual64::new(0.0, e)));

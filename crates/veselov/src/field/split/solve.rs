@@ -3,7 +3,7 @@
 //! Marching in time, the unknown y₂ of the cell based at v enters its
 //! vertex equation only through x = Δtξ = τ⁻¹(y₁⁻¹y₂); marching in space,
 //! y₃ only through x = Δsη. With A₁(x) = ∂x/∂ε₁
-//! ([`Increment::first_derivative`]) the equation ∂ℒ/∂y₁ + F¹ = μ of
+//! ([`Increment::first_transpose_mul`]) the equation ∂ℒ/∂y₁ + F¹ = μ of
 //! [`SplitLagrangian::closed_gradients`] reads
 //!
 //! * time:  ΔsA₁(x)ᵀ∇K(x/Δt) + ½ΔsΔt f(x/Δt) + c = μ,
@@ -39,17 +39,16 @@ impl<I, S> SplitLagrangian<I, S> {
         S: SplitDensity<F, M>,
     {
         let (ds, dt) = (self.ds, self.dt);
-        let a1 = I::first_derivative(x);
         if position == 1 {
             let xi = x.map(|v| v * (1.0 / dt));
-            let mut terms = a1.tr_mul(&self.density.kinetic_gradient(&xi).map(|v| v * ds));
+            let mut terms = I::first_transpose_mul(x, &self.density.kinetic_gradient(&xi).map(|v| v * ds));
             if self.density.is_damped() {
                 terms += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt));
             }
             terms
         } else {
             let eta = x.map(|v| v * (1.0 / ds));
-            -a1.tr_mul(&self.density.stored_gradient(&eta).map(|v| v * dt))
+            I::first_transpose_mul(x, &self.density.stored_gradient(&eta).map(|v| -(v * dt)))
         }
     }
 
