@@ -8,6 +8,7 @@
 //!   value at another vertex, ∂²L_β/∂y_a∂y_b (nested duals), the Jacobian
 //!   block of a vertex solve (note 003 §2.4, Def. 4.9).
 
+use crate::solve::SmallLu;
 use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::{Derivative, DualSVec, DualSVec64};
 
@@ -140,7 +141,7 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         _mu: &SVector<f64, M>,
         _mu_scale: f64,
         _options: &CauchyOptions,
-        _kept: &mut Option<SMatrix<f64, M, M>>,
+        _kept: &mut Option<SmallLu<M>>,
     ) -> Option<(F::Point<f64>, VertexOutcome)> {
         None
     }

@@ -35,6 +35,7 @@
 //! Window-local cells carry window coordinates in [`TopCell::origin`]; cell
 //! Lagrangians that depend on the cell's position are not supported here.
 
+use crate::solve::SmallLu;
 use nalgebra::{SMatrix, SVector};
 
 use super::cell::{DiscreteLagrangian, vertex_gradient};
@@ -94,7 +95,7 @@ pub struct Evolution000<F: Fibre<M>, L, const M: usize> {
     level: usize,
     /// The Newton Jacobian of each cross index's last solve (reused at the
     /// next level while it contracts); allocated once.
-    jacobians: Vec<Option<SMatrix<f64, M, M>>>,
+    jacobians: Vec<Option<SmallLu<M>>>,
 }
 
 impl<F, L, const M: usize> Evolution000<F, L, M>
@@ -418,10 +419,17 @@ where
                 out.extend_from_slice(&c[..k]);
             }
         }
-        // The kept Newton Jacobians: the next level's iterations depend on them.
+        // The factors of the kept Newton Jacobians: the next level's
+        // iterations depend on them. Tag 2: factors follow; tag 3: none.
+        // (Earlier versions wrote tag 1 and a Jacobian, or tag 0 and zeros.)
         for j in &self.jacobians {
-            out.push(f64::from(u8::from(j.is_some())));
-            out.extend_from_slice(j.unwrap_or_else(SMatrix::zeros).as_slice());
+            match j {
+                Some(lu) => {
+                    out.push(2.0);
+                    lu.save_factors(out);
+                }
+                None => out.push(3.0),
+            }
         }
     }
 
@@ -449,10 +457,28 @@ where
             }
         }
         for j in &mut self.jacobians {
-            let has = words.one()? != 0.0;
-            let mut m = SMatrix::<f64, M, M>::zeros();
-            words.fill(m.as_mut_slice())?;
-            *j = has.then_some(m);
+            *j = match words.one()? {
+                0.0 => {
+                    words.take(M * M)?;
+                    None
+                }
+                // Factoring the Jacobian an earlier version kept gives the
+                // factors it would have used: the run continues bit for bit.
+                1.0 => {
+                    let mut m = SMatrix::<f64, M, M>::zeros();
+                    words.fill(m.as_mut_slice())?;
+                    SmallLu::factor(&m).0
+                }
+                2.0 => Some(SmallLu::restore_factors(words)?),
+                3.0 => None,
+                tag => {
+                    return Err(Error::InvalidParameter {
+                        name: "checkpoint".into(),
+                        value: tag.to_string(),
+                        reason: "not a kept-Jacobian tag (0 to 3)".into(),
+                    });
+                }
+            };
         }
         self.level = level as usize;
         Ok(())

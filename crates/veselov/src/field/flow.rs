@@ -23,6 +23,7 @@
 //! unknowns is solved in parallel, with results independent of the thread
 //! count.
 
+use crate::solve::SmallLu;
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
@@ -175,7 +176,7 @@ where
         dv: usize,
         star: &[StarEntry],
         guess: F::Point<f64>,
-        kept: &mut Option<SMatrix<f64, M, M>>,
+        kept: &mut Option<SmallLu<M>>,
     ) -> (F::Point<f64>, VertexOutcome) {
         let mut verts = [0; MAX_CELL_VERTICES];
         let mut mu = SVector::<f64, M>::zeros();
@@ -280,12 +281,7 @@ where
     /// while it contracts and refreshed when it does not
     /// ([`solve_legendre_from`]); the Jacobian in use at the end is left in
     /// `kept`.
-    pub fn solve_reusing(
-        &mut self,
-        v: usize,
-        dv: usize,
-        kept: &mut Option<SMatrix<f64, M, M>>,
-    ) -> Result<VertexOutcome> {
+    pub fn solve_reusing(&mut self, v: usize, dv: usize, kept: &mut Option<SmallLu<M>>) -> Result<VertexOutcome> {
         let mut star = std::mem::take(&mut self.scratch);
         let checked = self.check_pair(v, dv, &mut star);
         let solved = checked.map(|()| self.solve_pair(dv, &star, self.values[dv], kept));

@@ -111,10 +111,11 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     solve_legendre_from::<F, M>(mu, mu_scale, z, options, &mut None, legendre)
 }
 
-/// [`solve_legendre`] starting from a Jacobian `kept` from an earlier solve
-/// (the same vertex equation one level before, say), used until an
-/// iteration fails to reduce the residual fourfold, then refreshed; the
-/// Jacobian in use at the end is left in `kept` for the next solve. The
+/// [`solve_legendre`] starting from the factors of a Jacobian `kept` from an
+/// earlier solve (the same vertex equation one level before, say), used
+/// until an iteration fails to reduce the residual fourfold, then
+/// refreshed; the factors in use at the end are left in `kept` for the next
+/// solve. The
 /// root, its tolerance and the stall tests are those of [`solve_legendre`]:
 /// only the number of exact Jacobians changes.
 pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
@@ -122,32 +123,37 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     mu_scale: f64,
     mut z: F::Point<f64>,
     options: &CauchyOptions,
-    kept: &mut Option<SMatrix<f64, M, M>>,
+    kept: &mut Option<SmallLu<M>>,
     legendre: impl Fn(&F::Point<f64>, bool) -> (SVector<f64, M>, Option<SMatrix<f64, M, M>>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
     let mut outcome = VertexOutcome::default();
     let mut previous = f64::INFINITY;
-    let mut jacobian: Option<SMatrix<f64, M, M>> = kept.take().filter(|j| j.iter().all(|x| x.is_finite()));
-    // The factors of the Jacobian in use, taken when a step first needs
-    // them and kept while it is in use.
-    let mut factors: Option<SmallLu<M>> = None;
+    // The factors of the Jacobian in use (`None` until one is evaluated, or
+    // after a singular one), factored once where it is evaluated.
+    let mut factors: Option<SmallLu<M>> = kept.take().filter(SmallLu::is_finite);
+    let mut have_jacobian = factors.is_some();
     let mut fresh = false;
-    let mut point_scale = jacobian.map_or(0.0, |j| j.amax() * (1.0 + coordinate_size::<F, M>(&z)));
+    let mut point_scale = factors
+        .as_ref()
+        .map_or(0.0, |f| f.largest() * (1.0 + coordinate_size::<F, M>(&z)));
     let mut last_step = f64::INFINITY;
     for it in 0..=options.max_iterations {
-        let (mut leg, mut jac, mut leg_scale) = legendre(&z, jacobian.is_none());
+        let (mut leg, mut jac, mut leg_scale) = legendre(&z, !have_jacobian);
         let mut residual = leg - mu;
         let mut r = residual.amax();
         // Poor contraction with an old Jacobian: refresh it at this iterate.
-        if jacobian.is_some() && !fresh && r > 0.25 * previous && r.is_finite() {
+        if have_jacobian && !fresh && r > 0.25 * previous && r.is_finite() {
             (leg, jac, leg_scale) = legendre(&z, true);
             residual = leg - mu;
             r = residual.amax();
         }
-        if let Some(j) = jac {
+        if let Some(j) = &jac {
             point_scale = j.amax() * (1.0 + coordinate_size::<F, M>(&z));
-            jacobian = Some(j);
-            factors = None;
+            let lu = factors.get_or_insert(SmallLu::zeros());
+            if lu.refactor(j).is_none() {
+                factors = None;
+            }
+            have_jacobian = true;
             fresh = true;
             outcome.jacobians += 1;
         } else {
@@ -168,15 +174,12 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
             outcome.relative_residual = r / (scale + point_scale).max(f64::MIN_POSITIVE);
         }
         if r <= options.tolerance * scale || stalled {
-            *kept = jacobian;
+            *kept = factors;
             return (F::renormalize(&z), outcome);
         }
         previous = r;
         if it == options.max_iterations {
             break;
-        }
-        if factors.is_none() {
-            factors = jacobian.and_then(|j| SmallLu::factor(&j).0);
         }
         let Some(lu) = &factors else {
             outcome.failure = Some(Failure::Singular);

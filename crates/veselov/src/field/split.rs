@@ -24,6 +24,7 @@
 //! Φ = ½⟨ℂ(η − E6), η − E6⟩) e_𝖫 = K + Φ + Π and
 //! e_𝖭 = −K − ⟨ℂ(η − E6), E6⟩ − Φ + Π, the note's natural choice.
 
+use crate::solve::SmallLu;
 use std::marker::PhantomData;
 
 use nalgebra::{Const, SMatrix, SVector, U1};
@@ -446,7 +447,7 @@ where
         mu: &SVector<f64, M>,
         mu_scale: f64,
         options: &CauchyOptions,
-        kept: &mut Option<SMatrix<f64, M, M>>,
+        kept: &mut Option<SmallLu<M>>,
     ) -> Option<(F::Point<f64>, VertexOutcome)> {
         self.solve_increment::<F, M>(y, position, mu, mu_scale, options, kept)
     }

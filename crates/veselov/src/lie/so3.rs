@@ -327,13 +327,22 @@ pub fn cay<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> SO3<D> {
     }
 }
 
-/// Inverse Cayley map: ω̂ = 2(R − I)(R + I)⁻¹ (note 000 §13), computed as
-/// ω = 2 q_v/q_w from the unit quaternion (equivalent, and accurate up to the
-/// cut locus). |ω| = 2 tan(θ/2).
+/// Inverse Cayley map: ω̂ = 2(R − I)(R + I)⁻¹ (note 000 §13). |ω| = 2 tan(θ/2).
+///
+/// Up to θ = π/2 (1 + tr R = 4cos²(θ/2) ≥ 2) as ω = 2 vee(R − Rᵀ)/(1 + tr R),
+/// which is 2 q_v/q_w without the square root of the quaternion; beyond, where
+/// 1 + tr R cancels, as ω = 2 q_v/q_w from the unit quaternion (accurate up
+/// to the cut locus).
 ///
 /// Errors with [`LieError::NearCutLocus`] if the rotation angle exceeds
 /// π − [`CUT_LOCUS_MARGIN`].
 pub fn cay_inv<D: DualNum<Primitive = f64> + Copy>(r: &SO3<D>) -> Result<Vector3<D>, LieError> {
+    let m = &r.matrix;
+    let cos_half_squared_4 = m[(0, 0)] + m[(1, 1)] + m[(2, 2)] + 1.0;
+    if cos_half_squared_4.re() >= 2.0 {
+        let f = cos_half_squared_4.recip() * 2.0;
+        return Ok(Vector3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)]) * f);
+    }
     let q = r.to_quaternion();
     let (w, v) = (q.coords[3], Vector3::new(q.coords[0], q.coords[1], q.coords[2]));
     check_cut_locus(w, v.dot(&v))?;

@@ -20,6 +20,7 @@
 //! the increment read back from the stored value (where the terms cancel,
 //! its rounding matters) and goes on from there if it must.
 
+use crate::solve::SmallLu;
 use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::DualSVec64;
 
@@ -90,7 +91,7 @@ impl<I, S> SplitLagrangian<I, S> {
         mu: &SVector<f64, M>,
         mu_scale: f64,
         options: &CauchyOptions,
-        kept: &mut Option<SMatrix<f64, M, M>>,
+        kept: &mut Option<SmallLu<M>>,
     ) -> Option<(F::Point<f64>, VertexOutcome)>
     where
         F: Fibre<M>,
