@@ -2,8 +2,8 @@
 //! 6-D Newton solve of the core's flow marcher, through the Cayley map: in
 //! the moving increment x = τ⁻¹(g₁⁻¹g₂) of the split Lagrangian, with its
 //! Jacobian one dual pass at the start, refreshed when an iteration
-//! contracts less than fourfold; the slaved node by the generic solve in
-//! the chart of SE(3)) for time evolution (a free–free beam, A = 16 space
+//! contracts less than fourfold; the slaved node likewise, through the
+//! stored value) for time evolution (a free–free beam, A = 16 space
 //! cells: 16 updates per level, the slaved node included) and space
 //! evolution (zero momentum, N = 16 time cells: 16 updates per column).
 //! One sample steps 4 levels: divide its time by 64. Newton iterations and

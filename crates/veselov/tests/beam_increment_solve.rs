@@ -4,8 +4,9 @@
 //! same Lagrangian with that hook switched off marches the same field, to
 //! round-off, in time (with gravity and damping, so the fixed terms, the
 //! potential and the moving force all enter) and in space, for the Cayley map
-//! and the exponential; and the one-edge gradients equal the three-vertex
-//! closed form bit for bit.
+//! and the exponential, the slaved node included (its equation, zero
+//! traction or zero momentum, solved in the increment of its one cell); and
+//! the one-edge gradients equal the three-vertex closed form bit for bit.
 
 use nalgebra::SVector;
 use veselov::ad::Scalar;

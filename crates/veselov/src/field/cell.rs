@@ -123,9 +123,11 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
 
     /// A model's own solve of a flow step (v, Δv) of the flow marcher
     /// ([`FlowMarcher`](super::flow::FlowMarcher)) when Δv lies in exactly
-    /// one top cell of v's star, `cell`, as its vertex `position` ≥ 1 with v
-    /// as vertex 0: find z with ∂L_β/∂y₀ + F⁰_β = μ at the values `y` with z
-    /// at `position` (`y[position]` holds the first guess). `kept` is the
+    /// one top cell of v's star, `cell`, as its vertex `position` ≥ 1, with
+    /// v as vertex `equation` — 0, or `position` itself for a slaved vertex
+    /// (Δv = v): find z with ∂L_β/∂y_equation + F^equation_β = μ at the
+    /// values `y` with z at `position` (`y[position]` holds the first
+    /// guess). `kept` is the
     /// Newton Jacobian of the same node's last solve, in whatever
     /// coordinates this solve iterates in (it leaves its own there). Returns
     /// `None` (default) to use the generic Newton in the fibre's chart,
@@ -137,6 +139,7 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         &self,
         _cell: &TopCell,
         _y: &[F::Point<f64>],
+        _equation: usize,
         _position: usize,
         _mu: &SVector<f64, M>,
         _mu_scale: f64,

@@ -207,10 +207,11 @@ where
                 );
             }
         }
-        // Δv in one cell only, v its first vertex: the model may solve there.
+        // Δv in one cell only, v its first vertex or Δv itself: the model
+        // may solve there.
         if let Some((e, pos, k, cell_verts)) = holder
             && holders == 1
-            && e.position == 0
+            && (e.position == 0 || e.position == pos)
             && pos > 0
         {
             let cell = self.complex.cell(e.cell);
@@ -219,7 +220,7 @@ where
                 |l| if l == pos { guess } else { self.values[cell_verts[l]] },
                 |y| {
                     self.lag
-                        .solve_cell_vertex(&cell, y, pos, &mu, mu_scale, &self.options, kept)
+                        .solve_cell_vertex(&cell, y, e.position, pos, &mu, mu_scale, &self.options, kept)
                 },
             );
             match solved {

@@ -128,9 +128,13 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
 ) -> (F::Point<f64>, VertexOutcome) {
     let mut outcome = VertexOutcome::default();
     let mut previous = f64::INFINITY;
-    // The factors of the Jacobian in use (`None` until one is evaluated, or
-    // after a singular one), factored once where it is evaluated.
-    let mut factors: Option<SmallLu<M>> = kept.take().filter(SmallLu::is_finite);
+    // The factors of the Jacobian in use, in `kept` itself (`None` until one
+    // is evaluated, or after a singular one), factored once where it is
+    // evaluated; dropped on failure.
+    if kept.as_ref().is_some_and(|f| !f.is_finite()) {
+        *kept = None;
+    }
+    let factors = kept;
     let mut have_jacobian = factors.is_some();
     let mut fresh = false;
     let mut point_scale = factors
@@ -149,9 +153,9 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         }
         if let Some(j) = &jac {
             point_scale = j.amax() * (1.0 + coordinate_size::<F, M>(&z));
-            let lu = factors.get_or_insert(SmallLu::zeros());
+            let lu = factors.get_or_insert_with(SmallLu::zeros);
             if lu.refactor(j).is_none() {
-                factors = None;
+                *factors = None;
             }
             have_jacobian = true;
             fresh = true;
@@ -164,6 +168,7 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         outcome.relative_residual = r / scale.max(f64::MIN_POSITIVE);
         if !r.is_finite() {
             outcome.failure = Some(Failure::NonFinite);
+            *factors = None;
             return (z, outcome);
         }
         let stalled = r > 0.5 * previous
@@ -174,14 +179,13 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
             outcome.relative_residual = r / (scale + point_scale).max(f64::MIN_POSITIVE);
         }
         if r <= options.tolerance * scale || stalled {
-            *kept = factors;
             return (F::renormalize(&z), outcome);
         }
         previous = r;
         if it == options.max_iterations {
             break;
         }
-        let Some(lu) = &factors else {
+        let Some(lu) = factors.as_ref() else {
             outcome.failure = Some(Failure::Singular);
             return (z, outcome);
         };
@@ -190,16 +194,19 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         let next = F::retract(&z, &delta);
         if !F::is_finite(&next) {
             outcome.failure = Some(Failure::NonFinite);
+            *factors = None;
             return (z, outcome);
         }
         // A step with every coordinate below 1 rotates by at most √3 < π
         // minus the margin: only a larger one can reach the cut locus.
         if delta.amax() >= 1.0 && F::log(&z, &next).is_err() {
             outcome.failure = Some(Failure::CutLocus);
+            *factors = None;
             return (z, outcome);
         }
         z = next;
     }
+    *factors = None;
     outcome.failure = Some(Failure::IterationLimit);
     (z, outcome)
 }

@@ -443,13 +443,14 @@ where
         &self,
         _cell: &TopCell,
         y: &[F::Point<f64>],
+        equation: usize,
         position: usize,
         mu: &SVector<f64, M>,
         mu_scale: f64,
         options: &CauchyOptions,
         kept: &mut Option<SmallLu<M>>,
     ) -> Option<(F::Point<f64>, VertexOutcome)> {
-        self.solve_increment::<F, M>(y, position, mu, mu_scale, options, kept)
+        self.solve_increment::<F, M>(y, equation, position, mu, mu_scale, options, kept)
     }
     fn depends(&self, _cell: &TopCell, l: usize, k: usize) -> bool {
         !matches!((l, k), (1, 2) | (2, 1))

@@ -19,6 +19,11 @@
 //! inverse or τ⁻¹ inside the iteration. A last pass takes the residual at
 //! the increment read back from the stored value (where the terms cancel,
 //! its rounding matters) and goes on from there if it must.
+//!
+//! A slaved vertex (seed 000's last node of a level, note 000 §1) is the
+//! unknown of its own equation ∂ℒ/∂y_p + F^p = μ in its one cell: the same
+//! solve with A₂ = ∂x/∂ε₂ in place of A₁, no fixed terms, and (at the space
+//! end) the half potential ½ΔsΔt∇Π(y₁τ(x)) moving with x.
 
 use crate::solve::SmallLu;
 use nalgebra::{Const, SMatrix, SVector, U1};
@@ -30,9 +35,17 @@ use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome, solve_legendre_from};
 
 impl<I, S> SplitLagrangian<I, S> {
-    /// The terms of ∂ℒ/∂y₁ + F¹ that move with the increment x of the edge
-    /// to vertex `position` (1: time, 2: space); see the module documentation.
-    fn moving_terms<F, D, const M: usize>(&self, x: &SVector<D, M>, position: usize) -> SVector<D, M>
+    /// The terms of ∂ℒ/∂y_equation + F^equation that move with the
+    /// increment x of the edge to vertex `position` (1: time, 2: space);
+    /// `equation` is 0, or `position` for a slaved vertex. See the module
+    /// documentation.
+    fn moving_terms<F, D, const M: usize>(
+        &self,
+        y0: &F::Point<f64>,
+        x: &SVector<D, M>,
+        equation: usize,
+        position: usize,
+    ) -> SVector<D, M>
     where
         F: Fibre<M>,
         D: Scalar,
@@ -40,26 +53,49 @@ impl<I, S> SplitLagrangian<I, S> {
         S: SplitDensity<F, M>,
     {
         let (ds, dt) = (self.ds, self.dt);
+        let pull_back = |p: &SVector<D, M>| {
+            if equation == 0 {
+                I::first_transpose_mul(x, p)
+            } else {
+                I::second_transpose_mul(x, p)
+            }
+        };
         if position == 1 {
             let xi = x.map(|v| v * (1.0 / dt));
-            let mut terms = I::first_transpose_mul(x, &self.density.kinetic_gradient(&xi).map(|v| v * ds));
+            let mut terms = pull_back(&self.density.kinetic_gradient(&xi).map(|v| v * ds));
+            // F¹ = F² = ½ΔsΔt f(ξ).
             if self.density.is_damped() {
                 terms += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt));
             }
             terms
         } else {
             let eta = x.map(|v| v * (1.0 / ds));
-            I::first_transpose_mul(x, &self.density.stored_gradient(&eta).map(|v| -(v * dt)))
+            let mut terms = pull_back(&self.density.stored_gradient(&eta).map(|v| -(v * dt)));
+            // The slaved end of the space edge carries half the potential.
+            if equation == 2 && self.density.has_potential() {
+                let y2 = I::advance(&F::lift::<D>(y0), x);
+                terms -= self.potential_gradient::<F, D, M>(&y2).map(|v| v * (0.5 * ds * dt));
+            }
+            terms
         }
     }
 
-    /// The terms of ∂ℒ/∂y₁ + F¹ fixed while the vertex at `position` moves.
-    fn fixed_terms<F, const M: usize>(&self, y: &[F::Point<f64>], position: usize) -> Option<SVector<f64, M>>
+    /// The terms of ∂ℒ/∂y_equation + F^equation fixed while the vertex at
+    /// `position` moves (none for a slaved vertex, `equation` = `position`).
+    fn fixed_terms<F, const M: usize>(
+        &self,
+        y: &[F::Point<f64>],
+        equation: usize,
+        position: usize,
+    ) -> Option<SVector<f64, M>>
     where
         F: Fibre<M>,
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
     {
+        if equation != 0 {
+            return Some(SVector::zeros());
+        }
         let (ds, dt) = (self.ds, self.dt);
         let mut terms = if position == 1 {
             self.space_edge::<F, f64, M>(&y[0], &y[2])?.0
@@ -77,16 +113,19 @@ impl<I, S> SplitLagrangian<I, S> {
         Some(terms)
     }
 
-    /// Solves the vertex equation of the cell with values `y` (v at 0) for
-    /// the vertex at `position` (1 or 2), from `y[position]`, in the moving
-    /// increment (module documentation), from the Jacobian `kept` by the
+    /// Solves the equation of vertex `equation` (0, or `position` for a
+    /// slaved vertex) of the cell with values `y` for the vertex at
+    /// `position` (1 or 2), from `y[position]`, in the moving increment
+    /// (module documentation), from the Jacobian factors `kept` by the
     /// node's last solve (in increment coordinates; left there for the
-    /// next). `None` — the generic solve then
-    /// runs — for another shape of `y`, or when the first guess or the other
-    /// edge is at the cut locus of the increment.
+    /// next). `None` — the generic solve then runs — for another shape of
+    /// `y`, or when the first guess or the other edge is at the cut locus
+    /// of the increment.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve_increment<F, const M: usize>(
         &self,
         y: &[F::Point<f64>],
+        equation: usize,
         position: usize,
         mu: &SVector<f64, M>,
         mu_scale: f64,
@@ -98,23 +137,23 @@ impl<I, S> SplitLagrangian<I, S> {
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
     {
-        if y.len() != 3 || !(1..=2).contains(&position) {
+        if y.len() != 3 || !(1..=2).contains(&position) || !(equation == 0 || equation == position) {
             return None;
         }
-        let fixed = self.fixed_terms::<F, M>(y, position)?;
+        let fixed = self.fixed_terms::<F, M>(y, equation, position)?;
         let start = I::increment(&y[0], &y[position]).ok()?;
         // The size of the terms as the chart solve measures it: the cell's
         // ∂ℒ/∂y₁ + F¹ as a whole (plus μ's terms), so both stop alike.
         let evaluate = |x: &SVector<f64, M>, with_jacobian: bool| {
             if with_jacobian {
                 let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
-                let moving = self.moving_terms::<F, DualSVec64<M>, M>(&seeded, position);
+                let moving = self.moving_terms::<F, DualSVec64<M>, M>(&y[0], &seeded, equation, position);
                 let value = moving.map(|v| v.re);
                 let jacobian = SMatrix::<f64, M, M>::from_fn(|i, j| moving[i].eps.unwrap_generic(Const::<M>, U1)[j]);
                 let leg = value + fixed;
                 (leg, Some(jacobian), leg.amax())
             } else {
-                let value = self.moving_terms::<F, f64, M>(x, position);
+                let value = self.moving_terms::<F, f64, M>(&y[0], x, equation, position);
                 let leg = value + fixed;
                 (leg, None, leg.amax())
             }
@@ -124,7 +163,15 @@ impl<I, S> SplitLagrangian<I, S> {
             let z = F::renormalize(&I::advance(&y[0], x));
             (z, I::increment(&y[0], &z))
         };
-        let (x, mut outcome) = solve_legendre_from::<Euclidean<M>, M>(mu, mu_scale, start, options, kept, evaluate);
+        // A slaved vertex's equation has no fixed terms (∇Φ(η) = 0, say):
+        // its residual in exact increments falls towards 0 without the
+        // rounding floor at which the solve stops, so it is solved through
+        // the stored value alone, as the chart solve is.
+        let (x, mut outcome) = if equation == 0 {
+            solve_legendre_from::<Euclidean<M>, M>(mu, mu_scale, start, options, kept, evaluate)
+        } else {
+            (start, VertexOutcome::default())
+        };
         if outcome.failure.is_some() {
             return Some((stored(&x).0, outcome));
         }
