@@ -231,9 +231,11 @@ where
                 None => {}
             }
         }
-        let legendre = |z: &F::Point<f64>, with_jacobian: bool| {
+        let legendre = |z: &F::Point<f64>, mut jac: Option<&mut SMatrix<f64, M, M>>| {
             let mut leg = SVector::<f64, M>::zeros();
-            let mut jac = SMatrix::<f64, M, M>::zeros();
+            if let Some(j) = jac.as_deref_mut() {
+                j.fill(0.0);
+            }
             let mut scale = 0.0;
             let mut verts = [0; MAX_CELL_VERTICES];
             for e in star {
@@ -245,26 +247,29 @@ where
                         |l| if l == pos { *z } else { self.values[verts[l]] },
                         |y| {
                             // The Jacobian block only when Newton asks for it.
-                            let g = if with_jacobian {
-                                let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, y, e.position, pos);
-                                jac += block;
-                                g
-                            } else {
-                                exact_gradient::<F, L, M>(&self.lag, &cell, y, e.position)
+                            let g = match jac.as_deref_mut() {
+                                Some(j) => {
+                                    let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, y, e.position, pos);
+                                    *j += block;
+                                    g
+                                }
+                                None => exact_gradient::<F, L, M>(&self.lag, &cell, y, e.position),
                             };
                             leg += g;
                             scale += g.amax();
                             if self.lag.has_forces() {
                                 let (f, block) = force_block::<F, L, M>(&self.lag, &cell, y, e.position, pos);
                                 leg += f;
-                                jac += block;
+                                if let Some(j) = jac.as_deref_mut() {
+                                    *j += block;
+                                }
                                 scale += f.amax();
                             }
                         },
                     );
                 }
             }
-            (leg, with_jacobian.then_some(jac), scale)
+            (leg, scale)
         };
         solve_legendre_from::<F, M>(&mu, mu_scale, guess, &self.options, kept, legendre)
     }

@@ -89,8 +89,8 @@ impl Failure {
 }
 
 /// Simplified Newton for Leg(z) = μ from `z`: `legendre(z, jacobian)`
-/// returns (Leg(z), ∂Leg/∂ζ at z·τ(ζ), ζ = 0 when `jacobian` is asked for,
-/// the size of the summed terms). The Jacobian is evaluated at the start and
+/// returns (Leg(z), the size of the summed terms) and, when `jacobian` is
+/// `Some`, writes ∂Leg/∂ζ at z·τ(ζ), ζ = 0 there. The Jacobian is evaluated at the start and
 /// again only when an iteration fails to reduce the residual fourfold, so
 /// most iterations cost one gradient pass (and one solve with the kept LU
 /// factors, [`SmallLu`]). Stops when
@@ -106,7 +106,7 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     mu_scale: f64,
     z: F::Point<f64>,
     options: &CauchyOptions,
-    legendre: impl Fn(&F::Point<f64>, bool) -> (SVector<f64, M>, Option<SMatrix<f64, M, M>>, f64),
+    legendre: impl Fn(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
     solve_legendre_from::<F, M>(mu, mu_scale, z, options, &mut None, legendre)
 }
@@ -124,7 +124,7 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     mut z: F::Point<f64>,
     options: &CauchyOptions,
     kept: &mut Option<SmallLu<M>>,
-    legendre: impl Fn(&F::Point<f64>, bool) -> (SVector<f64, M>, Option<SMatrix<f64, M, M>>, f64),
+    legendre: impl Fn(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
     let mut outcome = VertexOutcome::default();
     let mut previous = f64::INFINITY;
@@ -141,20 +141,24 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         .as_ref()
         .map_or(0.0, |f| f.largest() * (1.0 + coordinate_size::<F, M>(&z)));
     let mut last_step = f64::INFINITY;
+    // Where an evaluation writes a fresh Jacobian (no copy moves it).
+    let mut jacobian = SMatrix::<f64, M, M>::zeros();
     for it in 0..=options.max_iterations {
-        let (mut leg, mut jac, mut leg_scale) = legendre(&z, !have_jacobian);
+        let mut evaluated = !have_jacobian;
+        let (mut leg, mut leg_scale) = legendre(&z, evaluated.then_some(&mut jacobian));
         let mut residual = leg - mu;
         let mut r = residual.amax();
         // Poor contraction with an old Jacobian: refresh it at this iterate.
         if have_jacobian && !fresh && r > 0.25 * previous && r.is_finite() {
-            (leg, jac, leg_scale) = legendre(&z, true);
+            (leg, leg_scale) = legendre(&z, Some(&mut jacobian));
+            evaluated = true;
             residual = leg - mu;
             r = residual.amax();
         }
-        if let Some(j) = &jac {
-            point_scale = j.amax() * (1.0 + coordinate_size::<F, M>(&z));
+        if evaluated {
+            point_scale = jacobian.amax() * (1.0 + coordinate_size::<F, M>(&z));
             let lu = factors.get_or_insert_with(SmallLu::zeros);
-            if lu.refactor(j).is_none() {
+            if lu.refactor(&jacobian).is_none() {
                 *factors = None;
             }
             have_jacobian = true;

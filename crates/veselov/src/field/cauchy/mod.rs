@@ -29,7 +29,7 @@
 
 use std::sync::Arc;
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 use rayon::prelude::*;
 
 use super::cell::{
@@ -535,9 +535,11 @@ where
             return (solved.value, solved.outcome, solved.gradients_written);
         }
         let z = F::extrapolate(&previous, &self.value(w, i));
-        let (z, outcome) = solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, with_jacobian| {
+        let (z, outcome) = solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, mut jac| {
             let mut leg = SVector::<f64, M>::zeros();
-            let mut jac = SMatrix::<f64, M, M>::zeros();
+            if let Some(j) = jac.as_deref_mut() {
+                j.fill(0.0);
+            }
             let mut scale = 0.0;
             for sigma in 0..self.perms.len() {
                 if !self.cell_active_at(&base, sigma) {
@@ -545,28 +547,30 @@ where
                 }
                 let mut y = [*z; MAX_LATTICE_DIMENSION + 1];
                 let cell = self.cell_values_at(&base, sigma, Some(*z), &mut y);
-                let g = if with_jacobian {
-                    let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
-                    jac += block;
-                    g
-                } else {
-                    exact_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], 0)
+                let g = match jac.as_deref_mut() {
+                    Some(j) => {
+                        let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
+                        *j += block;
+                        g
+                    }
+                    None => exact_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], 0),
                 };
                 leg += g;
                 scale += g.amax();
                 if self.lag.has_forces() {
-                    let f = if with_jacobian {
-                        let (f, block) = force_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
-                        jac += block;
-                        f
-                    } else {
-                        vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], 0)
+                    let f = match jac.as_deref_mut() {
+                        Some(j) => {
+                            let (f, block) = force_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
+                            *j += block;
+                            f
+                        }
+                        None => vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], 0),
                     };
                     leg += f;
                     scale += f.amax();
                 }
             }
-            (leg, with_jacobian.then_some(jac), scale)
+            (leg, scale)
         });
         (z, outcome, false)
     }

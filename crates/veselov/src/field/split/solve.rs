@@ -144,19 +144,19 @@ impl<I, S> SplitLagrangian<I, S> {
         let start = I::increment(&y[0], &y[position]).ok()?;
         // The size of the terms as the chart solve measures it: the cell's
         // ∂ℒ/∂y₁ + F¹ as a whole (plus μ's terms), so both stop alike.
-        let evaluate = |x: &SVector<f64, M>, with_jacobian: bool| {
-            if with_jacobian {
-                let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
-                let moving = self.moving_terms::<F, DualSVec64<M>, M>(&y[0], &seeded, equation, position);
-                let value = moving.map(|v| v.re);
-                let jacobian = SMatrix::<f64, M, M>::from_fn(|i, j| moving[i].eps.unwrap_generic(Const::<M>, U1)[j]);
-                let leg = value + fixed;
-                (leg, Some(jacobian), leg.amax())
-            } else {
-                let value = self.moving_terms::<F, f64, M>(&y[0], x, equation, position);
-                let leg = value + fixed;
-                (leg, None, leg.amax())
-            }
+        let evaluate = |x: &SVector<f64, M>, jacobian: Option<&mut SMatrix<f64, M, M>>| {
+            let value = match jacobian {
+                Some(j) => {
+                    let seeded =
+                        SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
+                    let moving = self.moving_terms::<F, DualSVec64<M>, M>(&y[0], &seeded, equation, position);
+                    *j = SMatrix::<f64, M, M>::from_fn(|i, k| moving[i].eps.unwrap_generic(Const::<M>, U1)[k]);
+                    moving.map(|v| v.re)
+                }
+                None => self.moving_terms::<F, f64, M>(&y[0], x, equation, position),
+            };
+            let leg = value + fixed;
+            (leg, leg.amax())
         };
         // The value the cell will hold, and the increment it reads back.
         let stored = |x: &SVector<f64, M>| {
@@ -183,12 +183,12 @@ impl<I, S> SplitLagrangian<I, S> {
         // evaluation confirms it.
         // The last stored value evaluated: the one returned on success.
         let last = std::cell::Cell::new(None);
-        let (x, polish) = solve_legendre_from::<Euclidean<M>, M>(mu, mu_scale, x, options, kept, |x, with_jacobian| {
+        let (x, polish) = solve_legendre_from::<Euclidean<M>, M>(mu, mu_scale, x, options, kept, |x, jacobian| {
             let (z, read) = stored(x);
             last.set(Some((*x, z)));
             match read {
-                Ok(read) => evaluate(&read, with_jacobian),
-                Err(_) => (SVector::from_element(f64::NAN), None, f64::NAN),
+                Ok(read) => evaluate(&read, jacobian),
+                Err(_) => (SVector::from_element(f64::NAN), f64::NAN),
             }
         });
         outcome.iterations += polish.iterations;
