@@ -90,8 +90,9 @@ impl Failure {
 
 /// Simplified Newton for Leg(z) = μ from `z`: `legendre(z, jacobian)`
 /// returns (Leg(z), the size of the summed terms) and, when `jacobian` is
-/// `Some`, writes ∂Leg/∂ζ at z·τ(ζ), ζ = 0 there. The Jacobian is evaluated at the start and
-/// again only when an iteration fails to reduce the residual fourfold, so
+/// `Some`, writes ∂Leg/∂ζ at z·τ(ζ), ζ = 0 there. The Jacobian is evaluated
+/// at the start and again only when an iteration fails to reduce the
+/// residual fourfold, so
 /// most iterations cost one gradient pass (and one solve with the kept LU
 /// factors, [`SmallLu`]). Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
@@ -115,9 +116,9 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
 /// earlier solve (the same vertex equation one level before, say), used
 /// until an iteration fails to reduce the residual fourfold, then
 /// refreshed; the factors in use at the end are left in `kept` for the next
-/// solve. The
-/// root, its tolerance and the stall tests are those of [`solve_legendre`]:
-/// only the number of exact Jacobians changes.
+/// solve (and dropped on failure). The root, its tolerance and the stall
+/// tests are those of [`solve_legendre`]: only the number of exact Jacobians
+/// changes.
 pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     mu: &SVector<f64, M>,
     mu_scale: f64,

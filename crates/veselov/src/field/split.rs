@@ -55,6 +55,10 @@ pub trait Increment<F: Fibre<M>, const M: usize>: Send + Sync + 'static {
     fn first_transpose_mul<D: Scalar>(x: &SVector<D, M>, p: &SVector<D, M>) -> SVector<D, M>;
     /// A₂ᵀp with A₂ = ∂x/∂ε₂ in the chart y₂·ρ(ε₂), likewise.
     fn second_transpose_mul<D: Scalar>(x: &SVector<D, M>, p: &SVector<D, M>) -> SVector<D, M>;
+    /// ∂(A₁ᵀp)/∂x at fixed p (for the vertex solve's Jacobian).
+    fn first_transpose_mul_derivative(x: &SVector<f64, M>, p: &SVector<f64, M>) -> SMatrix<f64, M, M>;
+    /// ∂(A₂ᵀp)/∂x at fixed p.
+    fn second_transpose_mul_derivative(x: &SVector<f64, M>, p: &SVector<f64, M>) -> SMatrix<f64, M, M>;
     /// Whether [`increment`](Self::increment) reads x back from
     /// [`advance`](Self::advance)`(y₁, x)`.
     fn in_chart(x: &SVector<f64, M>) -> bool;
@@ -79,6 +83,14 @@ impl<const M: usize> Increment<Euclidean<M>, M> for Difference {
     /// A₂ = I.
     fn second_transpose_mul<D: Scalar>(_x: &SVector<D, M>, p: &SVector<D, M>) -> SVector<D, M> {
         *p
+    }
+    /// 0: A₁ is constant.
+    fn first_transpose_mul_derivative(_x: &SVector<f64, M>, _p: &SVector<f64, M>) -> SMatrix<f64, M, M> {
+        SMatrix::zeros()
+    }
+    /// 0.
+    fn second_transpose_mul_derivative(_x: &SVector<f64, M>, _p: &SVector<f64, M>) -> SMatrix<f64, M, M> {
+        SMatrix::zeros()
     }
     /// Always.
     fn in_chart(_x: &SVector<f64, M>) -> bool {
@@ -115,6 +127,12 @@ where
     fn second_transpose_mul<D: Scalar>(x: &SVector<D, 6>, p: &SVector<D, 6>) -> SVector<D, 6> {
         R::dtau_inv_tr_mul(&(-x), p)
     }
+    fn first_transpose_mul_derivative(x: &SVector<f64, 6>, p: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        -R::dtau_inv_tr_mul_derivative(x, p)
+    }
+    fn second_transpose_mul_derivative(x: &SVector<f64, 6>, p: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        -R::dtau_inv_tr_mul_derivative(&(-x), p)
+    }
     /// τ(x) rotates by less than π − [`crate::lie::CUT_LOCUS_MARGIN`].
     fn in_chart(x: &SVector<f64, 6>) -> bool {
         R::rotation_angle(x) < std::f64::consts::PI - crate::lie::CUT_LOCUS_MARGIN
@@ -136,6 +154,14 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     fn stored_gradient<D: Scalar>(&self, eta: &SVector<D, M>) -> SVector<D, M> {
         scalar_gradient(|x| self.stored(x), eta)
     }
+    /// ∇²K(ξ) (default: one dual pass over ∇K).
+    fn kinetic_hessian(&self, xi: &SVector<f64, M>) -> SMatrix<f64, M, M> {
+        vector_jacobian(|x| self.kinetic_gradient(x), xi)
+    }
+    /// ∇²Φ(η) (default: one dual pass over ∇Φ).
+    fn stored_hessian(&self, eta: &SVector<f64, M>) -> SMatrix<f64, M, M> {
+        vector_jacobian(|x| self.stored_gradient(x), eta)
+    }
     /// Π(y) (default 0).
     fn potential<D: Scalar>(&self, _y: &F::Point<D>) -> D {
         D::zero()
@@ -153,6 +179,10 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     /// frame of ξ (for example −diag(c)ξ); default 0.
     fn damping<D: Scalar>(&self, _xi: &SVector<D, M>) -> SVector<D, M> {
         SVector::from_element(D::zero())
+    }
+    /// ∂f/∂ξ (default: one dual pass over f).
+    fn damping_jacobian(&self, xi: &SVector<f64, M>) -> SMatrix<f64, M, M> {
+        vector_jacobian(|x| self.damping(x), xi)
     }
 }
 
@@ -359,6 +389,16 @@ impl<I, S> SplitLagrangian<I, S> {
     }
 }
 
+/// ∂f/∂x of a vector function by one dual pass of M directions.
+fn vector_jacobian<const M: usize>(
+    f: impl Fn(&SVector<DualSVec64<M>, M>) -> SVector<DualSVec64<M>, M>,
+    x: &SVector<f64, M>,
+) -> SMatrix<f64, M, M> {
+    let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
+    let value = f(&seeded);
+    SMatrix::from_fn(|i, j| value[i].eps.unwrap_generic(Const::<M>, U1)[j])
+}
+
 /// ∇f(x) over any scalar by one dual pass of M directions.
 fn scalar_gradient<D: Scalar, const M: usize>(
     f: impl Fn(&SVector<DualSVec<D, M>, M>) -> DualSVec<D, M>,
@@ -523,5 +563,11 @@ impl<F: Fibre<M>, const M: usize> SplitDensity<F, M> for DiagonalQuadratic<M> {
     }
     fn stored_gradient<D: Scalar>(&self, eta: &SVector<D, M>) -> SVector<D, M> {
         Self::quadratic_gradient(&self.stiffness, eta, &self.reference)
+    }
+    fn kinetic_hessian(&self, _xi: &SVector<f64, M>) -> SMatrix<f64, M, M> {
+        SMatrix::from_diagonal(&SVector::from(self.inertia))
+    }
+    fn stored_hessian(&self, _eta: &SVector<f64, M>) -> SMatrix<f64, M, M> {
+        SMatrix::from_diagonal(&SVector::from(self.stiffness))
     }
 }

@@ -11,8 +11,8 @@
 //! `R: Retraction<N>`; [`GroupOf<R, N, D>`] provides compose/inverse/adjoint through
 //! [`LieGroup`](super::LieGroup).
 
-use nalgebra::{SMatrix, SVector};
-use num_dual::DualNum;
+use nalgebra::{Const, SMatrix, SVector, U1};
+use num_dual::{DualNum, DualSVec64};
 
 use super::{GroupFamily, LieError, RigidMotions, Rotations, SE3, SO3, se3, so3};
 
@@ -46,6 +46,17 @@ pub trait Retraction<const N: usize> {
         Self::dtau_inv(xi).tr_mul(p)
     }
 
+    /// ∂/∂ξ [(d^Rτ⁻¹_ξ)ᵀ p] at fixed p: with (d^Rτ⁻¹_ξ)ᵀ itself, the Newton
+    /// Jacobian of a pulled-back momentum (d/dξ (dτ⁻¹_ξ)ᵀp(ξ) is this plus
+    /// (dτ⁻¹_ξ)ᵀ ∂p/∂ξ). Default: one dual pass of N directions over
+    /// [`dtau_inv_tr_mul`](Self::dtau_inv_tr_mul); the Cayley map has it in
+    /// closed form.
+    fn dtau_inv_tr_mul_derivative(xi: &SVector<f64, N>, p: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+        let seeded = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from_re(xi[i]).derivative(i));
+        let pulled = Self::dtau_inv_tr_mul(&seeded, &p.map(DualSVec64::<N>::from_re));
+        SMatrix::from_fn(|i, j| pulled[i].eps.unwrap_generic(Const::<N>, U1)[j])
+    }
+
     /// The rotation angle of τ(ξ), from ξ alone: τ⁻¹(τ(ξ)) = ξ exactly when
     /// it is below π − [`CUT_LOCUS_MARGIN`](super::CUT_LOCUS_MARGIN) (the
     /// exponential chart wraps past π; τ⁻¹ refuses angles beyond the margin).
@@ -60,6 +71,11 @@ fn rotation_norm<const N: usize>(xi: &SVector<f64, N>) -> f64 {
 /// (dcay⁻¹_ω)ᵀ p = p + ½ ω × p + ¼ ω (ω·p) on so(3) ([`so3::dcay_inv`]).
 fn cayley_rotation_pullback<D: DualNum<Primitive = f64> + Copy>(w: &SVector<D, 3>, p: &SVector<D, 3>) -> SVector<D, 3> {
     p + w.cross(p) * D::from(0.5) + w * (w.dot(p) * D::from(0.25))
+}
+
+/// ∂/∂ω of [`cayley_rotation_pullback`] at fixed p: −½p̂ + ¼((ω·p)I + ωpᵀ).
+fn cayley_rotation_pullback_derivative(w: &SVector<f64, 3>, p: &SVector<f64, 3>) -> SMatrix<f64, 3, 3> {
+    so3::hat(p) * -0.5 + (SMatrix::<f64, 3, 3>::identity() * w.dot(p) + w * p.transpose()) * 0.25
 }
 
 /// The exponential map as a retraction.
@@ -108,6 +124,10 @@ impl Retraction<3> for CayleyMap {
     /// (I − ω̂/2 + ωωᵀ/4)ᵀ p = p + ½ ω × p + ¼ ω (ω·p).
     fn dtau_inv_tr_mul<D: DualNum<Primitive = f64> + Copy>(w: &SVector<D, 3>, p: &SVector<D, 3>) -> SVector<D, 3> {
         cayley_rotation_pullback(w, p)
+    }
+    /// −½p̂ + ¼((ω·p)I + ωpᵀ).
+    fn dtau_inv_tr_mul_derivative(w: &SVector<f64, 3>, p: &SVector<f64, 3>) -> SMatrix<f64, 3, 3> {
+        cayley_rotation_pullback_derivative(w, p)
     }
     /// 2 atan(|ω|/2).
     fn rotation_angle(xi: &SVector<f64, 3>) -> f64 {
@@ -160,6 +180,18 @@ impl Retraction<6> for CayleyMap {
         let top = cayley_rotation_pullback(&w, &a) + v.cross(&c) * half;
         se3::join(&top, &c)
     }
+    /// With c = b + ½ ω × b: [[−½â + ¼((ω·a)I + ωaᵀ) − ¼v̂b̂, −½ĉ], [−½b̂, 0]].
+    fn dtau_inv_tr_mul_derivative(xi: &SVector<f64, 6>, p: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        let (w, v) = se3::split(xi);
+        let (a, b) = se3::split(p);
+        let c = b + w.cross(&b) * 0.5;
+        let mut out = SMatrix::<f64, 6, 6>::zeros();
+        let top_w = cayley_rotation_pullback_derivative(&w, &a) - so3::hat(&v) * so3::hat(&b) * 0.25;
+        out.fixed_view_mut::<3, 3>(0, 0).copy_from(&top_w);
+        out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(so3::hat(&c) * -0.5));
+        out.fixed_view_mut::<3, 3>(3, 0).copy_from(&(so3::hat(&b) * -0.5));
+        out
+    }
     /// 2 atan(|ω|/2).
     fn rotation_angle(xi: &SVector<f64, 6>) -> f64 {
         2.0 * (0.5 * rotation_norm(xi)).atan()
@@ -192,6 +224,19 @@ mod tests {
         // dτ⁻¹ are O(1 + |ξ|²) here, p is O(1)).
         let pulled = R::dtau_inv_tr_mul(&xi, &d) - R::dtau_inv(&xi).tr_mul(&d);
         assert!(pulled.amax() <= 8.0 * f64::EPSILON * (1.0 + xi.norm_squared()) * d.amax());
+        // Its derivative in ξ against central differences (h = 1e-6: error
+        // O(h²) from the quadratic terms, ≤ 1e-9 with |ξ|, |p| = O(1)).
+        let derivative = R::dtau_inv_tr_mul_derivative(&xi, &d);
+        for k in 0..N {
+            let e = SVector::<f64, N>::from_fn(|i, _| if i == k { 1e-6 } else { 0.0 });
+            let fd = (R::dtau_inv_tr_mul(&(xi + e), &d) - R::dtau_inv_tr_mul(&(xi - e), &d)) / 2e-6;
+            assert!((fd - derivative.column(k)).amax() <= 1e-8, "column {k}");
+        }
+        // And against one dual pass (the default), to round-off.
+        let seeded = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from_re(xi[i]).derivative(i));
+        let dual = R::dtau_inv_tr_mul(&seeded, &d.map(DualSVec64::<N>::from_re));
+        let by_duals = SMatrix::<f64, N, N>::from_fn(|i, j| dual[i].eps.unwrap_generic(Const::<N>, U1)[j]);
+        assert!((by_duals - derivative).amax() <= 16.0 * f64::EPSILON * (1.0 + xi.norm()) * d.amax());
         // The same generic code runs with dual numbers; the dual part of
         // τ⁻¹(τ(εδ)τ(ξ)) with ε dual is dτ⁻¹_ξ δ.
         let gd = R::tau(&d.map(|e| Dual64::new(0.0, e)));

@@ -80,6 +80,61 @@ impl<I, S> SplitLagrangian<I, S> {
         }
     }
 
+    /// [`moving_terms`](Self::moving_terms) and their Jacobian in x, in
+    /// closed form from the density's Hessians: ∂(Aᵀp)/∂x at fixed p plus
+    /// Aᵀ∂p/∂x, column by column. `None` where the moving terms hold the
+    /// potential (a slaved space end): its Jacobian is then one dual pass.
+    fn moving_jacobian<F, const M: usize>(
+        &self,
+        x: &SVector<f64, M>,
+        equation: usize,
+        position: usize,
+    ) -> Option<(SVector<f64, M>, SMatrix<f64, M, M>)>
+    where
+        F: Fibre<M>,
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        if equation == 2 && self.density.has_potential() {
+            return None;
+        }
+        let (ds, dt) = (self.ds, self.dt);
+        let first = equation == 0;
+        let pull_back = |p: &SVector<f64, M>| {
+            if first {
+                I::first_transpose_mul(x, p)
+            } else {
+                I::second_transpose_mul(x, p)
+            }
+        };
+        let (p, dp) = if position == 1 {
+            let xi = x.map(|v| v * (1.0 / dt));
+            let p = self.density.kinetic_gradient(&xi).map(|v| v * ds);
+            (p, self.density.kinetic_hessian(&xi) * (ds / dt))
+        } else {
+            let eta = x.map(|v| v * (1.0 / ds));
+            let p = self.density.stored_gradient(&eta).map(|v| -(v * dt));
+            (p, self.density.stored_hessian(&eta) * (-dt / ds))
+        };
+        let mut terms = pull_back(&p);
+        let mut jacobian = if first {
+            I::first_transpose_mul_derivative(x, &p)
+        } else {
+            I::second_transpose_mul_derivative(x, &p)
+        };
+        for j in 0..M {
+            let column = pull_back(&dp.column(j).into_owned());
+            let mut target = jacobian.column_mut(j);
+            target += column;
+        }
+        if position == 1 && self.density.is_damped() {
+            let xi = x.map(|v| v * (1.0 / dt));
+            terms += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt));
+            jacobian += self.density.damping_jacobian(&xi) * (0.5 * ds);
+        }
+        Some((terms, jacobian))
+    }
+
     /// The terms of ∂ℒ/∂y_equation + F^equation fixed while the vertex at
     /// `position` moves (none for a slaved vertex, `equation` = `position`).
     fn fixed_terms<F, const M: usize>(
@@ -146,13 +201,19 @@ impl<I, S> SplitLagrangian<I, S> {
         // ∂ℒ/∂y₁ + F¹ as a whole (plus μ's terms), so both stop alike.
         let evaluate = |x: &SVector<f64, M>, jacobian: Option<&mut SMatrix<f64, M, M>>| {
             let value = match jacobian {
-                Some(j) => {
-                    let seeded =
-                        SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
-                    let moving = self.moving_terms::<F, DualSVec64<M>, M>(&y[0], &seeded, equation, position);
-                    *j = SMatrix::<f64, M, M>::from_fn(|i, k| moving[i].eps.unwrap_generic(Const::<M>, U1)[k]);
-                    moving.map(|v| v.re)
-                }
+                Some(j) => match self.moving_jacobian::<F, M>(x, equation, position) {
+                    Some((value, closed)) => {
+                        *j = closed;
+                        value
+                    }
+                    None => {
+                        let seeded =
+                            SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
+                        let moving = self.moving_terms::<F, DualSVec64<M>, M>(&y[0], &seeded, equation, position);
+                        *j = SMatrix::<f64, M, M>::from_fn(|i, k| moving[i].eps.unwrap_generic(Const::<M>, U1)[k]);
+                        moving.map(|v| v.re)
+                    }
+                },
                 None => self.moving_terms::<F, f64, M>(&y[0], x, equation, position),
             };
             let leg = value + fixed;
@@ -205,5 +266,72 @@ impl<I, S> SplitLagrangian<I, S> {
             outcome.failure = Some(Failure::CutLocus);
         }
         Some((z, outcome))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::fibre::RigidMotions;
+    use crate::field::split::{DiagonalQuadratic, Difference, GroupIncrement};
+    use crate::lie::{CayleyMap, ExpMap, Retraction};
+    use crate::models::beam::{BeamDensity, BeamProperties};
+
+    /// The closed-form Jacobian against one dual pass over the moving terms,
+    /// for every (equation, position) the solve takes.
+    fn check<F, I, S, const M: usize>(lag: &SplitLagrangian<I, S>, y0: &F::Point<f64>, x: &SVector<f64, M>)
+    where
+        F: Fibre<M>,
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        for (equation, position) in [(0, 1), (0, 2), (1, 1), (2, 2)] {
+            let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
+            let moving = lag.moving_terms::<F, DualSVec64<M>, M>(y0, &seeded, equation, position);
+            let by_duals = SMatrix::<f64, M, M>::from_fn(|i, k| moving[i].eps.unwrap_generic(Const::<M>, U1)[k]);
+            let Some((value, closed)) = lag.moving_jacobian::<F, M>(x, equation, position) else {
+                assert!(equation == 2, "only the slaved space end with a potential takes duals");
+                continue;
+            };
+            assert_eq!(value, lag.moving_terms::<F, f64, M>(y0, x, equation, position));
+            let size = by_duals.amax();
+            assert!(
+                (closed - by_duals).amax() <= 1e-14 * size,
+                "({equation}, {position}): {:.1e} of {size:.1e}",
+                (closed - by_duals).amax()
+            );
+        }
+    }
+
+    fn beam(gravity: bool) -> BeamDensity {
+        let p = BeamProperties::from_diagonals([0.5, 0.7, 1.1, 1.0, 1.3, 0.9], [0.5, 0.4, 0.6, 1.0, 2.0, 3.0])
+            .expect("positive");
+        let d = BeamDensity::new(p)
+            .with_damping([0.1, 0.2, 0.05, 0.3, 0.1, 0.2])
+            .expect("non-negative");
+        if gravity { d.with_gravity([0.0, -9.8, 0.0]) } else { d }
+    }
+
+    #[test]
+    fn closed_form_jacobian_of_the_moving_terms_is_the_dual_one() {
+        let x = SVector::<f64, 6>::new(0.3, -0.5, 0.2, 0.04, -0.02, 0.11);
+        let g0 = CayleyMap::tau(&SVector::<f64, 6>::new(0.2, 0.1, -0.4, 1.0, 2.0, -0.5));
+        for gravity in [false, true] {
+            let cayley = SplitLagrangian::<GroupIncrement<CayleyMap>, _>::new(beam(gravity), 0.05, 0.1).expect("lag");
+            check::<RigidMotions, _, _, 6>(&cayley, &g0, &x);
+            let exp = SplitLagrangian::<GroupIncrement<ExpMap>, _>::new(beam(gravity), 0.05, 0.1).expect("lag");
+            check::<RigidMotions, _, _, 6>(&exp, &g0, &x);
+        }
+        let wave = DiagonalQuadratic::<3> {
+            inertia: [1.0, 2.0, 0.5],
+            stiffness: [3.0, 1.0, 4.0],
+            reference: [0.0, 0.1, 0.0],
+        };
+        let flat = SplitLagrangian::<Difference, _>::new(wave, 0.05, 0.1).expect("lag");
+        check::<Euclidean<3>, _, _, 3>(
+            &flat,
+            &SVector::from([0.1, 0.2, 0.3]),
+            &SVector::from([0.01, -0.02, 0.03]),
+        );
     }
 }

@@ -84,6 +84,14 @@ impl SplitDensity<RigidMotions, 6> for BeamDensity {
     fn stored_gradient<D: Scalar>(&self, eta: &SVector<D, 6>) -> SVector<D, 6> {
         DiagonalQuadratic::<6>::quadratic_gradient(&self.properties.stiffness, eta, &E6)
     }
+    /// diag(𝕁).
+    fn kinetic_hessian(&self, _xi: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        SMatrix::from_diagonal(&SVector::from(self.properties.inertia))
+    }
+    /// diag(ℂ).
+    fn stored_hessian(&self, _eta: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        SMatrix::from_diagonal(&SVector::from(self.properties.stiffness))
+    }
     #[inline]
     fn potential<D: Scalar>(&self, g: &SE3<D>) -> D {
         let r = g.translation();
@@ -98,6 +106,10 @@ impl SplitDensity<RigidMotions, 6> for BeamDensity {
     }
     fn damping<D: Scalar>(&self, xi: &SVector<D, 6>) -> SVector<D, 6> {
         SVector::from_fn(|k, _| xi[k] * (-self.damping[k]))
+    }
+    /// −diag(c).
+    fn damping_jacobian(&self, _xi: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+        SMatrix::from_diagonal(&SVector::from(self.damping.map(|c| -c)))
     }
 }
 
