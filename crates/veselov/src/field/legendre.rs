@@ -8,7 +8,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::fibre::Fibre;
-use crate::solve::SmallLu;
+use crate::solve::{SmallLu, max_abs};
 
 /// Options of the vertex solves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -148,13 +148,13 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         let mut evaluated = !have_jacobian;
         let (mut leg, mut leg_scale) = legendre(&z, evaluated.then_some(&mut jacobian));
         let mut residual = leg - mu;
-        let mut r = residual.amax();
+        let mut r = max_abs(&residual);
         // Poor contraction with an old Jacobian: refresh it at this iterate.
         if have_jacobian && !fresh && r > 0.25 * previous && r.is_finite() {
             (leg, leg_scale) = legendre(&z, Some(&mut jacobian));
             evaluated = true;
             residual = leg - mu;
-            r = residual.amax();
+            r = max_abs(&residual);
         }
         if evaluated {
             point_scale = jacobian.amax() * (1.0 + coordinate_size::<F, M>(&z));
@@ -228,4 +228,32 @@ fn coordinate_size<F: Fibre<M>, const M: usize>(y: &F::Point<f64>) -> f64 {
 /// changes y by round-off only.
 fn resolution<F: Fibre<M>, const M: usize>(y: &F::Point<f64>) -> f64 {
     64.0 * f64::EPSILON * (1.0 + coordinate_size::<F, M>(y))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::fibre::Euclidean;
+
+    /// A residual with one NaN entry among numbers is a non-finite
+    /// residual, not a converged one.
+    #[test]
+    fn one_nan_entry_is_a_non_finite_residual() {
+        let mu = SVector::<f64, 2>::zeros();
+        let (_, outcome) = solve_legendre::<Euclidean<2>, 2>(
+            &mu,
+            0.0,
+            SVector::from([1.0, 1.0]),
+            &CauchyOptions::default(),
+            |z, jacobian| {
+                if let Some(j) = jacobian {
+                    *j = SMatrix::identity();
+                }
+                (SVector::from([0.0 * z[0], f64::NAN]), 1.0)
+            },
+        );
+        assert_eq!(outcome.failure, Some(Failure::NonFinite));
+        assert!(max_abs(&SVector::from([f64::NAN, 2.0])).is_nan());
+        assert_eq!(max_abs(&SVector::from([-3.0, 2.0])), 3.0);
+    }
 }

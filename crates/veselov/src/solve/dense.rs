@@ -175,6 +175,19 @@ impl DenseLu {
     }
 }
 
+/// max |vᵢ| of a residual, NaN if any vᵢ is: nalgebra's `amax` passes over
+/// a NaN next to a number (f64::max), so a residual with one NaN entry
+/// would look finite.
+pub fn max_abs<const N: usize>(v: &nalgebra::SVector<f64, N>) -> f64 {
+    let mut largest = 0.0_f64;
+    let mut nan = false;
+    for &x in v.iter() {
+        largest = largest.max(x.abs());
+        nan |= x.is_nan();
+    }
+    if nan { f64::NAN } else { largest }
+}
+
 /// The LU factors of a small fixed-size matrix (Gaussian elimination with
 /// partial pivoting, on the stack): factor once, solve many right-hand sides
 /// — a simplified Newton keeps its Jacobian's factors for every iteration
@@ -313,10 +326,12 @@ impl<const N: usize> SmallLu<N> {
     /// x with A x = b.
     pub fn solve(&self, b: &nalgebra::SVector<f64, N>) -> nalgebra::SVector<f64, N> {
         let f = &self.factors;
-        let mut x: [f64; N] = std::array::from_fn(|i| b[i]);
+        // Worked on in the vector returned (no copy of an array into it at
+        // the end, whose wide loads would wait on the narrow stores).
+        let mut x = *b;
         // The rows in their final order (the multipliers moved with them).
         for (k, &p) in self.swaps.iter().enumerate() {
-            x.swap(k, p);
+            x.swap_rows(k, p);
         }
         for k in 0..N {
             let xk = x[k];
@@ -331,7 +346,7 @@ impl<const N: usize> SmallLu<N> {
             }
             x[i] = s * self.inverse_pivots[i];
         }
-        nalgebra::SVector::from(x)
+        x
     }
 }
 

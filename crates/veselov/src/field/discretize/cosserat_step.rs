@@ -257,7 +257,7 @@ pub(crate) fn split_solve<P: RodPotential>(
         let (value, jacobian, _) = equation.value_and_jacobian(&b);
         outcome.jacobians += 1;
         let residual = value - target;
-        let r = residual.amax();
+        let r = crate::solve::max_abs(&residual);
         outcome.iterations = it;
         let terms = scale + fixed_scale + value.amax();
         outcome.relative_residual = r.max(residual_r) / terms.max(f64::MIN_POSITIVE);
