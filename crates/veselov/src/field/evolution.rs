@@ -93,8 +93,8 @@ pub struct Evolution000<F: Fibre<M>, L, const M: usize> {
     far: EndCondition<F::Point<f64>>,
     marcher: FlowMarcher<SpacetimeLattice, F, L, M>,
     level: usize,
-    /// The Newton Jacobian of each cross index's last solve (reused at the
-    /// next level while it contracts); allocated once.
+    /// The LU factors of the Newton Jacobian of each cross index's last
+    /// solve (reused at the next level while it contracts); allocated once.
     jacobians: Vec<Option<SmallLu<M>>>,
 }
 
@@ -462,8 +462,9 @@ where
                     words.take(M * M)?;
                     None
                 }
-                // Factoring the Jacobian an earlier version kept gives the
-                // factors it would have used: the run continues bit for bit.
+                // The Jacobian an earlier version kept, factored as this
+                // version factors a fresh one (the run continues, not bit for
+                // bit with that version: its back substitution divided).
                 1.0 => {
                     let mut m = SMatrix::<f64, M, M>::zeros();
                     words.fill(m.as_mut_slice())?;

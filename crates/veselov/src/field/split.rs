@@ -156,11 +156,11 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     }
     /// ∇²K(ξ) (default: one dual pass over ∇K).
     fn kinetic_hessian(&self, xi: &SVector<f64, M>) -> SMatrix<f64, M, M> {
-        vector_jacobian(|x| self.kinetic_gradient(x), xi)
+        num_dual::jacobian(|x| self.kinetic_gradient(&x), xi).1
     }
     /// ∇²Φ(η) (default: one dual pass over ∇Φ).
     fn stored_hessian(&self, eta: &SVector<f64, M>) -> SMatrix<f64, M, M> {
-        vector_jacobian(|x| self.stored_gradient(x), eta)
+        num_dual::jacobian(|x| self.stored_gradient(&x), eta).1
     }
     /// Π(y) (default 0).
     fn potential<D: Scalar>(&self, _y: &F::Point<D>) -> D {
@@ -182,7 +182,7 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     }
     /// ∂f/∂ξ (default: one dual pass over f).
     fn damping_jacobian(&self, xi: &SVector<f64, M>) -> SMatrix<f64, M, M> {
-        vector_jacobian(|x| self.damping(x), xi)
+        num_dual::jacobian(|x| self.damping(&x), xi).1
     }
 }
 
@@ -387,16 +387,6 @@ impl<I, S> SplitLagrangian<I, S> {
             .eps
             .unwrap_generic(Const::<M>, U1)
     }
-}
-
-/// ∂f/∂x of a vector function by one dual pass of M directions.
-fn vector_jacobian<const M: usize>(
-    f: impl Fn(&SVector<DualSVec64<M>, M>) -> SVector<DualSVec64<M>, M>,
-    x: &SVector<f64, M>,
-) -> SMatrix<f64, M, M> {
-    let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
-    let value = f(&seeded);
-    SMatrix::from_fn(|i, j| value[i].eps.unwrap_generic(Const::<M>, U1)[j])
 }
 
 /// ∇f(x) over any scalar by one dual pass of M directions.

@@ -11,7 +11,7 @@
 //! `R: Retraction<N>`; [`GroupOf<R, N, D>`] provides compose/inverse/adjoint through
 //! [`LieGroup`](super::LieGroup).
 
-use nalgebra::{Const, SMatrix, SVector, U1};
+use nalgebra::{SMatrix, SVector};
 use num_dual::{DualNum, DualSVec64};
 
 use super::{GroupFamily, LieError, RigidMotions, Rotations, SE3, SO3, se3, so3};
@@ -52,9 +52,8 @@ pub trait Retraction<const N: usize> {
     /// [`dtau_inv_tr_mul`](Self::dtau_inv_tr_mul); the Cayley map has it in
     /// closed form.
     fn dtau_inv_tr_mul_derivative(xi: &SVector<f64, N>, p: &SVector<f64, N>) -> SMatrix<f64, N, N> {
-        let seeded = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from_re(xi[i]).derivative(i));
-        let pulled = Self::dtau_inv_tr_mul(&seeded, &p.map(DualSVec64::<N>::from_re));
-        SMatrix::from_fn(|i, j| pulled[i].eps.unwrap_generic(Const::<N>, U1)[j])
+        let p = p.map(DualSVec64::<N>::from_re);
+        num_dual::jacobian(|x| Self::dtau_inv_tr_mul(&x, &p), xi).1
     }
 
     /// The rotation angle of τ(ξ), from ξ alone: τ⁻¹(τ(ξ)) = ξ exactly when
@@ -233,9 +232,7 @@ mod tests {
             assert!((fd - derivative.column(k)).amax() <= 1e-8, "column {k}");
         }
         // And against one dual pass (the default), to round-off.
-        let seeded = SVector::<DualSVec64<N>, N>::from_fn(|i, _| DualSVec64::<N>::from_re(xi[i]).derivative(i));
-        let dual = R::dtau_inv_tr_mul(&seeded, &d.map(DualSVec64::<N>::from_re));
-        let by_duals = SMatrix::<f64, N, N>::from_fn(|i, j| dual[i].eps.unwrap_generic(Const::<N>, U1)[j]);
+        let by_duals = num_dual::jacobian(|x| R::dtau_inv_tr_mul(&x, &d.map(DualSVec64::<N>::from_re)), &xi).1;
         assert!((by_duals - derivative).amax() <= 16.0 * f64::EPSILON * (1.0 + xi.norm()) * d.amax());
         // The same generic code runs with dual numbers; the dual part of
         // τ⁻¹(τ(εδ)τ(ξ)) with ε dual is dτ⁻¹_ξ δ.

@@ -26,7 +26,7 @@
 //! end) the half potential ½ΔsΔt∇Π(y₁τ(x)) moving with x.
 
 use crate::solve::SmallLu;
-use nalgebra::{Const, SMatrix, SVector, U1};
+use nalgebra::{SMatrix, SVector};
 use num_dual::DualSVec64;
 
 use super::{Increment, SplitDensity, SplitLagrangian};
@@ -207,11 +207,12 @@ impl<I, S> SplitLagrangian<I, S> {
                         value
                     }
                     None => {
-                        let seeded =
-                            SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
-                        let moving = self.moving_terms::<F, DualSVec64<M>, M>(&y[0], &seeded, equation, position);
-                        *j = SMatrix::<f64, M, M>::from_fn(|i, k| moving[i].eps.unwrap_generic(Const::<M>, U1)[k]);
-                        moving.map(|v| v.re)
+                        let (value, by_duals) = num_dual::jacobian(
+                            |s| self.moving_terms::<F, DualSVec64<M>, M>(&y[0], &s, equation, position),
+                            x,
+                        );
+                        *j = by_duals;
+                        value
                     }
                 },
                 None => self.moving_terms::<F, f64, M>(&y[0], x, equation, position),
@@ -286,9 +287,11 @@ mod tests {
         S: SplitDensity<F, M>,
     {
         for (equation, position) in [(0, 1), (0, 2), (1, 1), (2, 2)] {
-            let seeded = SVector::<DualSVec64<M>, M>::from_fn(|i, _| DualSVec64::<M>::from_re(x[i]).derivative(i));
-            let moving = lag.moving_terms::<F, DualSVec64<M>, M>(y0, &seeded, equation, position);
-            let by_duals = SMatrix::<f64, M, M>::from_fn(|i, k| moving[i].eps.unwrap_generic(Const::<M>, U1)[k]);
+            let by_duals = num_dual::jacobian(
+                |s| lag.moving_terms::<F, DualSVec64<M>, M>(y0, &s, equation, position),
+                x,
+            )
+            .1;
             let Some((value, closed)) = lag.moving_jacobian::<F, M>(x, equation, position) else {
                 assert!(equation == 2, "only the slaved space end with a potential takes duals");
                 continue;
