@@ -8,7 +8,6 @@
 //!   value at another vertex, ∂²L_β/∂y_a∂y_b (nested duals), the Jacobian
 //!   block of a vertex solve (note 003 §2.4, Def. 4.9).
 
-use crate::solve::SmallLu;
 use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::{Derivative, DualSVec, DualSVec64};
 
@@ -16,6 +15,7 @@ use super::complex::TopCell;
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome};
 use crate::ad::Scalar;
+use crate::solve::SmallLu;
 
 /// Largest number of vertices of a top cell the derivative routines accept
 /// (simplices up to dimension 15, cubes up to dimension 4).

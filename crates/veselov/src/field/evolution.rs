@@ -35,7 +35,6 @@
 //! Window-local cells carry window coordinates in [`TopCell::origin`]; cell
 //! Lagrangians that depend on the cell's position are not supported here.
 
-use crate::solve::SmallLu;
 use nalgebra::{SMatrix, SVector};
 
 use super::cell::{DiscreteLagrangian, vertex_gradient};
@@ -44,6 +43,7 @@ use super::fibre::Fibre;
 use super::flow::FlowMarcher;
 use super::legendre::{CauchyOptions, LevelReport, VertexOutcome};
 use crate::run::{Checkpoint, StepStats, Stepper, Words};
+use crate::solve::SmallLu;
 use crate::{Error, Result};
 
 /// The marching direction on seed 000's lattice.

@@ -23,7 +23,6 @@
 //! unknowns is solved in parallel, with results independent of the thread
 //! count.
 
-use crate::solve::SmallLu;
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
@@ -33,6 +32,7 @@ use super::cell::{
 use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre_from};
+use crate::solve::SmallLu;
 use crate::{Error, Result};
 
 /// The Cauchy integrator on a finite complex with a caller-given schedule.

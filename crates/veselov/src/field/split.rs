@@ -24,7 +24,6 @@
 //! Φ = ½⟨ℂ(η − E6), η − E6⟩) e_𝖫 = K + Φ + Π and
 //! e_𝖭 = −K − ⟨ℂ(η − E6), E6⟩ − Φ + Π, the note's natural choice.
 
-use crate::solve::SmallLu;
 use std::marker::PhantomData;
 
 use nalgebra::{Const, SMatrix, SVector, U1};
@@ -36,6 +35,7 @@ use super::fibre::{Euclidean, Fibre, RigidMotions};
 use super::legendre::{CauchyOptions, VertexOutcome};
 use crate::ad::Scalar;
 use crate::lie::{LieError, Retraction, SE3};
+use crate::solve::SmallLu;
 use crate::{Error, Result};
 
 mod solve;

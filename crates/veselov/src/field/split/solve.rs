@@ -25,7 +25,6 @@
 //! solve with A₂ = ∂x/∂ε₂ in place of A₁, no fixed terms, and (at the space
 //! end) the half potential ½ΔsΔt∇Π(y₁τ(x)) moving with x.
 
-use crate::solve::SmallLu;
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualSVec64;
 
@@ -33,6 +32,7 @@ use super::{Increment, SplitDensity, SplitLagrangian};
 use crate::ad::Scalar;
 use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome, solve_legendre_from};
+use crate::solve::SmallLu;
 
 impl<I, S> SplitLagrangian<I, S> {
     /// The terms of ∂ℒ/∂y_equation + F^equation that move with the
