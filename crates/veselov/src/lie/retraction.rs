@@ -223,8 +223,9 @@ mod tests {
         // dτ⁻¹ are O(1 + |ξ|²) here, p is O(1)).
         let pulled = R::dtau_inv_tr_mul(&xi, &d) - R::dtau_inv(&xi).tr_mul(&d);
         assert!(pulled.amax() <= 8.0 * f64::EPSILON * (1.0 + xi.norm_squared()) * d.amax());
-        // Its derivative in ξ against central differences (h = 1e-6: error
-        // O(h²) from the quadratic terms, ≤ 1e-9 with |ξ|, |p| = O(1)).
+        // Its derivative in ξ against central differences (h = 1e-6:
+        // truncation O(h²) and rounding O(ε/h), both ≤ 1e-9 with |ξ|, |p| =
+        // O(1)).
         let derivative = R::dtau_inv_tr_mul_derivative(&xi, &d);
         for k in 0..N {
             let e = SVector::<f64, N>::from_fn(|i, _| if i == k { 1e-6 } else { 0.0 });
