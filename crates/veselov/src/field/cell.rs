@@ -199,6 +199,47 @@ where
     lag.cell_force(cell, y, l)
 }
 
+/// Adds the terms a vertex Newton sums over the cells holding its unknown
+/// y_b into `sum`: ∂L_β/∂y_a, then F^a_β when the Lagrangian has forces,
+/// with their derivative in y_b added into `jacobian` when one is asked for
+/// ([`mixed_block`], [`force_block`]); and their largest entries into
+/// `size`.
+pub(crate) fn add_vertex_terms<F, L, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+    (a, b): (usize, usize),
+    sum: &mut SVector<f64, M>,
+    size: &mut f64,
+    mut jacobian: Option<&mut SMatrix<f64, M, M>>,
+) where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    let g = match jacobian.as_deref_mut() {
+        Some(j) => {
+            let (g, block) = mixed_block::<F, L, M>(lag, cell, y, a, b);
+            *j += block;
+            g
+        }
+        None => exact_gradient::<F, L, M>(lag, cell, y, a),
+    };
+    *sum += g;
+    *size += g.amax();
+    if lag.has_forces() {
+        let f = match jacobian {
+            Some(j) => {
+                let (f, block) = force_block::<F, L, M>(lag, cell, y, a, b);
+                *j += block;
+                f
+            }
+            None => vertex_force::<F, L, M>(lag, cell, y, a),
+        };
+        *sum += f;
+        *size += f.amax();
+    }
+}
+
 /// Vertex counts of the common cells (triangles, rectangles, tetrahedra):
 /// their lifted values live in an array of this size, not
 /// [`MAX_CELL_VERTICES`] (dual-number points are large, and copying unused

@@ -26,9 +26,7 @@
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
-use super::cell::{
-    DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, force_block, mixed_block, vertex_force, with_values,
-};
+use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, exact_gradient, vertex_force, with_values};
 use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre_from};
@@ -246,25 +244,16 @@ where
                         k,
                         |l| if l == pos { *z } else { self.values[verts[l]] },
                         |y| {
-                            // The Jacobian block only when Newton asks for it.
-                            let g = match jac.as_deref_mut() {
-                                Some(j) => {
-                                    let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, y, e.position, pos);
-                                    *j += block;
-                                    g
-                                }
-                                None => exact_gradient::<F, L, M>(&self.lag, &cell, y, e.position),
-                            };
-                            leg += g;
-                            scale += g.amax();
-                            if self.lag.has_forces() {
-                                let (f, block) = force_block::<F, L, M>(&self.lag, &cell, y, e.position, pos);
-                                leg += f;
-                                if let Some(j) = jac.as_deref_mut() {
-                                    *j += block;
-                                }
-                                scale += f.amax();
-                            }
+                            // The Jacobian blocks only when Newton asks for them.
+                            add_vertex_terms::<F, L, M>(
+                                &self.lag,
+                                &cell,
+                                y,
+                                (e.position, pos),
+                                &mut leg,
+                                &mut scale,
+                                jac.as_deref_mut(),
+                            );
                         },
                     );
                 }

@@ -33,8 +33,7 @@ use nalgebra::SVector;
 use rayon::prelude::*;
 
 use super::cell::{
-    DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, force_block, later_gradients, mixed_block, vertex_force,
-    vertex_gradient,
+    DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, later_gradients, vertex_force, vertex_gradient,
 };
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
 use super::fibre::Fibre;
@@ -547,28 +546,15 @@ where
                 }
                 let mut y = [*z; MAX_LATTICE_DIMENSION + 1];
                 let cell = self.cell_values_at(&base, sigma, Some(*z), &mut y);
-                let g = match jac.as_deref_mut() {
-                    Some(j) => {
-                        let (g, block) = mixed_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
-                        *j += block;
-                        g
-                    }
-                    None => exact_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], 0),
-                };
-                leg += g;
-                scale += g.amax();
-                if self.lag.has_forces() {
-                    let f = match jac.as_deref_mut() {
-                        Some(j) => {
-                            let (f, block) = force_block::<F, L, M>(&self.lag, &cell, &y[..=n], 0, n);
-                            *j += block;
-                            f
-                        }
-                        None => vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], 0),
-                    };
-                    leg += f;
-                    scale += f.amax();
-                }
+                add_vertex_terms::<F, L, M>(
+                    &self.lag,
+                    &cell,
+                    &y[..=n],
+                    (0, n),
+                    &mut leg,
+                    &mut scale,
+                    jac.as_deref_mut(),
+                );
             }
             (leg, scale)
         });
