@@ -37,7 +37,7 @@ fn paper_space_evolution_well_posed_reaches_the_end_and_literal_stops_cleanly() 
     assert!(ok, "{err}");
     let s = summary(&out);
     assert_eq!(s["levels"], 40);
-    // 𝖩_𝖭 constant across the columns to 1e-12 of its terms (measured 8.9e-13:
+    // 𝖩_𝖭 constant across the columns to 1e-12 of its terms (measured 1.7e-13:
     // a stiff steel section whose strains sit near E6, where rounding the
     // stored node to its increment already costs ~2e-12 unless the vertex
     // solve takes its residual through the stored value).

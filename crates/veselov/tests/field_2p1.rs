@@ -170,10 +170,19 @@ impl<P: veselov::field::potential::Potential<1> + Send + Sync>
     }
 }
 
+/// The simplex of shape `shape` based at the origin.
+fn shape_cell(shape: usize) -> veselov::field::complex::TopCell {
+    veselov::field::complex::TopCell {
+        index: shape,
+        shape,
+        origin: [0; 8],
+    }
+}
+
 #[test]
 fn cached_shape_geometry_agrees_with_the_per_cell_path() {
     use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
-    use veselov::field::complex::{TopCell, factorial};
+    use veselov::field::complex::factorial;
     let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("node map");
     let cached = MidpointRule::new(NonlinearWave(SineGordon), nodes);
     let plain = MidpointRule::new(Uncached(NonlinearWave(SineGordon)), nodes);
@@ -181,11 +190,7 @@ fn cached_shape_geometry_agrees_with_the_per_cell_path() {
     // At the origin both paths form the same edge vectors; elsewhere the
     // per-cell path subtracts large node positions (its own round-off).
     for shape in 0..factorial(3) {
-        let cell = TopCell {
-            index: shape,
-            shape,
-            origin: [0; 8],
-        };
+        let cell = shape_cell(shape);
         let y: Vec<SVector<f64, 1>> = (0..4)
             .map(|l| SVector::from([0.7 * l as f64 - 0.3 * shape as f64]))
             .collect();
@@ -208,7 +213,7 @@ fn cached_shape_geometry_agrees_with_the_per_cell_path() {
 #[test]
 fn later_gradients_in_one_pass_are_the_per_vertex_gradients() {
     use veselov::field::cell::{later_gradients, vertex_gradient};
-    use veselov::field::complex::{TopCell, factorial};
+    use veselov::field::complex::factorial;
     use veselov::field::fibre::{Pose, PositionRotation};
     let scalar = MidpointRule::new(
         NonlinearWave(SineGordon),
@@ -220,11 +225,7 @@ fn later_gradients_in_one_pass_are_the_per_vertex_gradients() {
     );
     let mut worst: f64 = 0.0;
     for shape in 0..factorial(3) {
-        let cell = TopCell {
-            index: shape,
-            shape,
-            origin: [0; 8],
-        };
+        let cell = shape_cell(shape);
         let y: Vec<SVector<f64, 1>> = (0..4)
             .map(|l| SVector::from([(1.3 * l as f64 + 0.4 * shape as f64).sin()]))
             .collect();
@@ -236,11 +237,7 @@ fn later_gradients_in_one_pass_are_the_per_vertex_gradients() {
         }
     }
     for shape in 0..factorial(2) {
-        let cell = TopCell {
-            index: shape,
-            shape,
-            origin: [0; 8],
-        };
+        let cell = shape_cell(shape);
         let y: Vec<SVector<f64, 2>> = (0..3)
             .map(|l| Vector2::new((0.9 * l as f64 + 0.2).cos(), 0.5 * l as f64 - 0.3 * shape as f64))
             .collect();
@@ -267,11 +264,7 @@ fn later_gradients_in_one_pass_are_the_per_vertex_gradients() {
         0.05,
     )
     .expect("spacings");
-    let cell = TopCell {
-        index: 0,
-        shape: 0,
-        origin: [0; 8],
-    };
+    let cell = shape_cell(0);
     let y = [Pose::<f64>::new(Vector3::zeros(), veselov::lie::so3::exp(&Vector3::zeros())); 3];
     let mut out = [SVector::<f64, 6>::zeros(); 3];
     assert!(!later_gradients::<PositionRotation, _, 6>(&frame, &cell, &y, &mut out));

@@ -127,9 +127,9 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// v as vertex `equation` — 0, or `position` itself for a slaved vertex
     /// (Δv = v): find z with ∂L_β/∂y_equation + F^equation_β = μ at the
     /// values `y` with z at `position` (`y[position]` holds the first
-    /// guess). `kept` is the
-    /// Newton Jacobian of the same node's last solve, in whatever
-    /// coordinates this solve iterates in (it leaves its own there). Returns
+    /// guess). `kept` holds the LU factors of the Newton Jacobian of the
+    /// same node's last solve, in whatever coordinates this solve iterates
+    /// in (it leaves its own there). Returns
     /// `None` (default) to use the generic Newton in the fibre's chart,
     /// which stays the reference and also takes over a failed solve; an
     /// implementation must solve the same equation to round-off and report
