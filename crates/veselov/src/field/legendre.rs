@@ -149,8 +149,22 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         let (mut leg, mut leg_scale) = legendre(&z, evaluated.then_some(&mut jacobian));
         let mut residual = leg - mu;
         let mut r = max_abs(&residual);
-        // Poor contraction with an old Jacobian: refresh it at this iterate.
-        if have_jacobian && !fresh && r > 0.25 * previous && r.is_finite() {
+        // Whether Newton stops at z: converged, or stalled at round-off (the
+        // residual stops halving) by either test of the documentation.
+        let stops = |r: f64, scale: f64, point_scale: f64| {
+            let stalled = r > 0.5 * previous
+                && (r <= 100.0 * options.tolerance * (scale + point_scale) || last_step <= resolution::<F, M>(&z));
+            (r <= options.tolerance * scale || stalled, stalled)
+        };
+        // Poor contraction with an old Jacobian: refresh it at this iterate,
+        // unless the iterate is accepted as it is (a fresh Jacobian cannot
+        // improve on round-off).
+        if have_jacobian
+            && !fresh
+            && r > 0.25 * previous
+            && r.is_finite()
+            && !stops(r, leg_scale + mu_scale, point_scale).0
+        {
             (leg, leg_scale) = legendre(&z, Some(&mut jacobian));
             evaluated = true;
             residual = leg - mu;
@@ -176,14 +190,13 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
             *factors = None;
             return (z, outcome);
         }
-        let stalled = r > 0.5 * previous
-            && (r <= 100.0 * options.tolerance * (scale + point_scale) || last_step <= resolution::<F, M>(&z));
+        let (accepted, stalled) = stops(r, scale, point_scale);
         if stalled && r > options.tolerance * scale {
             // Accepted at round-off: report the residual relative to the
             // scale that accepted it.
             outcome.relative_residual = r / (scale + point_scale).max(f64::MIN_POSITIVE);
         }
-        if r <= options.tolerance * scale || stalled {
+        if accepted {
             return (F::renormalize(&z), outcome);
         }
         previous = r;
