@@ -40,7 +40,7 @@ use nalgebra::{SMatrix, SVector};
 use super::cell::{DiscreteLagrangian, vertex_gradient};
 use super::complex::{SpacetimeLattice, TopCell, TopCells};
 use super::fibre::Fibre;
-use super::flow::FlowMarcher;
+use super::flow::{CheckedPair, FlowMarcher};
 use super::legendre::{CauchyOptions, LevelReport, VertexOutcome};
 use crate::run::{Checkpoint, StepStats, Stepper, Words};
 use crate::solve::SmallLu;
@@ -96,6 +96,11 @@ pub struct Evolution000<F: Fibre<M>, L, const M: usize> {
     /// The LU factors of the Newton Jacobian of each cross index's last
     /// solve (reused at the next level while it contracts); allocated once.
     jacobians: Vec<Option<SmallLu<M>>>,
+    /// The schedule of a level, checked once: the pairs (ℓ, c) → (ℓ + 1, c)
+    /// of the cross indices solved, and the slaved node's (the window's
+    /// known vertices are the same at every level).
+    pairs: Vec<CheckedPair>,
+    slaved_pair: Option<CheckedPair>,
 }
 
 impl<F, L, const M: usize> Evolution000<F, L, M>
@@ -179,6 +184,8 @@ where
             known[Self::index(direction, cross, 1, cross)] = false;
         }
         let marcher = FlowMarcher::new(window, lag, values, known, options)?;
+        let slaved = Self::index(direction, cross, 1, cross);
+        let slaved_pair = far.is_natural().then(|| marcher.check(slaved, slaved)).transpose()?;
         let mut evolution = Self {
             direction,
             cross,
@@ -187,9 +194,18 @@ where
             marcher,
             level: 1,
             jacobians: vec![None; cross + 1],
+            pairs: Vec::with_capacity(cross),
+            slaved_pair,
         };
         if evolution.far.is_natural() {
             evolution.solve_slaved()?;
+        }
+        // Every vertex of levels ℓ − 1 and ℓ is known now, as after each step.
+        let start = usize::from(!evolution.near.is_natural());
+        for c in start..cross {
+            let (v, dv) = (evolution.vertex(1, c), evolution.vertex(2, c));
+            let pair = evolution.marcher.check(v, dv)?;
+            evolution.pairs.push(pair);
         }
         Ok(evolution)
     }
@@ -208,7 +224,11 @@ where
 
     fn solve_slaved(&mut self) -> Result<VertexOutcome> {
         let v = self.vertex(1, self.cross);
-        let solved = self.marcher.solve_reusing(v, v, &mut self.jacobians[self.cross]);
+        let kept = &mut self.jacobians[self.cross];
+        let solved = match &self.slaved_pair {
+            Some(pair) => self.marcher.solve_checked(pair, kept),
+            None => self.marcher.solve_reusing(v, v, kept),
+        };
         solved.map_err(|e| self.name_node(e, self.level, self.cross))
     }
 
@@ -310,9 +330,8 @@ where
             }
         }
         let start = usize::from(!self.near.is_natural());
-        for c in start..cross {
-            let (v, dv) = (self.vertex(1, c), self.vertex(2, c));
-            let solved = self.marcher.solve_reusing(v, dv, &mut self.jacobians[c]);
+        for (c, pair) in (start..cross).zip(&self.pairs) {
+            let solved = self.marcher.solve_checked(pair, &mut self.jacobians[c]);
             add(solved.map_err(|e| self.name_node(e, self.level, c))?);
         }
         // Roll the window: levels ℓ, ℓ + 1 become the previous and current ones.

@@ -33,6 +33,15 @@ use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre_from};
 use crate::solve::SmallLu;
 use crate::{Error, Result};
 
+/// A pair (v, Δv) of a schedule, checked once, with v's star
+/// ([`FlowMarcher::check`]).
+#[derive(Clone, Debug)]
+pub(crate) struct CheckedPair {
+    v: usize,
+    dv: usize,
+    star: Vec<StarEntry>,
+}
+
 /// The Cauchy integrator on a finite complex with a caller-given schedule.
 /// The complex is held by value (`&C` is a complex too, so a borrowed one
 /// works as well).
@@ -281,7 +290,41 @@ where
         let checked = self.check_pair(v, dv, &mut star);
         let solved = checked.map(|()| self.solve_pair(dv, &star, self.values[dv], kept));
         self.scratch = star;
-        let (z, o) = solved?;
+        self.store(v, dv, solved?)
+    }
+
+    /// Checks the pair (v, Δv) as [`solve`](Self::solve) does and keeps it
+    /// with its star, for [`solve_checked`](Self::solve_checked): a driver
+    /// that repeats one schedule on a rolling window (every level the same
+    /// pairs, the same vertices known) checks it once.
+    ///
+    /// # Errors
+    /// Those of [`solve`](Self::solve)'s check.
+    pub(crate) fn check(&self, v: usize, dv: usize) -> Result<CheckedPair> {
+        let mut star = Vec::new();
+        self.check_pair(v, dv, &mut star)?;
+        Ok(CheckedPair { v, dv, star })
+    }
+
+    /// [`solve_reusing`](Self::solve_reusing) for a pair checked by
+    /// [`check`](Self::check) when the vertices of its star known then are
+    /// known now (the caller's schedule guarantees it; only Δv's flag is
+    /// checked again, and in debug builds the whole check).
+    ///
+    /// # Errors
+    /// Δv already known, or a failed solve, as [`solve`](Self::solve).
+    pub(crate) fn solve_checked(&mut self, pair: &CheckedPair, kept: &mut Option<SmallLu<M>>) -> Result<VertexOutcome> {
+        let (v, dv) = (pair.v, pair.dv);
+        if self.known[dv] {
+            return Err(flow_error(v, format!("Δv = {dv} is already known")));
+        }
+        debug_assert!(self.check_pair(v, dv, &mut Vec::new()).is_ok(), "pair ({v}, {dv})");
+        let solved = self.solve_pair(dv, &pair.star, self.values[dv], kept);
+        self.store(v, dv, solved)
+    }
+
+    /// Stores a solved value at Δv, or names the failed pair.
+    fn store(&mut self, v: usize, dv: usize, (z, o): (F::Point<f64>, VertexOutcome)) -> Result<VertexOutcome> {
         if o.failure.is_some() {
             return Err(Error::VertexSolveFailure {
                 vertex: format!("vertex {v} (Δv = {dv})"),

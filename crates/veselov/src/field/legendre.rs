@@ -94,7 +94,8 @@ impl Failure {
 /// at the start and again only when an iteration fails to reduce the
 /// residual fourfold, so
 /// most iterations cost one gradient pass (and one solve with the kept LU
-/// factors, [`SmallLu`]). Stops when
+/// factors, [`SmallLu`]: from their second right-hand side on, one product
+/// with the inverse they keep). Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
 /// stalls at round-off (the residual stops halving) within 100 × tolerance ×
 /// (that size + |∂Leg/∂ζ|·(1 + |z|) from the latest Jacobian), or after a
@@ -203,10 +204,15 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
         if it == options.max_iterations {
             break;
         }
-        let Some(lu) = factors.as_ref() else {
+        let Some(lu) = factors.as_mut() else {
             outcome.failure = Some(Failure::Singular);
             return (z, outcome);
         };
+        // Factors solving their second right-hand side will likely solve
+        // more: from then on a solve is one product with A⁻¹.
+        if !fresh {
+            lu.keep_inverse();
+        }
         let delta = lu.solve(&(-residual));
         last_step = delta.amax();
         let next = F::retract(&z, &delta);
