@@ -117,6 +117,25 @@ fn bench(c: &mut Criterion) {
                 criterion::BatchSize::LargeInput,
             )
         });
+        // The same 4 levels after 4 untimed ones: every node starts from the
+        // Jacobian factors of its last solve, as in a long run.
+        group.bench_function("step_after_4_levels", |b| {
+            b.iter_batched_ref(
+                || {
+                    let mut evo = make();
+                    for _ in 0..4 {
+                        evo.step().expect("warm-up step");
+                    }
+                    evo
+                },
+                |evo| {
+                    for _ in 0..4 {
+                        black_box(evo.step().expect("step"));
+                    }
+                },
+                criterion::BatchSize::LargeInput,
+            )
+        });
         group.finish();
     }
 }
