@@ -307,9 +307,11 @@ impl<I, S> SplitLagrangian<I, S> {
         if y.len() != 3 {
             return None;
         }
-        let (first_t, second) = self.time_edge::<F, D, M>(&y[0], &y[1])?;
-        let (first_s, mut third) = self.space_edge::<F, D, M>(&y[0], &y[2])?;
-        let mut first = first_t + first_s;
+        let (xt, pt) = self.time_edge::<F, D, M>(&y[0], &y[1])?;
+        let (xs, ps) = self.space_edge::<F, D, M>(&y[0], &y[2])?;
+        let mut first = I::first_transpose_mul(&xt, &pt) + I::first_transpose_mul(&xs, &ps);
+        let second = I::second_transpose_mul(&xt, &pt);
+        let mut third = I::second_transpose_mul(&xs, &ps);
         if self.density.has_potential() {
             let half = D::from(0.5 * self.ds * self.dt);
             first -= self.potential_gradient::<F, D, M>(&y[0]) * half;
@@ -318,7 +320,9 @@ impl<I, S> SplitLagrangian<I, S> {
         Some([first, second, third])
     }
 
-    /// The kinetic terms of the time edge (y₁, y₂): (ΔsA₁,ₜᵀ∇K, ΔsA₂,ₜᵀ∇K).
+    /// The time edge (y₁, y₂): its increment x = τ⁻¹(y₁⁻¹y₂) and the momentum
+    /// p = Δs∇K(x/Δt) whose pull-backs A₁,ₜᵀp and A₂,ₜᵀp are its terms of
+    /// ∂ℒ/∂y₁ and ∂ℒ/∂y₂ (each caller pulls back only the one it needs).
     fn time_edge<F: Fibre<M>, D: Scalar, const M: usize>(
         &self,
         y1: &F::Point<D>,
@@ -333,11 +337,12 @@ impl<I, S> SplitLagrangian<I, S> {
             .density
             .kinetic_gradient(&x.map(|v| v * (1.0 / self.dt)))
             .map(|v| v * self.ds);
-        Some((I::first_transpose_mul(&x, &dk), I::second_transpose_mul(&x, &dk)))
+        Some((x, dk))
     }
 
-    /// The stored-energy terms of the space edge (y₁, y₃):
-    /// (−ΔtA₁,ₛᵀ∇Φ, −ΔtA₂,ₛᵀ∇Φ).
+    /// The space edge (y₁, y₃): its increment x and the momentum
+    /// p = −Δt∇Φ(x/Δs), pulled back by A₁,ₛᵀ and A₂,ₛᵀ into ∂ℒ/∂y₁ and
+    /// ∂ℒ/∂y₃.
     fn space_edge<F: Fibre<M>, D: Scalar, const M: usize>(
         &self,
         y1: &F::Point<D>,
@@ -352,7 +357,7 @@ impl<I, S> SplitLagrangian<I, S> {
             .density
             .stored_gradient(&x.map(|v| v * (1.0 / self.ds)))
             .map(|v| -(v * self.dt));
-        Some((I::first_transpose_mul(&x, &dphi), I::second_transpose_mul(&x, &dphi)))
+        Some((x, dphi))
     }
 
     /// ∂ℒ/∂y_l alone, from the one edge it needs for l = 1 (time) and
@@ -363,9 +368,13 @@ impl<I, S> SplitLagrangian<I, S> {
         S: SplitDensity<F, M>,
     {
         match l {
-            1 => Some(self.time_edge::<F, f64, M>(&y[0], &y[1])?.1),
+            1 => {
+                let (x, p) = self.time_edge::<F, f64, M>(&y[0], &y[1])?;
+                Some(I::second_transpose_mul(&x, &p))
+            }
             2 => {
-                let mut third = self.space_edge::<F, f64, M>(&y[0], &y[2])?.1;
+                let (x, p) = self.space_edge::<F, f64, M>(&y[0], &y[2])?;
+                let mut third = I::second_transpose_mul(&x, &p);
                 if self.density.has_potential() {
                     third -= self.potential_gradient::<F, f64, M>(&y[2]) * (0.5 * self.ds * self.dt);
                 }

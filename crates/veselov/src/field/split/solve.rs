@@ -153,11 +153,13 @@ impl<I, S> SplitLagrangian<I, S> {
         }
         let (ds, dt) = (self.ds, self.dt);
         let mut terms = if position == 1 {
-            self.space_edge::<F, f64, M>(&y[0], &y[2])?.0
+            let (x, p) = self.space_edge::<F, f64, M>(&y[0], &y[2])?;
+            I::first_transpose_mul(&x, &p)
         } else {
-            let mut t = self.time_edge::<F, f64, M>(&y[0], &y[1])?.0;
+            let (x, p) = self.time_edge::<F, f64, M>(&y[0], &y[1])?;
+            let mut t = I::first_transpose_mul(&x, &p);
             if self.density.is_damped() {
-                let xi = I::increment(&y[0], &y[1]).ok()?.map(|v| v * (1.0 / dt));
+                let xi = x.map(|v| v * (1.0 / dt));
                 t += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt));
             }
             t
