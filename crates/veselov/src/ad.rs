@@ -40,6 +40,18 @@ pub fn mat3_mul<D: Scalar>(a: &Matrix3<D>, b: &Matrix3<D>) -> Matrix3<D> {
     Matrix3::from_fn(|i, j| a[(i, 0)] * b[(0, j)] + a[(i, 1)] * b[(1, j)] + a[(i, 2)] * b[(2, j)])
 }
 
+/// `aᵀ b` for 3×3 matrices, written out (no transposed copy of `a`).
+#[inline]
+pub fn mat3_tr_mul<D: Scalar>(a: &Matrix3<D>, b: &Matrix3<D>) -> Matrix3<D> {
+    Matrix3::from_fn(|i, j| a[(0, i)] * b[(0, j)] + a[(1, i)] * b[(1, j)] + a[(2, i)] * b[(2, j)])
+}
+
+/// `aᵀ x` for a 3×3 matrix, written out as [`mat3_tr_mul`].
+#[inline]
+pub fn mat3_tr_vec<D: Scalar>(a: &Matrix3<D>, x: &Vector3<D>) -> Vector3<D> {
+    Vector3::from_fn(|i, _| a[(0, i)] * x[0] + a[(1, i)] * x[1] + a[(2, i)] * x[2])
+}
+
 /// `a x` for a 3×3 matrix, written out as [`mat3_mul`].
 #[inline]
 pub fn mat3_vec<D: Scalar>(a: &Matrix3<D>, x: &Vector3<D>) -> Vector3<D> {

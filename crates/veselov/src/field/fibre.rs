@@ -170,7 +170,7 @@ impl Fibre<3> for Rotations {
         seeded_rotation(y.matrix(), xi)
     }
     fn log<D: Scalar>(y: &SO3<D>, z: &SO3<D>) -> Result<SVector<D, 3>, LieError> {
-        so3::log(&y.inverse().compose(z))
+        so3::log(&y.between(z))
     }
     /// R_y R_xᵀ R_y = R_y exp(log(R_xᵀR_y)).
     fn extrapolate(x: &SO3<f64>, y: &SO3<f64>) -> SO3<f64> {
@@ -213,11 +213,11 @@ impl Fibre<6> for RigidMotions {
         SE3::new(seeded_rotation(ry, &w), translation)
     }
     fn log<D: Scalar>(y: &SE3<D>, z: &SE3<D>) -> Result<SVector<D, 6>, LieError> {
-        se3::log(&y.inverse().compose(z))
+        se3::log(&y.between(z))
     }
     /// g_y g_x⁻¹ g_y = g_y exp(log(g_x⁻¹g_y)).
     fn extrapolate(x: &SE3<f64>, y: &SE3<f64>) -> SE3<f64> {
-        y.compose(&x.inverse().compose(y))
+        y.compose(&x.between(y))
     }
     fn renormalize(y: &SE3<f64>) -> SE3<f64> {
         SE3::new(Rotations::renormalize(y.rotation()), *y.translation())

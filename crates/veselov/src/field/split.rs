@@ -108,7 +108,7 @@ where
 {
     const NAME: &'static str = "group";
     fn increment<D: Scalar>(g1: &SE3<D>, g2: &SE3<D>) -> std::result::Result<SVector<D, 6>, LieError> {
-        R::tau_inv(&g1.inverse().compose(g2))
+        R::tau_inv(&g1.between(g2))
     }
     fn advance<D: Scalar>(g1: &SE3<D>, x: &SVector<D, 6>) -> SE3<D> {
         g1.compose(&R::tau(x))

@@ -194,7 +194,7 @@ where
             let g1 = g.compose(&f);
             let mu1 = f.adjoint().transpose() * nu;
             let g1_re = G::map_scalar(&g1, |e| e.re);
-            let eta1 = R::tau_inv(&G::lift::<Dual64>(&g1_re).inverse().compose(&g1))?;
+            let eta1 = R::tau_inv(&G::lift::<Dual64>(&g1_re).between(&g1))?;
             let deta: SVector<f64, N> = eta1.map(|e| e.eps);
             let dmu: SVector<f64, N> = mu1.map(|e| e.eps);
             if column < N {

@@ -190,6 +190,11 @@ pub trait LieGroup<D: DualNum<Primitive = f64> + Copy, const N: usize>: Sized + 
     fn compose(&self, other: &Self) -> Self;
     /// The inverse element.
     fn inverse(&self) -> Self;
+    /// The relative element `self⁻¹ · other` (a group may compute it
+    /// without forming the inverse).
+    fn between(&self, other: &Self) -> Self {
+        self.inverse().compose(other)
+    }
     /// Ad_g as an N×N matrix: Ad_g ξ = (g ξ̂ g⁻¹)ˇ.
     fn adjoint(&self) -> SMatrix<D, N, N>;
     /// (Ad_g)ᵀ — the operator seed 000 writes Ad\*_g: ⟨Ad\*_g μ, ξ⟩ = ⟨μ, Ad_g ξ⟩.

@@ -7,7 +7,7 @@
 //! `τ(ξ + εδ) = τ(ε dtau(ξ) δ) τ(ξ) + O(ε²)` and `dtau_inv(ξ) = dtau(ξ)⁻¹`.
 //!
 //! A generic discrete-velocity computation, ξ = τ⁻¹(g₀⁻¹g₁)/h, reads
-//! `R::tau_inv(&g0.inverse().compose(&g1)).map(|x| x / h)` for any
+//! `R::tau_inv(&g0.between(&g1)).map(|x| x / h)` for any
 //! `R: Retraction<N>`; [`GroupOf<R, N, D>`] provides compose/inverse/adjoint through
 //! [`LieGroup`](super::LieGroup).
 

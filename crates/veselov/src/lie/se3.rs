@@ -14,6 +14,7 @@ use num_dual::DualNum;
 
 use super::so3::{self, SO3, hat as hat3};
 use super::{LieError, LieGroup, ORTHOGONALITY_TOLERANCE, series};
+use crate::ad::mat3_tr_vec;
 
 /// Angular part ω and linear part v of ξ = (ω; v).
 pub fn split<D: DualNum<Primitive = f64> + Copy>(xi: &Vector6<D>) -> (Vector3<D>, Vector3<D>) {
@@ -141,6 +142,16 @@ impl<D: DualNum<Primitive = f64> + Copy> SE3<D> {
         }
     }
 
+    /// The relative motion g⁻¹h = (RᵀS, Rᵀ(y − x)) of g = (R, x) and
+    /// h = (S, y): the positions' difference is taken first (what
+    /// `self.inverse().compose(other)` computes as Rᵀy − Rᵀx).
+    pub fn between(&self, other: &Self) -> Self {
+        SE3 {
+            rotation: self.rotation.between(&other.rotation),
+            translation: mat3_tr_vec(self.rotation.matrix(), &(other.translation - self.translation)),
+        }
+    }
+
     /// Act on a point: p ↦ Rp + x.
     pub fn act(&self, p: &Vector3<D>) -> Vector3<D> {
         self.rotation.act(p) + self.translation
@@ -191,6 +202,9 @@ impl<D: DualNum<Primitive = f64> + Copy> LieGroup<D, 6> for SE3<D> {
     }
     fn inverse(&self) -> Self {
         SE3::inverse(self)
+    }
+    fn between(&self, other: &Self) -> Self {
+        SE3::between(self, other)
     }
     fn adjoint(&self) -> Matrix6<D> {
         adjoint(self)
@@ -341,7 +355,7 @@ pub fn coadjoint<D: DualNum<Primitive = f64> + Copy>(g: &SE3<D>) -> Matrix6<D> {
 /// One-parameter (screw) interpolation g(s) = g₀ exp(s log(g₀⁻¹g₁)),
 /// g(0) = g₀, g(1) = g₁. Errors near the rotational cut locus.
 pub fn geodesic<D: DualNum<Primitive = f64> + Copy>(g0: &SE3<D>, g1: &SE3<D>, s: D) -> Result<SE3<D>, LieError> {
-    let xi = log(&g0.inverse().compose(g1))?;
+    let xi = log(&g0.between(g1))?;
     Ok(g0.compose(&exp(&(xi * s))))
 }
 
@@ -349,7 +363,7 @@ pub fn geodesic<D: DualNum<Primitive = f64> + Copy>(g0: &SE3<D>, g1: &SE3<D>, s:
 /// unweighted). Left-invariant. Errors near the rotational cut locus; not
 /// differentiable where d = 0.
 pub fn distance<D: DualNum<Primitive = f64> + Copy>(g0: &SE3<D>, g1: &SE3<D>) -> Result<D, LieError> {
-    let xi = log(&g0.inverse().compose(g1))?;
+    let xi = log(&g0.between(g1))?;
     Ok(xi.dot(&xi).sqrt())
 }
 
@@ -419,6 +433,18 @@ mod tests {
 
     proptest! {
         #![proptest_config(crate::lie::test_config())]
+
+        /// g⁻¹h without the inverse: the rotation bit for bit as
+        /// inverse-then-compose; the translation Rᵀ(y − x) against Rᵀy − Rᵀx,
+        /// each within γ₃Σ_k|R_ki||·| ≤ 3√3ε|·|∞ per dot product (a unit column
+        /// has Σ|R_ki| ≤ √3) plus one rounding of the difference: 16ε(|x|∞ + |y|∞).
+        #[test]
+        fn between_is_inverse_then_compose(g in element(), h in element()) {
+            let (fused, reference) = (g.between(&h), g.inverse().compose(&h));
+            prop_assert_eq!(fused.rotation().matrix(), reference.rotation().matrix());
+            let bound = 16.0 * EPS * (g.translation().amax() + h.translation().amax());
+            prop_assert!((fused.translation() - reference.translation()).amax() <= bound);
+        }
 
         /// exp agrees with the 4×4 matrix exponential of hat(ξ); |ξ| ≤ ~4, the
         /// reference loses ~10 ε per squaring: tolerance 1e-13.
@@ -563,7 +589,7 @@ mod tests {
         /// the distance.
         #[test]
         fn geodesic_and_distance(g in element(), h in element(), k in element(), a in 0.0..1.0f64, b in 0.0..1.0f64) {
-            prop_assume!(g.inverse().compose(&h).rotation().angle() < PI - 1e-3);
+            prop_assume!(g.between(&h).rotation().angle() < PI - 1e-3);
             let g0 = geodesic(&g, &h, 0.0).expect("ok");
             let g1 = geodesic(&g, &h, 1.0).expect("ok");
             prop_assert!(maxabs(&(g0.to_matrix() - g.to_matrix())) <= 64.0 * EPS);
@@ -654,7 +680,7 @@ mod tests {
     fn note_000_beam_data() {
         let (ds, dt) = (0.02, 0.04);
         let g1 = SE3::from_translation(Vector3::new(0.0, 0.0, ds));
-        let eta = cay_inv(&SE3::<f64>::identity().inverse().compose(&g1)).expect("ok") / ds;
+        let eta = cay_inv(&SE3::<f64>::identity().between(&g1)).expect("ok") / ds;
         assert_eq!(eta, Vector6::new(0.0, 0.0, 0.0, 0.0, 0.0, 1.0));
         let xi0 = Vector6::new(0.0, -0.85, 0.0, 0.0, -0.1, 0.0);
         let mut g = SE3::identity();

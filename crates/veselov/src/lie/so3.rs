@@ -14,7 +14,7 @@ use nalgebra::{Matrix3, Quaternion, Vector3};
 use num_dual::DualNum;
 
 use super::{CUT_LOCUS_MARGIN, LieError, LieGroup, ORTHOGONALITY_TOLERANCE, series};
-use crate::ad::{mat3_mul, mat3_vec};
+use crate::ad::{mat3_mul, mat3_tr_mul, mat3_vec};
 
 /// so(3) hat map: `hat(ω) = ω̂` with `ω̂ e = ω × e`.
 pub fn hat<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> Matrix3<D> {
@@ -85,6 +85,14 @@ impl<D: DualNum<Primitive = f64> + Copy> SO3<D> {
     pub fn inverse(&self) -> Self {
         SO3 {
             matrix: self.matrix.transpose(),
+        }
+    }
+
+    /// The relative rotation RᵀS (the same entries as
+    /// `self.inverse().compose(other)`, without the transposed copy).
+    pub fn between(&self, other: &Self) -> Self {
+        SO3 {
+            matrix: mat3_tr_mul(&self.matrix, &other.matrix),
         }
     }
 
@@ -229,6 +237,9 @@ impl<D: DualNum<Primitive = f64> + Copy> LieGroup<D, 3> for SO3<D> {
     }
     fn inverse(&self) -> Self {
         SO3::inverse(self)
+    }
+    fn between(&self, other: &Self) -> Self {
+        SO3::between(self, other)
     }
     fn adjoint(&self) -> Matrix3<D> {
         adjoint(self)
@@ -409,7 +420,7 @@ pub fn coadjoint<D: DualNum<Primitive = f64> + Copy>(r: &SO3<D>) -> Matrix3<D> {
 /// Errors if R₀ᵀR₁ is within [`CUT_LOCUS_MARGIN`] of a half-turn (the
 /// minimising geodesic is then not unique).
 pub fn geodesic<D: DualNum<Primitive = f64> + Copy>(r0: &SO3<D>, r1: &SO3<D>, s: D) -> Result<SO3<D>, LieError> {
-    let w = log(&r0.inverse().compose(r1))?;
+    let w = log(&r0.between(r1))?;
     Ok(r0.compose(&exp(&(w * s))))
 }
 
@@ -417,12 +428,12 @@ pub fn geodesic<D: DualNum<Primitive = f64> + Copy>(r0: &SO3<D>, r1: &SO3<D>, s:
 /// 1 + 2 cos d = tr(R₀ᵀR₁)). Defined at every pair, including half-turns;
 /// not differentiable where d = 0.
 pub fn distance<D: DualNum<Primitive = f64> + Copy>(r0: &SO3<D>, r1: &SO3<D>) -> D {
-    r0.inverse().compose(r1).angle()
+    r0.between(r1).angle()
 }
 
 /// d(R₀, R₁)² = |log(R₀ᵀR₁)|², smooth (also at d = 0); errors near the cut locus.
 pub fn distance_squared<D: DualNum<Primitive = f64> + Copy>(r0: &SO3<D>, r1: &SO3<D>) -> Result<D, LieError> {
-    let w = log(&r0.inverse().compose(r1))?;
+    let w = log(&r0.between(r1))?;
     Ok(w.dot(&w))
 }
 

@@ -62,6 +62,6 @@ pub fn root_strains<R: Retraction<6, Family = RigidMotions>>(
 ) -> Result<Vec<SVector<f64, 6>>, LieError> {
     col0.iter()
         .zip(col1)
-        .map(|(g0, g1)| R::tau_inv(&g0.inverse().compose(g1)).map(|x| x / DS))
+        .map(|(g0, g1)| R::tau_inv(&g0.between(g1)).map(|x| x / DS))
         .collect()
 }
