@@ -318,7 +318,16 @@ where
         if self.known[dv] {
             return Err(flow_error(v, format!("Δv = {dv} is already known")));
         }
-        debug_assert!(self.check_pair(v, dv, &mut Vec::new()).is_ok(), "pair ({v}, {dv})");
+        if cfg!(debug_assertions) {
+            // In the star buffer: a level allocates nothing in debug builds either.
+            let mut star = std::mem::take(&mut self.scratch);
+            let checked = self.check_pair(v, dv, &mut star);
+            self.scratch = star;
+            assert!(
+                checked.is_ok(),
+                "the checked pair ({v}, {dv}) no longer checks: {checked:?}"
+            );
+        }
         let solved = self.solve_pair(dv, &pair.star, self.values[dv], kept);
         self.store(v, dv, solved)
     }

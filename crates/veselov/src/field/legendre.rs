@@ -132,10 +132,8 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     let mut previous = f64::INFINITY;
     // The factors of the Jacobian in use, in `kept` itself (`None` until one
     // is evaluated, or after a singular one), factored once where it is
-    // evaluated; dropped on failure.
-    if kept.as_ref().is_some_and(|f| !f.is_finite()) {
-        *kept = None;
-    }
+    // evaluated; dropped on failure. Factors are finite wherever they come
+    // from ([`SmallLu::refactor`], [`SmallLu::restore_factors`]).
     let factors = kept;
     let mut have_jacobian = factors.is_some();
     let mut fresh = false;

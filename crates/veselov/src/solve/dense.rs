@@ -224,7 +224,7 @@ impl<const N: usize> SmallLu<N> {
     }
 
     /// The factors of `a` and its smallest pivot relative to the largest
-    /// (0 when a pivot vanishes or is not finite: then `None`).
+    /// (0 when a pivot vanishes or a factor is not finite: then `None`).
     pub fn factor(a: &nalgebra::SMatrix<f64, N, N>) -> (Option<Self>, f64) {
         let mut lu = Self::zeros();
         match lu.refactor(a) {
@@ -235,7 +235,7 @@ impl<const N: usize> SmallLu<N> {
 
     /// Factors `a` in place of the factors held (no copy of the factors
     /// moves through the stack); its smallest pivot relative to the
-    /// largest, or `None` when a pivot vanishes or is not finite (the
+    /// largest, or `None` when a pivot vanishes or a factor is not finite (the
     /// factors held are then meaningless).
     pub fn refactor(&mut self, a: &nalgebra::SMatrix<f64, N, N>) -> Option<f64> {
         self.inverse = None;
@@ -281,6 +281,11 @@ impl<const N: usize> SmallLu<N> {
             }
             self.inverse_pivots[k] = 1.0 / f[k][k];
         }
+        // A non-finite entry that never reached a pivot (its multipliers
+        // were zero) would spoil every solve: such factors are none.
+        if !self.is_finite() {
+            return None;
+        }
         Some(if hi > 0.0 { lo / hi } else { 0.0 })
     }
 
@@ -321,6 +326,13 @@ impl<const N: usize> SmallLu<N> {
             *swap = p as usize;
         }
         lu.largest = words.one()?;
+        if !lu.is_finite() || !lu.largest.is_finite() {
+            return Err(Error::InvalidParameter {
+                name: "checkpoint".into(),
+                value: "LU factors".into(),
+                reason: "a factor is not finite".into(),
+            });
+        }
         Ok(lu)
     }
 
@@ -519,6 +531,13 @@ mod tests {
         let err = SmallLu::<3>::restore_factors(&mut crate::run::Words::new(&words)).expect_err("not a swap");
         assert!(err.to_string().contains("row swap"), "{err}");
         assert!(SmallLu::<3>::restore_factors(&mut crate::run::Words::new(&words[..5])).is_err());
+        words[9] = 0.0;
+        words[4] = f64::NAN;
+        let err = SmallLu::<3>::restore_factors(&mut crate::run::Words::new(&words)).expect_err("not finite");
+        assert!(err.to_string().contains("not finite"), "{err}");
+        // A non-finite entry no pivot reaches (its multipliers are zero).
+        let hidden = nalgebra::SMatrix::<f64, 3, 3>::new(1.0, 0.0, f64::INFINITY, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0);
+        assert!(SmallLu::factor(&hidden).0.is_none());
     }
 
     #[test]
