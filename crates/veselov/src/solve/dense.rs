@@ -448,15 +448,19 @@ mod tests {
         x
     }
 
-    #[test]
-    fn kept_factors_solve_every_right_hand_side() {
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
+    /// Reproducible numbers uniform in [−½, ½) (xorshift64 from `seed`).
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        }
+    }
+
+    #[test]
+    fn kept_factors_solve_every_right_hand_side() {
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         for _ in 0..50 {
             let a = nalgebra::SMatrix::<f64, 6, 6>::from_fn(|_, _| next());
             let (lu, ratio) = SmallLu::factor(&a);
@@ -486,13 +490,7 @@ mod tests {
     /// the same bits) and a refactor drops it.
     #[test]
     fn kept_inverse_solves_as_the_substitutions_do() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
         for _ in 0..50 {
             let a = nalgebra::SMatrix::<f64, 6, 6>::from_fn(|_, _| next());
             let mut lu = SmallLu::factor(&a).0.expect("regular");
