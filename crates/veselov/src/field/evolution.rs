@@ -194,19 +194,48 @@ where
             marcher,
             level: 1,
             jacobians: vec![None; cross + 1],
-            pairs: Vec::with_capacity(cross),
+            pairs: Vec::new(),
             slaved_pair,
         };
         if evolution.far.is_natural() {
             evolution.solve_slaved()?;
         }
-        // Every vertex of levels ℓ − 1 and ℓ is known now, as after each step.
+        // Each pair is checked in the window as a step solves it: every
+        // vertex of levels ℓ − 1 and ℓ known (as now), at level ℓ + 1 the
+        // prescribed ends and the nodes solved before it (lower c).
+        let mut marked: Vec<usize> = [(0, &evolution.near), (cross, &evolution.far)]
+            .into_iter()
+            .filter(|(_, end)| !end.is_natural())
+            .map(|(c, _)| evolution.vertex(2, c))
+            .collect();
+        let mark = |evolution: &mut Self, v: usize, known: bool| {
+            let value = evolution.marcher.values()[v];
+            evolution.marcher.set(v, value, known);
+        };
+        for &v in &marked {
+            mark(&mut evolution, v, true);
+        }
         let start = usize::from(!evolution.near.is_natural());
+        let (mut pairs, mut failure) = (Vec::with_capacity(cross), None);
         for c in start..cross {
             let (v, dv) = (evolution.vertex(1, c), evolution.vertex(2, c));
-            let pair = evolution.marcher.check(v, dv)?;
-            evolution.pairs.push(pair);
+            match evolution.marcher.check(v, dv) {
+                Ok(pair) => pairs.push(pair),
+                Err(e) => {
+                    failure = Some(e);
+                    break;
+                }
+            }
+            mark(&mut evolution, dv, true);
+            marked.push(dv);
         }
+        for &v in &marked {
+            mark(&mut evolution, v, false);
+        }
+        if let Some(e) = failure {
+            return Err(e);
+        }
+        evolution.pairs = pairs;
         Ok(evolution)
     }
 
