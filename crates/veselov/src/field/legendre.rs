@@ -92,8 +92,8 @@ impl Failure {
 /// returns (Leg(z), the size of the summed terms) and, when `jacobian` is
 /// `Some`, writes ∂Leg/∂ζ at z·τ(ζ), ζ = 0 there. The Jacobian is evaluated
 /// at the start and again only when an iteration fails to reduce the
-/// residual fourfold, so
-/// most iterations cost one gradient pass (and one solve with the kept LU
+/// residual fourfold at an iterate the stopping tests below do not accept,
+/// so most iterations cost one gradient pass (and one solve with the kept LU
 /// factors, [`SmallLu`]: from their second right-hand side on, one product
 /// with the inverse they keep). Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
