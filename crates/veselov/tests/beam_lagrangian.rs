@@ -5,15 +5,16 @@
 //! scheme (through the rolling-window evolution driver).
 
 use nalgebra::{SVector, Vector3};
-use veselov::field::cauchy::CauchyOptions;
 use veselov::field::cell::{DiscreteLagrangian, mixed_block_dual, vertex_gradient};
 use veselov::field::complex::{SpacetimeLattice, TopCells};
-use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::{Euclidean, RigidMotions};
 use veselov::field::split::{DiagonalQuadratic, Difference, GroupIncrement, Increment, SplitLagrangian};
 use veselov::field::variational::{action, euler_lagrange};
 use veselov::lie::{CayleyMap, ExpMap, Retraction, SE3};
 use veselov::models::beam::{BeamDensity, BeamLagrangian, BeamProperties, beam_lagrangian, left_generators, straight};
+
+#[path = "support/five_point.rs"]
+mod five_point;
 
 /// A deterministic sequence in (−1, 1).
 struct Lcg(u64);
@@ -284,49 +285,12 @@ fn vector_space_case_is_the_five_point_wave_scheme() {
         reference: [0.0],
     };
     let lag = SplitLagrangian::<Difference, _>::new(wave, dt, ds).expect("lagrangian");
-    let (levels, a_max) = (200, 16);
     let u0 = move |j: usize, a: usize| {
         let (t, s) = (j as f64 * dt, a as f64 * ds);
         (2.0 * s).sin() * (0.7 * t).cos() + 0.2 * (s - 0.3 * t).cos()
     };
-    let level = |j: usize| {
-        (0..=a_max)
-            .map(|a| SVector::from([u0(j, a)]))
-            .collect::<Vec<SVector<f64, 1>>>()
-    };
-    let end = |a: usize| -> EndCondition<SVector<f64, 1>> {
-        EndCondition::Prescribed(Box::new(move |j| SVector::from([u0(j, a)])))
-    };
-    let mut evo = Evolution000::<Euclidean<1>, _, 1>::new(
-        Direction::Time,
-        lag,
-        &level(0),
-        &level(1),
-        end(0),
-        end(a_max),
-        CauchyOptions::default(),
-    )
-    .expect("evolution");
     let r = c2 * dt * dt / (ds * ds);
-    let (mut prev, mut cur) = (
-        level(0).iter().map(|x| x[0]).collect::<Vec<_>>(),
-        level(1).iter().map(|x| x[0]).collect::<Vec<_>>(),
-    );
-    let mut worst: f64 = 0.0;
-    for j in 1..levels {
-        let mut next = vec![0.0; a_max + 1];
-        next[0] = u0(j + 1, 0);
-        next[a_max] = u0(j + 1, a_max);
-        for a in 1..a_max {
-            next[a] = 2.0 * cur[a] - prev[a] + r * (cur[a + 1] - 2.0 * cur[a] + cur[a - 1]);
-        }
-        evo.step().expect("step");
-        assert_eq!(evo.level(), j + 1);
-        for (a, x) in next.iter().enumerate() {
-            worst = worst.max((evo.value(0, a)[0] - x).abs());
-        }
-        (prev, cur) = (cur, next);
-    }
+    let worst = five_point::worst_difference_from_five_point(lag, u0, 16, 200, r, 0.0);
     assert!(
         worst < 1e-12,
         "time evolution differs from the five-point scheme by {worst:e}"

@@ -12,6 +12,9 @@ use veselov::field::complex::{SpacetimeLattice, TopCell, TopCells};
 use veselov::field::fibre::Euclidean;
 use veselov::field::flow::FlowMarcher;
 
+#[path = "support/five_point.rs"]
+mod five_point;
+
 /// ℒ_d(φ¹, φ², φ³) = ΔsΔt[½((φ² − φ¹)/Δt)² − ½c²((φ³ − φ¹)/Δs)² − ½m²(φ¹)²]
 /// on △ = ((j,a), (j+1,a), (j,a+1)).
 struct KleinGordon000 {
@@ -165,38 +168,8 @@ fn a_flow_outside_the_star_is_refused() {
 /// levels are the five-point scheme's.
 #[test]
 fn rolling_window_with_prescribed_ends_is_the_five_point_scheme() {
-    use veselov::field::evolution::{Direction, EndCondition, Evolution000};
-    let (n, a_max) = (40, 12);
-    let level = |j: usize| -> Vec<SVector<f64, 1>> { (0..=a_max).map(|a| SVector::from([smooth(j, a)])).collect() };
-    let end = |a: usize| EndCondition::Prescribed(Box::new(move |j: usize| SVector::from([smooth(j, a)])));
-    let mut evo = Evolution000::<Euclidean<1>, _, 1>::new(
-        Direction::Time,
-        LAG,
-        &level(0),
-        &level(1),
-        end(0),
-        end(a_max),
-        CauchyOptions::default(),
-    )
-    .expect("evolution");
-    let (r, dt2) = (LAG.c2 * LAG.dt * LAG.dt / (LAG.ds * LAG.ds), LAG.dt * LAG.dt);
-    let (mut previous, mut current): (Vec<f64>, Vec<f64>) = (
-        (0..=a_max).map(|a| smooth(0, a)).collect(),
-        (0..=a_max).map(|a| smooth(1, a)).collect(),
-    );
-    let mut worst: f64 = 0.0;
-    for j in 1..n {
-        evo.step().expect("level");
-        let mut next: Vec<f64> = (0..=a_max).map(|a| smooth(j + 1, a)).collect();
-        for a in 1..a_max {
-            next[a] = 2.0 * current[a] - previous[a] + r * (current[a + 1] - 2.0 * current[a] + current[a - 1])
-                - dt2 * LAG.m2 * current[a];
-        }
-        for (a, u) in next.iter().enumerate() {
-            worst = worst.max((evo.value(0, a)[0] - u).abs());
-        }
-        (previous, current) = (current, next);
-    }
+    let (r, mu) = (LAG.c2 * LAG.dt * LAG.dt / (LAG.ds * LAG.ds), LAG.dt * LAG.dt * LAG.m2);
+    let worst = five_point::worst_difference_from_five_point(LAG, smooth, 12, 40, r, mu);
     assert!(
         worst < 1e-12,
         "rolling window differs from the five-point scheme by {worst:e}"
