@@ -310,6 +310,20 @@ pub(crate) fn dlog_and_derivative(x: f64) -> (f64, f64) {
     }
 }
 
+/// θ/sin θ = atan2(n, c)/n for an angle θ < π/2 given by c = cos θ > 0 and
+/// n2 = sin²θ (n = √n2): the factor turning s = sin θ·n of a rotation matrix
+/// into its rotation vector. Smooth in (c, n2) at n2 = 0 (series in
+/// t² = n2/c² = tan²θ below t² = 1/100).
+pub(crate) fn angle_over_sine<D: DualNum<Primitive = f64> + Copy>(c: D, n2: D) -> D {
+    let cr = c.re();
+    if n2.re() < 0.01 * cr * cr {
+        ATAN.eval(n2 / (c * c)) / c
+    } else {
+        let n = n2.sqrt();
+        n.atan2(c) / n
+    }
+}
+
 /// 2 atan2(n, w)/n with n = √n2: the factor turning the vector part q_v of a
 /// unit quaternion (w ≥ 0) into its rotation vector, ω = (2 atan2(|q_v|, w)/|q_v|) q_v.
 /// Smooth in (w, n2) at n2 = 0 (series in t² = n2/w²).

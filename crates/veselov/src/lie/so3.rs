@@ -312,12 +312,28 @@ fn quaternion_matrix<D: DualNum<Primitive = f64> + Copy>(w: D, v: &Vector3<D>) -
 }
 
 /// Logarithm: the rotation vector ω with |ω| < π and exp ω = R
-/// (note 003 Lemma 6.6), computed from the unit quaternion (w ≥ 0, q_v) as
-/// ω = 2 atan2(|q_v|, w) q_v/|q_v| with a series for small |q_v|.
+/// (note 003 Lemma 6.6).
+///
+/// Below a quarter turn it is read off the matrix: with
+/// s = ½(R − Rᵀ)ˇ = sin θ·n and c = ½(tr R − 1) = cos θ > 0,
+/// ω = (θ/sin θ)s, θ/sin θ = atan(t)/(t c), t = |s|/c = tan θ, by the series
+/// of atan(t)/t in t² up to t = 0.1 and by atan2 above. From a quarter turn
+/// on (where s loses the angle's resolution) it comes from the unit
+/// quaternion (w ≥ 0, q_v): ω = 2 atan2(|q_v|, w) q_v/|q_v|.
 ///
 /// Errors with [`LieError::NearCutLocus`] if the rotation angle exceeds
 /// π − [`CUT_LOCUS_MARGIN`].
 pub fn log<D: DualNum<Primitive = f64> + Copy>(r: &SO3<D>) -> Result<Vector3<D>, LieError> {
+    let m = &r.matrix;
+    let c = (m[(0, 0)] + m[(1, 1)] + m[(2, 2)] - 1.0) * 0.5;
+    if c.re() > 0.0 {
+        let s = Vector3::new(
+            (m[(2, 1)] - m[(1, 2)]) * 0.5,
+            (m[(0, 2)] - m[(2, 0)]) * 0.5,
+            (m[(1, 0)] - m[(0, 1)]) * 0.5,
+        );
+        return Ok(s * series::angle_over_sine(c, s.dot(&s)));
+    }
     let q = r.to_quaternion();
     let (w, v) = (q.coords[3], Vector3::new(q.coords[0], q.coords[1], q.coords[2]));
     let n2 = v.dot(&v);

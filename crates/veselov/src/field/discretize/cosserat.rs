@@ -171,6 +171,41 @@ pub struct CosseratCell<P = NoPotential> {
     /// Material parameters per material point s_k = kΔs/2 (k = 0, 1, …),
     /// replacing `density.parameters` where given ([`CosseratCell::with_profile`]).
     profile: Option<Arc<[RodParameters]>>,
+    /// The split step's constant matrices, per entry of `profile` (one
+    /// entry without a profile); rebuilt by every builder.
+    constants: Arc<[StepConstants]>,
+}
+
+/// The constant matrices of the split vertex step (note 003 §3.6) at one
+/// material point, computed once per rod rather than at every vertex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct StepConstants {
+    /// K = (ρΔs/(4Δt) + A_β c_r/(2Δt)) I + (Δt/(4Δs)) C₁: each cell based
+    /// at v contributes ∂Leg_r/∂r₂ = −R₀KR₀ᵀ (with the linear damping c_r).
+    pub(super) stiffness: Matrix3<f64>,
+    /// K⁻¹ (`None` if K is numerically singular: the solve then fails).
+    pub(super) compliance: Option<Matrix3<f64>>,
+    /// κC₂ − λJ with κ = Δt/(4Δs), λ = Δs/(4Δt): the rotation equation's
+    /// dx/db per cell ([`super::cosserat_step`]).
+    pub(super) rotation_linear: Matrix3<f64>,
+    /// −2κC₂.
+    pub(super) c2_minus_two_kappa: Matrix3<f64>,
+}
+
+impl StepConstants {
+    /// The constants of parameters `p` with spacings Δs, Δt and the linear
+    /// damping c_r.
+    pub(super) fn new(p: &RodParameters, ds: f64, dt: f64, damping_linear: f64) -> Self {
+        let stiffness = Matrix3::identity() * (p.rho * ds / (4.0 * dt) + 0.25 * ds * dt * damping_linear / (2.0 * dt))
+            + p.c1 * (dt / (4.0 * ds));
+        let (kappa, lambda) = (dt / (4.0 * ds), ds / (4.0 * dt));
+        Self {
+            stiffness,
+            compliance: stiffness.try_inverse(),
+            rotation_linear: p.c2 * kappa - p.inertia * lambda,
+            c2_minus_two_kappa: p.c2 * (-2.0 * kappa),
+        }
+    }
 }
 
 /// The quantities of Prop. 6.5 on one triangle.
@@ -179,7 +214,6 @@ pub(super) struct Cell<D> {
     s0: f64,
     a: Vector3<D>,
     b: Vector3<D>,
-    g: Vector3<D>,
     eps: Vector3<D>,
     u: Vector3<D>,
     omega: Vector3<D>,
@@ -197,6 +231,7 @@ impl<P: RodPotential> CosseratCell<P> {
                 return Err(invalid(name, v, "must be positive and finite"));
             }
         }
+        let constants = [StepConstants::new(&density.parameters, ds, dt, 0.0)].into();
         Ok(Self {
             density,
             ds,
@@ -206,7 +241,27 @@ impl<P: RodPotential> CosseratCell<P> {
             analytic: true,
             loads: None,
             profile: None,
+            constants,
         })
+    }
+
+    /// The split step's constants for the current parameters and loads.
+    fn rebuild_constants(&mut self) {
+        let damping = self.loads.map_or(0.0, |l| l.damping_linear);
+        let (ds, dt) = (self.ds, self.dt);
+        self.constants = match &self.profile {
+            None => [StepConstants::new(&self.density.parameters, ds, dt, damping)].into(),
+            Some(profile) => profile.iter().map(|p| StepConstants::new(p, ds, dt, damping)).collect(),
+        };
+    }
+
+    /// The split step's constants at the material coordinate `s0` (read as
+    /// [`parameters_at`](Self::parameters_at)).
+    pub(super) fn constants_at(&self, s0: f64) -> &StepConstants {
+        match &self.profile {
+            None => &self.constants[0],
+            Some(profile) => &self.constants[nearest_point(s0, 0.5 * self.ds, profile.len())],
+        }
     }
 
     /// The rod with material parameters varying along it: `profile[k]` at
@@ -226,6 +281,7 @@ impl<P: RodPotential> CosseratCell<P> {
             ));
         }
         self.profile = Some(profile.into());
+        self.rebuild_constants();
         Ok(self)
     }
 
@@ -254,6 +310,7 @@ impl<P: RodPotential> CosseratCell<P> {
     pub fn with_loads(mut self, loads: RodLoads) -> Result<Self> {
         loads.validate()?;
         self.loads = Some(loads);
+        self.rebuild_constants();
         Ok(self)
     }
 
@@ -329,19 +386,33 @@ impl<P: RodPotential> CosseratCell<P> {
         a: Vector3<D>,
         b: Vector3<D>,
     ) -> Cell<D> {
-        let p = self.parameters_at(s0);
         let inv_sds = D::from(sigma * self.inv_ds);
         let g = (y[1].position * D::from(2.0) - y[0].position - y[2].position) * inv_sds;
-        let eps = y[0].rotation.matrix().transpose() * g - p.strain.map(D::from);
+        let eps = y[0].rotation.matrix().transpose() * g - self.parameters_at(s0).strain.map(D::from);
+        self.quantities_from_strain(sigma, s0, [y[0], y[2]], a, b, eps)
+    }
+
+    /// [`quantities`](Self::quantities) with ε already computed (as
+    /// [`linear_strain`](Self::linear_strain) computes it, the same bits),
+    /// from the values at positions 0 and 2.
+    pub(super) fn quantities_from_strain<D: Scalar>(
+        &self,
+        sigma: f64,
+        s0: f64,
+        y: [&Pose<D>; 2],
+        a: Vector3<D>,
+        b: Vector3<D>,
+        eps: Vector3<D>,
+    ) -> Cell<D> {
+        let inv_sds = D::from(sigma * self.inv_ds);
         Cell {
             sigma,
             s0,
             u: (a * D::from(2.0) - b) * inv_sds,
             omega: b * D::from(self.inv_dt),
-            v: (y[2].position - y[0].position) * D::from(self.inv_dt),
+            v: (y[1].position - y[0].position) * D::from(self.inv_dt),
             a,
             b,
-            g,
             eps,
         }
     }
@@ -383,10 +454,10 @@ impl<P: RodPotential> CosseratCell<P> {
         let da = so3::dexp_inv(&(-c.a));
         let db = so3::dexp_inv(&(-c.b));
         let arm = RotationArm { a: c.a, da };
-        let equation = RotationEquation::new(self.parameters_at(c.s0), self.ds, self.dt, &[arm], 0.0);
+        let equation = RotationEquation::new(self.constants_at(c.s0), &[arm], 0.0);
         let first = join(
             self.position_gradient(c.sigma, c.s0, &y[0], &c.v, &c.eps),
-            equation.value_with(&c.b, &db) + self.strain_torque(c.s0, r0, &c.g, &c.eps),
+            equation.value_with(&c.b, &db) + self.strain_torque(c.s0, &c.eps),
         );
         let [second, third] = self.later_gradients(&c, r0, &da, &db);
         Ok([first, second, third])
@@ -439,15 +510,11 @@ impl<P: RodPotential> CosseratCell<P> {
             - grad_p * (self.ds * self.dt / 8.0)
     }
 
-    /// The strain term of ∇_{R₀}L_β: A_β (R₀ᵀg)^ C₁ε (note 003 §3.5).
-    pub(crate) fn strain_torque(
-        &self,
-        s0: f64,
-        r0: &Matrix3<f64>,
-        g: &Vector3<f64>,
-        eps: &Vector3<f64>,
-    ) -> Vector3<f64> {
-        (r0.transpose() * g).cross(&(self.parameters_at(s0).c1 * eps)) * self.area()
+    /// The strain term of ∇_{R₀}L_β: A_β (R₀ᵀg)^ C₁ε (note 003 §3.5), with
+    /// R₀ᵀg = ε + e.
+    pub(crate) fn strain_torque(&self, s0: f64, eps: &Vector3<f64>) -> Vector3<f64> {
+        let p = self.parameters_at(s0);
+        (eps + p.strain).cross(&(p.c1 * eps)) * self.area()
     }
 
     /// g = (2r₁ − r₀ − r₂)/(σΔs) and ε = R₀ᵀg − e of Prop. 6.5.
