@@ -83,9 +83,10 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     options: CauchyOptions,
     /// Values of levels k − n … k + n, slot w mod (2n + 1).
     values: Vec<F::Point<f64>>,
-    /// Gradients of the cells based at levels k − n … k, slot w mod (n + 1);
-    /// per base vertex n!·(n + 1) vectors, cell σ then position.
-    grads: Vec<SVector<f64, M>>,
+    /// Gradients of the cells based at levels k − n … k, slot w mod (n + 1)
+    /// (one buffer per slot: a solved level's buffer is swapped in, not
+    /// copied); per base vertex n!·(n + 1) vectors, cell σ then position.
+    grads: Vec<Vec<SVector<f64, M>>>,
     next_values: Vec<F::Point<f64>>,
     next_grads: Vec<SVector<f64, M>>,
     outcomes: Vec<VertexOutcome>,
@@ -229,15 +230,19 @@ where
             .try_reserve_exact((2 * n + 1).checked_mul(size).ok_or_else(|| too_large("levels"))?)
             .map_err(|_| too_large("levels"))?;
         values.resize((2 * n + 1) * size, data[0][0]);
-        let grad_count = (n + 1)
-            .checked_mul(size)
-            .and_then(|k| k.checked_mul(per_vertex))
+        let grad_count = size
+            .checked_mul(per_vertex)
             .ok_or_else(|| too_large("cell gradients"))?;
-        let mut grads = Vec::new();
-        grads
-            .try_reserve_exact(grad_count)
-            .map_err(|_| too_large("cell gradients"))?;
-        grads.resize(grad_count, SVector::zeros());
+        // n + 1 ring slots and the buffer the next level is solved into.
+        let mut grads = Vec::with_capacity(n + 2);
+        for _ in 0..n + 2 {
+            let mut slot = Vec::new();
+            slot.try_reserve_exact(grad_count)
+                .map_err(|_| too_large("cell gradients"))?;
+            slot.resize(grad_count, SVector::zeros());
+            grads.push(slot);
+        }
+        let next_grads = grads.pop().unwrap_or_default();
         let mut marcher = Self {
             up,
             down,
@@ -246,7 +251,7 @@ where
             values,
             grads,
             next_values: vec![data[0][0]; size],
-            next_grads: vec![SVector::zeros(); size * per_vertex],
+            next_grads,
             outcomes: vec![VertexOutcome::default(); size],
             chunk: usize::MAX,
             lag,
@@ -276,7 +281,7 @@ where
             let slot = self.grad_slot(base);
             for i in 0..size {
                 self.cell_gradients(base, i, None, &mut out);
-                self.grads[(slot * size + i) * per_vertex..(slot * size + i + 1) * per_vertex].copy_from_slice(&out);
+                self.grads[slot][i * per_vertex..(i + 1) * per_vertex].copy_from_slice(&out);
             }
         }
     }
@@ -481,7 +486,6 @@ where
     /// Lagrange–d'Alembert principle when the Lagrangian has them).
     fn momentum(&self, w: i64, i: usize) -> (SVector<f64, M>, f64) {
         let n = self.torus.dimension();
-        let size = self.torus.level_size();
         let per_vertex = self.perms.len() * (n + 1);
         let mut mu = SVector::zeros();
         let mut scale = 0.0;
@@ -489,7 +493,7 @@ where
             let slot = self.grad_slot(w - j as i64);
             for sigma in 0..self.perms.len() {
                 let base = self.down(i, sigma, j);
-                let g = &self.grads[(slot * size + base) * per_vertex + sigma * (n + 1) + j];
+                let g = &self.grads[slot][base * per_vertex + sigma * (n + 1) + j];
                 mu -= g;
                 scale += g.amax();
                 if self.lag.has_forces() && self.cell_active(w - j as i64, base, sigma) {
@@ -509,7 +513,9 @@ where
     /// Outside the window y_{Δv} = y_v (never read).
     fn solve_vertex(&self, w: i64, i: usize, grads: &mut [SVector<f64, M>]) -> (F::Point<f64>, VertexOutcome, bool) {
         let n = self.torus.dimension();
-        if !self.is_active(w, i) {
+        // The base's canonical coordinates serve the window test and the star.
+        let base = self.base(w, i);
+        if !self.window.as_ref().is_none_or(|m| m.contains(&base.origin)) {
             return (self.value(w, i), VertexOutcome::default(), false);
         }
         if let Some(data) = &self.dirichlet {
@@ -520,7 +526,6 @@ where
         }
         let (mu, mu_scale) = self.momentum(w, i);
         let previous = self.value(w - n as i64, self.down(i, 0, n));
-        let base = self.base(w, i);
         let star = |sigma: usize, out: &mut [F::Point<f64>]| {
             if sigma >= self.perms.len() || !self.cell_active_at(&base, sigma) {
                 return None;
@@ -641,8 +646,10 @@ where
             let target = self.up(i, 0, n);
             self.values[top * size + target] = *z;
         }
+        // The solved level's gradients take the slot of level w − n − 1,
+        // which nothing reads any more; its buffer is overwritten next level.
         let gslot = self.grad_slot(w);
-        self.grads[gslot * size * per_vertex..(gslot + 1) * size * per_vertex].copy_from_slice(&next_grads);
+        std::mem::swap(&mut self.grads[gslot], &mut next_grads);
         self.next_values = next_values;
         self.next_grads = next_grads;
         self.outcomes = outcomes;

@@ -55,7 +55,7 @@ where
             let slot = self.grad_slot(base_level);
             for i in 0..size {
                 for sigma in 0..self.perms.len() {
-                    let g = &self.grads[(slot * size + i) * per_vertex + sigma * (n + 1)..][..n + 1];
+                    let g = &self.grads[slot][i * per_vertex + sigma * (n + 1)..][..n + 1];
                     for (l, gl) in g.iter().enumerate().skip(j) {
                         let y = self.value(base_level + l as i64, self.up(i, sigma, l));
                         sum += gl.dot(&generator(&y));
