@@ -169,6 +169,7 @@ impl Fibre<3> for Rotations {
     fn retract_seeded<D: Scalar>(y: &SO3<f64>, xi: &SVector<D, 3>) -> SO3<D> {
         seeded_rotation(y.matrix(), xi)
     }
+    #[inline]
     fn log<D: Scalar>(y: &SO3<D>, z: &SO3<D>) -> Result<SVector<D, 3>, LieError> {
         so3::log(&y.between(z))
     }

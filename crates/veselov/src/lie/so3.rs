@@ -388,6 +388,7 @@ pub fn dexp<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> Matrix3<D> {
 /// Inverse of [`dexp`]: dexp⁻¹_ω = I − ω̂/2 + k(θ) ω̂²,
 /// k(θ) = 1/θ² − (1 + cos θ)/(2θ sin θ) (note 003 Def. 6.9, whose left-trivialised
 /// dlog v equals dexp⁻¹_{−v}). Defined for |ω| < 2π.
+#[inline]
 pub fn dexp_inv<D: DualNum<Primitive = f64> + Copy>(w: &Vector3<D>) -> Matrix3<D> {
     hat_series(w, D::from(-0.5), series::dlog(w.dot(w)))
 }

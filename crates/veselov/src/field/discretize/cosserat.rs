@@ -395,6 +395,7 @@ impl<P: RodPotential> CosseratCell<P> {
     /// [`quantities`](Self::quantities) with ε already computed (as
     /// [`linear_strain`](Self::linear_strain) computes it, the same bits),
     /// from the values at positions 0 and 2.
+    #[inline]
     pub(super) fn quantities_from_strain<D: Scalar>(
         &self,
         sigma: f64,
@@ -467,6 +468,7 @@ impl<P: RodPotential> CosseratCell<P> {
     /// quantities, R₀, D_a and D_b:
     /// (−(σΔt/2)R₀C₁ε; −(σΔt/2)D_aᵀC₂u) and
     /// ((ρΔs/4)v_d + (σΔt/4)R₀C₁ε; D_bᵀ((Δs/4)Jω_d + (σΔt/4)C₂u)).
+    #[inline]
     pub(super) fn later_gradients(
         &self,
         c: &Cell<f64>,
@@ -489,6 +491,7 @@ impl<P: RodPotential> CosseratCell<P> {
 }
 
 /// (x; y) ∈ ℝ⁶.
+#[inline]
 fn join(x: Vector3<f64>, y: Vector3<f64>) -> SVector<f64, 6> {
     SVector::<f64, 6>::new(x[0], x[1], x[2], y[0], y[1], y[2])
 }
@@ -512,12 +515,14 @@ impl<P: RodPotential> CosseratCell<P> {
 
     /// The strain term of ∇_{R₀}L_β: A_β (R₀ᵀg)^ C₁ε (note 003 §3.5), with
     /// R₀ᵀg = ε + e.
+    #[inline]
     pub(crate) fn strain_torque(&self, s0: f64, eps: &Vector3<f64>) -> Vector3<f64> {
         let p = self.parameters_at(s0);
         (eps + p.strain).cross(&(p.c1 * eps)) * self.area()
     }
 
     /// g = (2r₁ − r₀ − r₂)/(σΔs) and ε = R₀ᵀg − e of Prop. 6.5.
+    #[inline]
     pub(crate) fn linear_strain(
         &self,
         sigma: f64,

@@ -70,6 +70,7 @@ impl RotationEquation {
     /// The equation of the cells `arms` (one or two) with the material
     /// point's constants (κC₂ − λJ and −2κC₂ computed once per rod) and the
     /// damping c per cell.
+    #[inline]
     pub(super) fn new(constants: &StepConstants, arms: &[RotationArm], damping: f64) -> Self {
         let n = arms.len() as f64;
         let c2 = &constants.c2_minus_two_kappa;
@@ -98,6 +99,7 @@ impl RotationEquation {
 
     /// T(b) and dT/db, written out entry by entry (see the type's
     /// documentation for the formulas).
+    #[inline]
     pub(super) fn value_and_jacobian(&self, b: &Vector3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
         let l = &self.linear;
         let x = mat3_vec(l, b) + self.offset;
