@@ -317,7 +317,9 @@ pub(crate) fn dlog_and_derivative(x: f64) -> (f64, f64) {
 pub(crate) fn angle_over_sine<D: DualNum<Primitive = f64> + Copy>(c: D, n2: D) -> D {
     let cr = c.re();
     if n2.re() < 0.01 * cr * cr {
-        ATAN.eval(n2 / (c * c)) / c
+        // One division: atan(t)/t at t² = n2·(1/c)², times 1/c.
+        let inv = c.recip();
+        ATAN.eval(n2 * inv * inv) * inv
     } else {
         let n = n2.sqrt();
         n.atan2(c) / n

@@ -188,6 +188,8 @@ pub(super) struct StepConstants {
     /// κC₂ − λJ with κ = Δt/(4Δs), λ = Δs/(4Δt): the rotation equation's
     /// dx/db per cell ([`super::cosserat_step`]).
     pub(super) rotation_linear: Matrix3<f64>,
+    /// ‖κC₂ − λJ‖_F.
+    pub(super) rotation_linear_norm: f64,
     /// −2κC₂.
     pub(super) c2_minus_two_kappa: Matrix3<f64>,
 }
@@ -199,10 +201,12 @@ impl StepConstants {
         let stiffness = Matrix3::identity() * (p.rho * ds / (4.0 * dt) + 0.25 * ds * dt * damping_linear / (2.0 * dt))
             + p.c1 * (dt / (4.0 * ds));
         let (kappa, lambda) = (dt / (4.0 * ds), ds / (4.0 * dt));
+        let rotation_linear = p.c2 * kappa - p.inertia * lambda;
         Self {
             stiffness,
             compliance: stiffness.try_inverse(),
-            rotation_linear: p.c2 * kappa - p.inertia * lambda,
+            rotation_linear,
+            rotation_linear_norm: rotation_linear.norm(),
             c2_minus_two_kappa: p.c2 * (-2.0 * kappa),
         }
     }

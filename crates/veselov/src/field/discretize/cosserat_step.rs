@@ -58,6 +58,8 @@ pub(super) struct RotationArm {
 pub(super) struct RotationEquation {
     /// X = dx/db.
     linear: Matrix3<f64>,
+    /// ‖X‖_F.
+    linear_norm: f64,
     /// x(0).
     offset: Vector3<f64>,
     /// Y = dy/db.
@@ -86,6 +88,7 @@ impl RotationEquation {
         }
         Self {
             linear: constants.rotation_linear * n,
+            linear_norm: constants.rotation_linear_norm * n,
             offset: mat3_vec(c2, &a_sum),
             slope,
             constant: constant * -2.0,
@@ -101,15 +104,17 @@ impl RotationEquation {
     /// ‖D′_b h‖₂ ≤ (½ + 2k|b| + 2k′|b|³)|h| ≤ 0.68|h| and
     /// ‖D″_b[h, h]‖₂ ≤ (2k + 10k′|b|² + 4k″|b|⁴)|h|² ≤ 0.19|h|², so
     /// ‖T″‖ ≤ 1.5‖L‖_F + 0.25 max|x| with |x| ≤ |x(b)| + ‖L‖_F|δ| on the
-    /// segment. `None` unless |b| ≤ 1 and |b + δ| ≤ 1.
+    /// segment; the 2-norms of x and δ are taken as √3 times their
+    /// max-norms (no square roots). `None` unless |b| ≤ 1 and |b + δ| ≤ 1.
     #[inline]
     pub(super) fn newton_remainder_bound(&self, b: &Vector3<f64>, delta: &Vector3<f64>) -> Option<f64> {
         if b.norm_squared() > 1.0 || (b + delta).norm_squared() > 1.0 {
             return None;
         }
-        let d = delta.norm();
-        let l = self.linear.norm();
-        let x = (mat3_vec(&self.linear, b) + self.offset).norm() + l * d;
+        const SQRT_3: f64 = 1.732_050_807_568_877_2;
+        let d = SQRT_3 * delta.amax();
+        let l = self.linear_norm;
+        let x = SQRT_3 * (mat3_vec(&self.linear, b) + self.offset).amax() + l * d;
         Some(0.5 * (1.5 * l + 0.25 * x) * d * d)
     }
 
