@@ -46,6 +46,8 @@ pub mod sem;
 pub mod solve;
 pub mod special;
 pub mod tableau;
+#[cfg(test)]
+mod test_support;
 
 pub use error::{Error, Result};
 /// The `nalgebra` this crate is built with (vectors and matrices of its API).

@@ -413,6 +413,7 @@ pub fn solve_small<const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::uniform;
 
     /// Elimination with the right-hand side carried along, dividing by each
     /// pivot (the form [`SmallLu`] replaced; it multiplies by the reciprocal).
@@ -446,16 +447,6 @@ mod tests {
             x[i] = s / a[(i, i)];
         }
         x
-    }
-
-    /// Reproducible numbers uniform in [−½, ½) (xorshift64 from `seed`).
-    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
-        move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        }
     }
 
     #[test]

@@ -469,15 +469,9 @@ mod tests {
         assert_eq!(bounded, 5, "every start lies in |b| ≤ 1");
         // ‖T″[h, h]‖ ≤ (1.5‖L‖_F + 0.25|x|)|h|² by second differences.
         let l = eq.linear.norm();
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut uniform = crate::test_support::uniform(0x2545_f491_4f6c_dd1d);
         for _ in 0..200 {
-            let b = Vector3::new(uniform(), uniform(), uniform()) * 0.55;
+            let b = Vector3::new(uniform(), uniform(), uniform()) * 1.1;
             let h = Vector3::new(uniform(), uniform(), uniform()).normalize();
             let e = 1e-3;
             let t = |z: Vector3<f64>| eq.value_and_jacobian(&z).0;
