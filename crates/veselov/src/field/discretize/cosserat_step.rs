@@ -434,12 +434,14 @@ mod tests {
     use super::super::cosserat::RodParameters;
     use super::*;
 
-    /// The Taylor remainder bound holds the residual a Newton step actually
-    /// leaves (evaluated), from starts at several distances from the
-    /// solution, and the curvature bound behind it holds the second
-    /// difference of T along random directions on |b| ≤ 1.
-    #[test]
-    fn newton_remainder_bound_holds_the_residual_left() {
+    /// Δs, Δt and the damping of the sample equation.
+    const DS: f64 = 0.1;
+    const DT: f64 = 0.03;
+    const DAMPING: f64 = 0.7;
+
+    /// Sample material parameters (J, C₂ not diagonal) and two rotation
+    /// arms: the rotation equation of an interior vertex.
+    fn sample() -> (RodParameters, [RotationArm; 2]) {
         let inertia = Matrix3::new(2.0, 0.1, 0.0, 0.1, 1.5, 0.2, 0.0, 0.2, 1.0);
         let c2 = Matrix3::new(3.0, 0.2, 0.1, 0.2, 2.0, 0.0, 0.1, 0.0, 4.0);
         let p = RodParameters::new(1.3, inertia, Matrix3::identity() * 5.0, c2, Vector3::new(0.0, 0.0, 1.0))
@@ -448,8 +450,20 @@ mod tests {
             a,
             da: so3::dexp_inv(&(-a)),
         };
-        let arms = [arm(Vector3::new(0.1, -0.05, 0.2)), arm(Vector3::new(-0.3, 0.1, 0.05))];
-        let eq = RotationEquation::new(&StepConstants::new(&p, 0.1, 0.03, 0.0), &arms, 0.7);
+        (
+            p,
+            [arm(Vector3::new(0.1, -0.05, 0.2)), arm(Vector3::new(-0.3, 0.1, 0.05))],
+        )
+    }
+
+    /// The Taylor remainder bound holds the residual a Newton step actually
+    /// leaves (evaluated), from starts at several distances from the
+    /// solution, and the curvature bound behind it holds the second
+    /// difference of T along random directions on |b| ≤ 1.
+    #[test]
+    fn newton_remainder_bound_holds_the_residual_left() {
+        let (p, arms) = sample();
+        let eq = RotationEquation::new(&StepConstants::new(&p, DS, DT, 0.0), &arms, DAMPING);
         let solution = Vector3::new(0.2, -0.1, 0.3);
         let target = eq.value_and_jacobian(&solution).0;
         let mut bounded = 0;
@@ -490,16 +504,9 @@ mod tests {
     /// against T summed cell by cell from so3::dexp_inv.
     #[test]
     fn rotation_equation_matches_its_definition_and_differences() {
-        let inertia = Matrix3::new(2.0, 0.1, 0.0, 0.1, 1.5, 0.2, 0.0, 0.2, 1.0);
-        let c2 = Matrix3::new(3.0, 0.2, 0.1, 0.2, 2.0, 0.0, 0.1, 0.0, 4.0);
-        let p = RodParameters::new(1.3, inertia, Matrix3::identity() * 5.0, c2, Vector3::new(0.0, 0.0, 1.0))
-            .expect("valid");
-        let (ds, dt, damping) = (0.1, 0.03, 0.7);
-        let arm = |a: Vector3<f64>| RotationArm {
-            a,
-            da: so3::dexp_inv(&(-a)),
-        };
-        let arms = [arm(Vector3::new(0.1, -0.05, 0.2)), arm(Vector3::new(-0.3, 0.1, 0.05))];
+        let (p, arms) = sample();
+        let (inertia, c2) = (*p.inertia(), *p.c2());
+        let (ds, dt, damping) = (DS, DT, DAMPING);
         let eq = RotationEquation::new(&StepConstants::new(&p, ds, dt, 0.0), &arms, damping);
         for b in [
             Vector3::new(0.0, 0.0, 0.0),
