@@ -392,14 +392,20 @@ pub(crate) fn split_solve<P: RodPotential>(
         if angle.is_nan() || angle >= std::f64::consts::PI {
             return fail(Failure::CutLocus, outcome);
         }
-        if let Some(bound) = remainder
-            && bound <= options.tolerance * terms
+        if let Some(remainder) = remainder
+            && remainder <= options.tolerance * terms
         {
-            // The evaluation that would confirm it is skipped; the bound is
-            // reported as the residual.
-            outcome.iterations = it + 1;
-            outcome.relative_residual = bound.max(residual_r) / terms;
-            return finish(b, outcome);
+            // Plus the rounding of δ through the computed inverse:
+            // |Jδ + residual|∞ ≤ 12ε κ∞(J) |residual|∞.
+            let norm = |m: &Matrix3<f64>| m.abs().column_sum().amax();
+            let bound = remainder + 12.0 * f64::EPSILON * norm(&jacobian) * norm(&inv) * r;
+            if bound <= options.tolerance * terms {
+                // The evaluation that would confirm it is skipped; the
+                // bound is reported as the residual.
+                outcome.iterations = it + 1;
+                outcome.relative_residual = bound.max(residual_r) / terms;
+                return finish(b, outcome);
+            }
         }
     }
     fail(Failure::IterationLimit, outcome)
