@@ -83,17 +83,27 @@ where
     /// momentum balance of the Lagrange–d'Alembert principle. Zero without
     /// forces.
     pub fn level_impulse(&self, generator: impl Fn(&F::Point<f64>) -> SVector<f64, M>) -> f64 {
+        self.level_impulses(|y| [generator(y)])[0]
+    }
+
+    /// [`level_impulse`](Self::level_impulse) along K vector fields at once
+    /// (`generators` returns their values at a point): one sweep over the
+    /// level's forces for all of them.
+    pub fn level_impulses<const K: usize>(
+        &self,
+        generators: impl Fn(&F::Point<f64>) -> [SVector<f64, M>; K],
+    ) -> [f64; K] {
+        let mut sum = [0.0; K];
         if !self.lag.has_forces() {
-            return 0.0;
+            return sum;
         }
         let n = self.torus.dimension();
         let c = self.level - 1;
-        let mut sum = 0.0;
         for i in 0..self.torus.level_size() {
             if !self.is_active(c, i) {
                 continue;
             }
-            let d = generator(&self.value(c, i));
+            let d = generators(&self.value(c, i));
             for j in 0..=n {
                 for sigma in 0..self.perms.len() {
                     let base = if j == 0 { i } else { self.down(i, sigma, j) };
@@ -101,7 +111,10 @@ where
                         continue;
                     }
                     let (cell, y) = self.cell_values(c - j as i64, base, sigma, None);
-                    sum += vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j).dot(&d);
+                    let force = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
+                    for (s, dk) in sum.iter_mut().zip(&d) {
+                        *s += force.dot(dk);
+                    }
                 }
             }
         }

@@ -65,10 +65,8 @@ fn generator(k: usize, y: &Pose<f64>) -> SVector<f64, 6> {
 pub fn load_impulse<L: DiscreteLagrangian<PositionRotation, 6>>(
     m: &CauchyMarcher<PositionRotation, L, 6>,
 ) -> (Vector3<f64>, Vector3<f64>) {
-    (
-        Vector3::from_fn(|k, _| m.level_impulse(|y: &Pose<f64>| generator(k, y))),
-        Vector3::from_fn(|k, _| m.level_impulse(|y: &Pose<f64>| generator(k + 3, y))),
-    )
+    let i = m.level_impulses(|y: &Pose<f64>| std::array::from_fn::<_, 6, _>(|k| generator(k, y)));
+    (Vector3::new(i[0], i[1], i[2]), Vector3::new(i[3], i[4], i[5]))
 }
 
 /// The rod's energy at the cut: Σ over the cells of the slab below the
