@@ -390,15 +390,13 @@ impl<P: RodPotential> CosseratCell<P> {
         a: Vector3<D>,
         b: Vector3<D>,
     ) -> Cell<D> {
-        let inv_sds = D::from(sigma * self.inv_ds);
-        let g = (y[1].position * D::from(2.0) - y[0].position - y[2].position) * inv_sds;
-        let eps = y[0].rotation.matrix().transpose() * g - self.parameters_at(s0).strain.map(D::from);
+        let eps = self.linear_strain(sigma, s0, y[0], &y[1].position, &y[2].position);
         self.quantities_from_strain(sigma, s0, [y[0], y[2]], a, b, eps)
     }
 
-    /// [`quantities`](Self::quantities) with ε already computed (as
-    /// [`linear_strain`](Self::linear_strain) computes it, the same bits),
-    /// from the values at positions 0 and 2.
+    /// [`quantities`](Self::quantities) with ε already computed by
+    /// [`linear_strain`](Self::linear_strain), from the values at positions
+    /// 0 and 2.
     #[inline]
     pub(super) fn quantities_from_strain<D: Scalar>(
         &self,
@@ -525,18 +523,19 @@ impl<P: RodPotential> CosseratCell<P> {
         (eps + p.strain).cross(&(p.c1 * eps)) * self.area()
     }
 
-    /// g = (2r₁ − r₀ − r₂)/(σΔs) and ε = R₀ᵀg − e of Prop. 6.5.
+    /// ε = R₀ᵀg − e of Prop. 6.5, g = (2r₁ − r₀ − r₂)/(σΔs): the one place
+    /// the strain is computed (cell quantities and the split step alike).
     #[inline]
-    pub(crate) fn linear_strain(
+    pub(crate) fn linear_strain<D: Scalar>(
         &self,
         sigma: f64,
         s0: f64,
-        y0: &Pose<f64>,
-        r1: &Vector3<f64>,
-        r2: &Vector3<f64>,
-    ) -> (Vector3<f64>, Vector3<f64>) {
-        let g = (r1 * 2.0 - y0.position - r2) * (sigma * self.inv_ds);
-        (g, y0.rotation.matrix().transpose() * g - self.parameters_at(s0).strain)
+        y0: &Pose<D>,
+        r1: &Vector3<D>,
+        r2: &Vector3<D>,
+    ) -> Vector3<D> {
+        let g = (r1 * D::from(2.0) - y0.position - r2) * D::from(sigma * self.inv_ds);
+        y0.rotation.matrix().transpose() * g - self.parameters_at(s0).strain.map(D::from)
     }
 
     /// The discrete energy of one cell: A_β times the sum of ½ρ|v_d|²,

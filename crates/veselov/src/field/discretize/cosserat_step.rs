@@ -273,7 +273,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let mut strain_sum = Vector3::zeros();
     let mut forces = Vector3::zeros();
     for c in cells.iter() {
-        let (_, eps) = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &start);
+        let eps = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &start);
         let c1e = p.c1() * eps * (0.25 * dt);
         // |R₀w|∞ ≥ |w|∞/√3: the body vector's size stands for the term's.
         scale += c1e.amax();
@@ -306,7 +306,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let mut fixed = Vector3::zeros();
     let mut fixed_scale = 0.0;
     for c in cells.iter_mut() {
-        let (_, eps) = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &r2);
+        let eps = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &r2);
         c.eps = eps;
         let strain_term = lag.strain_torque(s0, &eps);
         fixed += strain_term;
