@@ -23,7 +23,7 @@ enum Command {
     Run {
         /// The scenario (TOML).
         scenario: PathBuf,
-        /// Output directory (overrides [output] dir).
+        /// Output directory (overrides `[output] dir`).
         #[arg(long)]
         out: Option<PathBuf>,
         /// No progress bar or final report.

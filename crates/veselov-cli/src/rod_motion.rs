@@ -1,5 +1,5 @@
 //! Expressions in a rod scenario: an initial centreline `r(s)` in the
-//! material coordinate `s` ([`Centreline`], `[initial] shape = "curve"`),
+//! material coordinate `s` (`Centreline`, `[initial] shape = "curve"`),
 //! and driven ends in the run's time `t`.
 //!
 //! Driven rod ends from the command line: `[ends] start = "driven"` (or

@@ -1,8 +1,11 @@
 //! The field core's Cauchy marcher: nanoseconds per vertex update (one
 //! Legendre solve plus the gradients of the n! cells it completes) on the
-//! 2+1 CFK lattice, for a scalar sine-Gordon field (P1 simplices) and for a
-//! frame field in ℝ³ × SO(3); with 1 and 2 threads. Each level has
-//! `nodes²` vertices: divide the time per level by it.
+//! 2+1 CFK lattice, for a scalar sine-Gordon field (P1 simplices, a cell
+//! Lagrangian written by hand), the same field from the smooth density
+//! through the midpoint rule (the command line's path) with derivatives by
+//! the interpolant's chain rule and, side by side, by dual numbers over the
+//! whole cell, and for a frame field in ℝ³ × SO(3); with 1 and 2 threads.
+//! Each level has `nodes²` vertices: divide the time per level by it.
 
 use std::hint::black_box;
 
@@ -12,7 +15,9 @@ use veselov::ad::Scalar;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::DiscreteLagrangian;
 use veselov::field::complex::{CfkTorus, TopCell, permutation};
+use veselov::field::discretize::{CfkNodes, MidpointRule};
 use veselov::field::fibre::{Euclidean, Fibre, Pose, PositionRotation};
+use veselov::field::potential::{NonlinearWave, SineGordon};
 use veselov::lie::so3;
 
 const NODES: usize = 32;
@@ -167,6 +172,22 @@ fn field_core(c: &mut Criterion) {
         )
         .expect("marcher")
     });
+    let nodes = CfkNodes::<3>::space_time(0.2, 0.05).expect("node map");
+    for (name, chain_rule) in [
+        ("sine-gordon-2+1-midpoint-rule", true),
+        ("sine-gordon-2+1-midpoint-rule-cell-duals", false),
+    ] {
+        bench_marcher(c, name, NODES, || {
+            CauchyMarcher::new(
+                MidpointRule::new(NonlinearWave(SineGordon), nodes).with_chain_rule(chain_rule),
+                torus.clone(),
+                0,
+                &scalar_data(&torus),
+                CauchyOptions::default(),
+            )
+            .expect("marcher")
+        });
+    }
     let frames = CfkTorus::new(3, &[FRAME_NODES, FRAME_NODES]).expect("torus");
     bench_marcher(c, "frame-field-2+1", FRAME_NODES, || {
         CauchyMarcher::new(

@@ -290,7 +290,7 @@ where
 }
 
 /// Directions of the one dual pass of [`later_gradients`].
-const LATER_DIRECTIONS: usize = 4;
+pub const LATER_DIRECTIONS: usize = 4;
 
 /// ∂L_β/∂y_l for every later vertex l = 1 … k − 1 (k = `y.len()`) into
 /// `out[l]`, by one dual pass in which vertex l's chart carries the

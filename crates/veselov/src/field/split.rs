@@ -287,7 +287,7 @@ impl<I, S> SplitLagrangian<I, S> {
 
 impl<I, S> SplitLagrangian<I, S> {
     /// The exact gradients (∂ℒ/∂y₁, ∂ℒ/∂y₂, ∂ℒ/∂y₃) over any scalar, from
-    /// the increments' derivatives ([`Increment::increment_derivatives`]:
+    /// the increments' derivatives ([`Increment::first_transpose_mul`], [`Increment::second_transpose_mul`]:
     /// x_t = Δtξ and x_s = Δsη with A₁, A₂ each) and ∇K(ξ), ∇Φ(η), ∇Π(y)
     /// (dual passes over the density alone):
     ///
@@ -476,7 +476,7 @@ where
         ))
     }
     /// The flow step in the moving increment alone
-    /// ([`SplitLagrangian::solve_increment`]).
+    /// (`SplitLagrangian::solve_increment`).
     #[allow(clippy::too_many_arguments)]
     fn solve_cell_vertex(
         &self,

@@ -62,6 +62,9 @@ pub struct MidpointRule<L, X, const N: usize> {
     pub nodes: X,
     /// Per shape (N ≤ 4, translation-invariant node maps): (T^X)⁻¹ and vol_β.
     geometry: [Option<(SMatrix<f64, N, N>, f64)>; SHAPE_CACHE],
+    /// Whether the exact derivatives go through the interpolant's chain rule
+    /// ([`super::affine_chain`]) rather than dual numbers over the whole cell.
+    chain_rule: bool,
 }
 
 /// Shapes whose geometry a [`MidpointRule`] caches (4! simplices per cube).
@@ -94,7 +97,23 @@ impl<L, X: NodeMap<N>, const N: usize> MidpointRule<L, X, N> {
             density,
             nodes,
             geometry,
+            chain_rule: true,
         }
+    }
+
+    /// Whether the vertex gradients and Jacobian blocks come from the chain
+    /// rule of the affine interpolant with dual numbers over the density
+    /// alone (`true`, the default; [`super::affine_chain`]) or from dual
+    /// numbers over the whole cell Lagrangian (`false`, the reference: the
+    /// same derivatives to round-off, several times slower).
+    pub fn with_chain_rule(mut self, on: bool) -> Self {
+        self.chain_rule = on;
+        self
+    }
+
+    /// The cached (T^X)⁻¹ and vol_β of the cell's shape, if any.
+    pub(super) fn cached_geometry(&self, cell: &TopCell) -> Option<(SMatrix<f64, N, N>, f64)> {
+        *self.geometry.get(cell.shape)?
     }
 
     /// The affine jet from the cached geometry of the cell's shape, if any
@@ -103,7 +122,7 @@ impl<L, X: NodeMap<N>, const N: usize> MidpointRule<L, X, N> {
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
-        let (inv, volume) = (*self.geometry.get(cell.shape)?)?;
+        let (inv, volume) = self.cached_geometry(cell)?;
         if y.len() != N + 1 || self.density.depends_on_position() {
             return None;
         }
@@ -213,6 +232,27 @@ where
     /// NaN on a degenerate cell; see [`CellCheck::check_cell`].
     fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[SVector<D, M>]) -> D {
         self.try_cell_lagrangian(cell, y).unwrap_or(D::from(f64::NAN))
+    }
+
+    /// By the interpolant's chain rule ([`super::affine_chain`]).
+    fn analytic_gradients(&self, cell: &TopCell, y: &[SVector<f64, M>], out: &mut [SVector<f64, M>]) -> bool {
+        self.chain_rule && self.chain_gradients(cell, y, out)
+    }
+
+    /// By the interpolant's chain rule ([`super::affine_chain`]).
+    fn analytic_gradient(&self, cell: &TopCell, y: &[SVector<f64, M>], l: usize) -> Option<SVector<f64, M>> {
+        self.chain_rule.then(|| self.chain_gradient(cell, y, l))?
+    }
+
+    /// By the interpolant's chain rule ([`super::affine_chain`]).
+    fn analytic_block(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<f64, M>],
+        a: usize,
+        b: usize,
+    ) -> Option<(SVector<f64, M>, SMatrix<f64, M, M>)> {
+        self.chain_rule.then(|| self.chain_block(cell, y, a, b))?
     }
 }
 

@@ -2,9 +2,9 @@
 //! Leg_v(r₂, R₂) = μ_v is linear in r₂ and independent of R₂, so r₂ comes
 //! from one 3×3 solve; the rotation part is then a 3-D equation in
 //! b = log(R₀ᵀR₂), solved by Newton with its exact Jacobian in closed form
-//! ([`RotationEquation`]), to round-off: it stops at the tolerance of
+//! (`RotationEquation`), to round-off: it stops at the tolerance of
 //! [`CauchyOptions`], measured, or after a step whose Taylor remainder
-//! bound ([`RotationEquation::newton_remainder_bound`]) already meets it,
+//! bound (`RotationEquation::newton_remainder_bound`) already meets it,
 //! without the evaluation that would confirm it. The generic 6-D Newton
 //! ([`solve_legendre`](crate::field::legendre::solve_legendre)) over the
 //! same equations stays the reference.
@@ -20,7 +20,7 @@
 //!
 //! Having a_σ, D_{a_σ}, b and D_b at hand, the solve also returns the solved
 //! cells' gradients at their later vertices
-//! ([`CosseratCell::later_gradients`]), which the marcher would otherwise
+//! (`CosseratCell::later_gradients`), which the marcher would otherwise
 //! recompute from the vertex values.
 
 use nalgebra::{Matrix3, SVector, Vector3};

@@ -29,7 +29,8 @@
 //!
 //! Files: [`nodes`] (node maps, [`permutation`]), [`smooth`] (density trait,
 //! the seed 002 adapter [`SpaceTime`]), [`rules`] (Lemma 5.15, vertex
-//! quadratures), [`affine`] (Prop. 5.20, Q_mid, cube centre), [`suitability`]
+//! quadratures), [`affine`] (Prop. 5.20, Q_mid, cube centre; its exact
+//! derivatives by the interpolant's chain rule in [`affine_chain`]), [`suitability`]
 //! (Def. 5.9, Lemma 5.5, Cor. 6.3), [`cosserat`] (the rod),
 //! [`rod_potential`] (its external potentials), [`error`].
 //!
@@ -64,6 +65,7 @@
 //! [`DiscreteLagrangian::cell_lagrangian`]: crate::field::cell::DiscreteLagrangian::cell_lagrangian
 
 pub mod affine;
+pub mod affine_chain;
 pub mod cosserat;
 pub mod cosserat_step;
 pub mod error;

@@ -2,7 +2,7 @@
 //! [`SplitDensity`] on SE(3), and its discrete Lagrangian on seed 000's
 //! triangles, ℒ̄_d = ΔsΔt [K(ξ) − Φ(η) − ½(Π(g₁) + Π(g₃))] (note 000
 //! §15.2, with the potential averaged over the cell's space edge: see
-//! [`SplitLagrangian`](crate::field::split::SplitLagrangian)).
+//! [`crate::field::split::SplitLagrangian`]).
 //!
 //! Gravity: Π(g) = −ρA ⟨𝐠, r⟩ per unit length for the acceleration 𝐠 (for
 //! example (0, 0, −9.81) m/s²) and the centreline position r of g = (Λ, r).

@@ -1,0 +1,266 @@
+//! Exact derivatives of the midpoint rule Q_mid (5.6) through the chain rule
+//! of its affine interpolant, with dual numbers on the density alone.
+//!
+//! On a simplex with nodes x₀ … x_N and values y₀ … y_N (Euclidean fibre
+//! ℝ^M) the rule evaluates L_β = vol_β·𝓛(x̄, ȳ, φ) at
+//!
+//! * ȳ = (1/(N + 1)) Σ_l y_l, and
+//! * φ_{ka} = Σ_c (y_{c+1} − y₀)_k (T^X)⁻¹_{ca}, i.e. φ_{ka} = Σ_l (y_l)_k c_{la}
+//!   with c_{la} = (T^X)⁻¹_{l−1,a} for l ≥ 1 and c_{0a} = −Σ_c (T^X)⁻¹_{ca}.
+//!
+//! Both are linear in the vertex values, so moving y_l along e_k moves
+//! (ȳ, φ) along the fixed direction D_{lk} = (e_k/(N + 1), e_k c_lᵀ), and
+//!
+//! ∂L_β/∂(y_l)_k = vol_β·d𝓛[D_{lk}],
+//! ∂²L_β/∂(y_a)_i∂(y_b)_j = vol_β·d²𝓛[D_{ai}, D_{bj}].
+//!
+//! The jet is formed once in `f64` and only the density is evaluated over
+//! dual numbers seeded with these directions, instead of lifting every
+//! vertex value and forming the jet in dual arithmetic (the reference path,
+//! [`vertex_gradient`](crate::field::cell::vertex_gradient) and
+//! [`mixed_block_dual`](crate::field::cell::mixed_block_dual), which the
+//! tests hold these against). The value parts are the bits of
+//! [`MidpointRule::try_cell_lagrangian`]'s evaluation, and every direction's
+//! derivative is computed by the same operations whatever else is seeded,
+//! so one vertex's gradient equals its entry in the all-vertex pass bit for
+//! bit.
+
+use nalgebra::{Const, SMatrix, SVector, U1};
+use num_dual::{Derivative, DualSVec, DualSVec64};
+
+use super::affine::MidpointRule;
+use super::nodes::{NodeMap, factorial};
+use super::rules::{cell_nodes, invert_nodes};
+use super::smooth::SmoothDensity;
+use crate::ad::Scalar;
+use crate::field::cell::MAX_CELL_VERTICES;
+use crate::field::complex::TopCell;
+use crate::field::fibre::Euclidean;
+
+/// The affine interpolant of one simplex in `f64`: (T^X)⁻¹, vol_β, the
+/// barycentre x̄ (zero where the density does not read it), ȳ and φ.
+pub(super) struct AffineFrame<const M: usize, const N: usize> {
+    inverse: SMatrix<f64, N, N>,
+    volume: f64,
+    centre: SVector<f64, N>,
+    value: SVector<f64, M>,
+    jet: SMatrix<f64, M, N>,
+}
+
+impl<const M: usize, const N: usize> AffineFrame<M, N> {
+    /// c_{la} = ∂φ_{ka}/∂(y_l)_k.
+    #[inline]
+    fn coefficient(&self, l: usize, a: usize) -> f64 {
+        if l == 0 {
+            -(0..N).fold(0.0, |acc, c| acc + self.inverse[(c, a)])
+        } else {
+            self.inverse[(l - 1, a)]
+        }
+    }
+
+    /// The weight of every vertex in ȳ.
+    #[inline]
+    fn mean_weight() -> f64 {
+        1.0 / (N + 1) as f64
+    }
+}
+
+impl<L, X, const N: usize> MidpointRule<L, X, N>
+where
+    X: NodeMap<N>,
+{
+    /// The cell's interpolant, from the cached shape geometry where the
+    /// density does not read the position, else from the cell's nodes (the
+    /// expressions of [`MidpointRule::try_cell_lagrangian`]); `None` where
+    /// that evaluation fails (the callers then take the reference path,
+    /// which reports the cell as unsuitable).
+    fn affine_frame<const M: usize>(&self, cell: &TopCell, y: &[SVector<f64, M>]) -> Option<AffineFrame<M, N>>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        if y.len() != N + 1 {
+            return None;
+        }
+        let w = AffineFrame::<M, N>::mean_weight();
+        let (inverse, volume, centre) = match self.cached_geometry(cell) {
+            Some((inv, volume)) if !self.density.depends_on_position() => (inv, volume, SVector::zeros()),
+            _ => {
+                let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
+                if cell_nodes(&self.nodes, cell, &mut x) != N + 1 {
+                    return None;
+                }
+                let tx = SMatrix::<f64, N, N>::from_fn(|r, c| x[c + 1][r] - x[0][r]);
+                let (inv, jac) = invert_nodes(cell.index, &tx).ok()?;
+                let centre = x[..=N].iter().fold(SVector::<f64, N>::zeros(), |a, b| a + b) * w;
+                (inv, jac / factorial(N) as f64, centre)
+            }
+        };
+        let jet = SMatrix::<f64, M, N>::from_fn(|k, a| {
+            (0..N).fold(0.0, |acc, c| acc + (y[c + 1][k] - y[0][k]) * inverse[(c, a)])
+        });
+        let value = y.iter().fold(SVector::<f64, M>::zeros(), |acc, b| acc + b) * w;
+        Some(AffineFrame {
+            inverse,
+            volume,
+            centre,
+            value,
+            jet,
+        })
+    }
+
+    /// vol_β·𝓛 at the frame's (ȳ, φ) moved by the seeds: `value_seed(k)` and
+    /// `jet_seed(k, a)` give the dual parts added to ȳ_k and φ_{ka}.
+    #[inline]
+    fn seeded<D: Scalar, const M: usize>(
+        &self,
+        frame: &AffineFrame<M, N>,
+        value: impl Fn(usize, f64) -> D,
+        jet: impl Fn(usize, usize, f64) -> D,
+    ) -> D
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        let y = SVector::<D, M>::from_fn(|k, _| value(k, frame.value[k]));
+        let phi = SMatrix::<D, M, N>::from_fn(|k, a| jet(k, a, frame.jet[(k, a)]));
+        self.density.density(&frame.centre, &y, &phi) * frame.volume
+    }
+
+    /// ∂L_β/∂y_l for every vertex l = 0 … N into `out[..=N]` by one pass over
+    /// the density with the M(N + 1) directions D_{lk} (direction lM + k),
+    /// when they fit in `W`.
+    fn all_gradients<const W: usize, const M: usize>(
+        &self,
+        frame: &AffineFrame<M, N>,
+        out: &mut [SVector<f64, M>],
+    ) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        let count = M * (N + 1);
+        if count > W || out.len() < N + 1 {
+            return false;
+        }
+        let w = AffineFrame::<M, N>::mean_weight();
+        let r = self.seeded::<DualSVec64<W>, M>(
+            frame,
+            |k, re| {
+                let eps = SVector::<f64, W>::from_fn(|d, _| if d < count && d % M == k { w } else { 0.0 });
+                DualSVec64::new(re, Derivative::some(eps))
+            },
+            |k, a, re| {
+                let eps = SVector::<f64, W>::from_fn(|d, _| {
+                    if d < count && d % M == k {
+                        frame.coefficient(d / M, a)
+                    } else {
+                        0.0
+                    }
+                });
+                DualSVec64::new(re, Derivative::some(eps))
+            },
+        );
+        let eps = r.eps.unwrap_generic(Const::<W>, U1);
+        for (l, g) in out.iter_mut().enumerate().take(N + 1) {
+            *g = SVector::from_fn(|k, _| eps[l * M + k]);
+        }
+        true
+    }
+
+    /// ∂L_β/∂y_l by one pass with the M directions D_{lk}.
+    pub(super) fn chain_gradient<const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<f64, M>],
+        l: usize,
+    ) -> Option<SVector<f64, M>>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        if l > N {
+            return None;
+        }
+        let frame = self.affine_frame(cell, y)?;
+        let w = AffineFrame::<M, N>::mean_weight();
+        let r = self.seeded::<DualSVec64<M>, M>(
+            &frame,
+            |k, re| {
+                DualSVec64::new(
+                    re,
+                    Derivative::some(SVector::from_fn(|d, _| if d == k { w } else { 0.0 })),
+                )
+            },
+            |k, a, re| {
+                let c = frame.coefficient(l, a);
+                DualSVec64::new(
+                    re,
+                    Derivative::some(SVector::from_fn(|d, _| if d == k { c } else { 0.0 })),
+                )
+            },
+        );
+        Some(r.eps.unwrap_generic(Const::<M>, U1))
+    }
+
+    /// Every vertex gradient in one pass (directions padded to 4, 8 or 16;
+    /// `false` for more).
+    pub(super) fn chain_gradients<const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<f64, M>],
+        out: &mut [SVector<f64, M>],
+    ) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        let Some(frame) = self.affine_frame(cell, y) else {
+            return false;
+        };
+        match M * (N + 1) {
+            0..=4 => self.all_gradients::<4, M>(&frame, out),
+            5..=8 => self.all_gradients::<8, M>(&frame, out),
+            9..=16 => self.all_gradients::<16, M>(&frame, out),
+            _ => false,
+        }
+    }
+
+    /// ∂L_β/∂y_a and its derivative in y_b (the block of
+    /// [`mixed_block`](crate::field::cell::mixed_block)) by one nested pass:
+    /// inner directions D_{ai}, outer directions D_{bj}.
+    pub(super) fn chain_block<const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<f64, M>],
+        a: usize,
+        b: usize,
+    ) -> Option<(SVector<f64, M>, SMatrix<f64, M, M>)>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
+        if a > N || b > N {
+            return None;
+        }
+        let frame = self.affine_frame(cell, y)?;
+        let w = AffineFrame::<M, N>::mean_weight();
+        let seed = |k: usize, re: f64, inner: f64, outer: f64| {
+            let inner_eps = SVector::<f64, M>::from_fn(|d, _| if d == k { inner } else { 0.0 });
+            let outer_eps =
+                SVector::<DualSVec64<M>, M>::from_fn(|d, _| DualSVec64::from_re(if d == k { outer } else { 0.0 }));
+            Outer::<M>::new(
+                DualSVec64::new(re, Derivative::some(inner_eps)),
+                Derivative::some(outer_eps),
+            )
+        };
+        let r = self.seeded::<Outer<M>, M>(
+            &frame,
+            |k, re| seed(k, re, w, w),
+            |k, c, re| seed(k, re, frame.coefficient(a, c), frame.coefficient(b, c)),
+        );
+        let grad = r.re.eps.unwrap_generic(Const::<M>, U1);
+        let mut block = SMatrix::<f64, M, M>::zeros();
+        if let Derivative(Some(outer)) = r.eps {
+            for j in 0..M {
+                block.set_column(j, &outer[j].eps.unwrap_generic(Const::<M>, U1));
+            }
+        }
+        Some((grad, block))
+    }
+}

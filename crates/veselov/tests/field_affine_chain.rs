@@ -1,0 +1,199 @@
+//! The midpoint rule's derivatives by the chain rule of its affine
+//! interpolant (dual numbers over the density alone) against the reference
+//! dual passes over the whole cell Lagrangian, against central differences
+//! of the cell Lagrangian, and through the Cauchy marcher.
+
+use nalgebra::{SMatrix, SVector, Vector2};
+use veselov::ad::Scalar;
+use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
+use veselov::field::cell::{DiscreteLagrangian, mixed_block_dual, vertex_gradient};
+use veselov::field::complex::{CfkTorus, MAX_LATTICE_DIMENSION, TopCell, factorial};
+use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
+use veselov::field::fibre::Euclidean;
+use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
+
+/// A density that reads the base point, so that the rule takes its per-cell
+/// geometry: 𝓛 = ½(1 + 0.3x₀)|φ_t|² − ½Σ_a|φ_a|² + (1 + 0.1x₁)Σ_k cos(y_k) + 0.2 y₀φ_{0,0}.
+struct Inhomogeneous;
+
+impl<const M: usize, const N: usize> SmoothDensity<Euclidean<M>, M, N> for Inhomogeneous {
+    fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &SVector<D, M>, jet: &SMatrix<D, M, N>) -> D {
+        let mut value = D::zero();
+        for k in 0..M {
+            value += jet[(k, N - 1)] * jet[(k, N - 1)] * (0.5 * (1.0 + 0.3 * x[0]));
+            for a in 0..N - 1 {
+                value -= jet[(k, a)] * jet[(k, a)] * 0.5;
+            }
+            value += y[k].cos() * (1.0 + 0.1 * x[1 % N]);
+        }
+        value + y[0] * jet[(0, 0)] * 0.2
+    }
+}
+
+fn cell(shape: usize, origin: [i64; 3]) -> TopCell {
+    let mut o = [0; MAX_LATTICE_DIMENSION];
+    o[..3].copy_from_slice(&origin);
+    TopCell {
+        index: shape,
+        shape,
+        origin: o,
+    }
+}
+
+/// Vertex values that make the density's nonlinearity matter.
+fn values<const M: usize>(count: usize, seed: f64) -> Vec<SVector<f64, M>> {
+    (0..count)
+        .map(|l| SVector::from_fn(|k, _| (1.7 * l as f64 + 0.9 * k as f64 + seed).sin() * 1.3))
+        .collect()
+}
+
+fn relative<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
+    (a - b).amax() / b.amax().max(1e-300)
+}
+
+/// Every gradient and block of `rule` on the cells of `origins` against the
+/// reference passes; returns the worst relative differences (gradients,
+/// blocks) and checks the one-vertex gradient equals the all-vertex pass
+/// bit for bit.
+fn compare<R, const M: usize>(rule: &R, n: usize, origins: &[[i64; 3]]) -> (f64, f64)
+where
+    R: DiscreteLagrangian<Euclidean<M>, M>,
+{
+    let (mut grad, mut block) = (0.0_f64, 0.0_f64);
+    for (t, origin) in origins.iter().enumerate() {
+        for shape in 0..factorial(n) {
+            let c = cell(shape, *origin);
+            let y = values::<M>(n + 1, 0.37 * (t * 7 + shape) as f64);
+            let mut all = [SVector::<f64, M>::zeros(); 4];
+            assert!(
+                rule.analytic_gradients(&c, &y, &mut all[..=n]),
+                "the chain rule applies"
+            );
+            for l in 0..=n {
+                let reference = vertex_gradient::<Euclidean<M>, _, M>(rule, &c, &y, l).1;
+                grad = grad.max(relative(&all[l], &reference));
+                let one = rule.analytic_gradient(&c, &y, l).expect("one vertex");
+                assert_eq!(one, all[l], "the one-vertex pass is the all-vertex pass's entry");
+                for b in 0..=n {
+                    let (g, j) = rule.analytic_block(&c, &y, l, b).expect("block");
+                    let (rg, rj) = mixed_block_dual::<Euclidean<M>, _, M>(rule, &c, &y, l, b);
+                    grad = grad.max(relative(&g, &rg));
+                    block = block.max(relative(&j, &rj));
+                }
+            }
+        }
+    }
+    (grad, block)
+}
+
+#[test]
+fn chain_rule_derivatives_equal_the_dual_passes_over_the_cell() {
+    let origins = [[0, 0, 0], [3, -2, 5], [-7, 4, 1]];
+    let sg = MidpointRule::new(
+        NonlinearWave(SineGordon),
+        CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes"),
+    );
+    let kg = MidpointRule::new(
+        NonlinearWave(ComplexKleinGordon { m2: 1.3, lambda: 0.4 }),
+        CfkNodes::<3>::space_time(0.25, 0.07).expect("nodes"),
+    );
+    let kg2 = MidpointRule::new(
+        NonlinearWave(ComplexKleinGordon { m2: 0.7, lambda: 1.1 }),
+        CfkNodes::<2>::space_time(0.2, 0.05).expect("nodes"),
+    );
+    let inhomogeneous = MidpointRule::new(Inhomogeneous, CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes"));
+    let inhomogeneous2 = MidpointRule::new(Inhomogeneous, CfkNodes::<3>::space_time(0.2, 0.15).expect("nodes"));
+    let results = [
+        ("sine-Gordon, 2+1 (4 directions)", compare::<_, 1>(&sg, 3, &origins)),
+        (
+            "complex Klein-Gordon, 2+1 (8 directions)",
+            compare::<_, 2>(&kg, 3, &origins),
+        ),
+        (
+            "complex Klein-Gordon, 1+1 (6 of 8 directions)",
+            compare::<_, 2>(&kg2, 2, &origins),
+        ),
+        (
+            "position-dependent scalar",
+            compare::<_, 1>(&inhomogeneous, 3, &origins),
+        ),
+        ("position-dependent pair", compare::<_, 2>(&inhomogeneous2, 3, &origins)),
+    ];
+    for (name, (grad, block)) in results {
+        println!("{name}: gradients {grad:e}, blocks {block:e}");
+        assert!(grad < 1e-13, "{name}: gradients differ by {grad:e}");
+        assert!(block < 1e-13, "{name}: blocks differ by {block:e}");
+    }
+}
+
+/// An independent check: the chain-rule gradient against central
+/// differences of the cell Lagrangian (step 1e-5: truncation ~ h²|L‴| ≈ 1e-10,
+/// rounding ~ ε|L|/h ≈ 1e-11 relative to the gradients here).
+#[test]
+fn chain_rule_gradients_match_finite_differences_of_the_cell_lagrangian() {
+    let rule = MidpointRule::new(Inhomogeneous, CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes"));
+    let h = 1e-5;
+    let mut worst: f64 = 0.0;
+    for shape in 0..6 {
+        let c = cell(shape, [2, -1, 3]);
+        let y = values::<2>(4, 0.5 + shape as f64);
+        let mut all = [SVector::<f64, 2>::zeros(); 4];
+        assert!(rule.analytic_gradients(&c, &y, &mut all));
+        for l in 0..4 {
+            for k in 0..2 {
+                let at = |s: f64| {
+                    let mut z = y.clone();
+                    z[l][k] += s;
+                    DiscreteLagrangian::<Euclidean<2>, 2>::cell_lagrangian::<f64>(&rule, &c, &z)
+                };
+                let fd = (at(h) - at(-h)) / (2.0 * h);
+                let scale = all.iter().map(|g| g.amax()).fold(0.0, f64::max);
+                worst = worst.max((all[l][k] - fd).abs() / scale);
+            }
+        }
+    }
+    println!("chain-rule gradients against central differences: {worst:e}");
+    assert!(worst < 1e-8, "gradients and differences differ by {worst:e}");
+}
+
+/// The march with the chain rule and with the reference dual passes: the
+/// same field to round-off (the residuals are solved to 1e-14 relative, so
+/// the two marches may part by a few ulps per level, growing at most like
+/// the linearised flow over 120 levels).
+#[test]
+fn marches_with_and_without_the_chain_rule_agree() {
+    let torus = CfkTorus::new(3, &[8, 8]).expect("torus");
+    let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
+    let data: Vec<Vec<SVector<f64, 2>>> = (0..6)
+        .map(|w| {
+            (0..torus.level_size())
+                .map(|i| {
+                    let x = nodes.node(&torus.vertex(w, i));
+                    Vector2::new((0.9 * x[0] - 0.5 * x[2]).sin(), 0.4 * (0.8 * x[1] + 0.3 * x[2]).cos())
+                })
+                .collect()
+        })
+        .collect();
+    let density = NonlinearWave(ComplexKleinGordon { m2: 1.0, lambda: 0.8 });
+    let fast = MidpointRule::new(density, nodes);
+    let reference = MidpointRule::new(density, nodes).with_chain_rule(false);
+    let mut a = CauchyMarcher::new(fast, torus.clone(), 0, &data, CauchyOptions::default()).expect("marcher");
+    let mut b = CauchyMarcher::new(reference, torus.clone(), 0, &data, CauchyOptions::default()).expect("marcher");
+    let (mut iterations, mut worst) = ([0usize; 2], 0.0_f64);
+    for _ in 0..120 {
+        iterations[0] += a.step().expect("chain-rule level").iterations;
+        iterations[1] += b.step().expect("reference level").iterations;
+    }
+    for w in a.level() - 3..=a.top_level() {
+        let (va, vb) = (a.level_values(w).expect("level"), b.level_values(w).expect("level"));
+        for (p, q) in va.iter().zip(vb) {
+            worst = worst.max((p - q).amax());
+        }
+    }
+    println!("chain rule against reference: largest difference {worst:e}, iterations {iterations:?}");
+    assert!(worst < 1e-11, "the marches part by {worst:e}");
+    assert!(
+        iterations[0].abs_diff(iterations[1]) * 50 <= iterations[1],
+        "Newton iterations {iterations:?}"
+    );
+}
