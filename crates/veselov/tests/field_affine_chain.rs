@@ -1,7 +1,8 @@
 //! The midpoint rule's derivatives by the chain rule of its affine
 //! interpolant (dual numbers over the density alone) against the reference
 //! dual passes over the whole cell Lagrangian, against central differences
-//! of the cell Lagrangian, and through the Cauchy marcher.
+//! of the cell Lagrangian, and through the Cauchy marcher (the rule's own
+//! vertex solve against the marcher's generic one, and across a restart).
 
 use nalgebra::{SMatrix, SVector, Vector2};
 use veselov::ad::Scalar;
@@ -156,10 +157,13 @@ fn chain_rule_gradients_match_finite_differences_of_the_cell_lagrangian() {
     assert!(worst < 1e-8, "gradients and differences differ by {worst:e}");
 }
 
-/// The march with the chain rule and with the reference dual passes: the
-/// same field to round-off (the residuals are solved to 1e-14 relative, so
-/// the two marches may part by a few ulps per level, growing at most like
-/// the linearised flow over 120 levels).
+/// The march with the chain rule (and the rule's own vertex solve) and
+/// with the reference dual passes through the marcher's generic solve: the
+/// same field to round-off. (They agree bit for bit today: the chain rule's
+/// coefficients are formed by the operations the dual pass over the cell
+/// performs. The bound allows a few ulps per level, growing at most like the
+/// linearised flow over 120 levels, for a density whose evaluation order
+/// differs.)
 #[test]
 fn marches_with_and_without_the_chain_rule_agree() {
     let torus = CfkTorus::new(3, &[8, 8]).expect("torus");
@@ -196,4 +200,47 @@ fn marches_with_and_without_the_chain_rule_agree() {
         iterations[0].abs_diff(iterations[1]) * 50 <= iterations[1],
         "Newton iterations {iterations:?}"
     );
+}
+
+/// The rule's own vertex solve writes the solved cells' gradients; a march
+/// restored from a checkpoint recomputes them through the marcher's own
+/// evaluation. Both are the same operations on the same numbers, so the
+/// restored march goes on bit for bit.
+#[test]
+fn a_restored_march_continues_bit_for_bit() {
+    use veselov::run::{Checkpoint, Words};
+    let torus = CfkTorus::new(3, &[6, 6]).expect("torus");
+    let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
+    let data: Vec<Vec<SVector<f64, 1>>> = (0..6)
+        .map(|w| {
+            (0..torus.level_size())
+                .map(|i| {
+                    let x = nodes.node(&torus.vertex(w, i));
+                    SVector::from([1.2 * (1.1 * x[0] - 0.4 * x[2]).sin() * (0.9 * x[1]).cos()])
+                })
+                .collect()
+        })
+        .collect();
+    let rule = MidpointRule::new(NonlinearWave(SineGordon), nodes);
+    let new = || CauchyMarcher::new(rule, torus.clone(), 0, &data, CauchyOptions::default()).expect("marcher");
+    let mut whole = new();
+    for _ in 0..30 {
+        whole.step().expect("level");
+    }
+    let mut saved = Vec::new();
+    whole.save(&mut saved);
+    let mut resumed = new();
+    resumed.restore(&mut Words::new(&saved)).expect("restore");
+    for _ in 0..30 {
+        whole.step().expect("level");
+        resumed.step().expect("level");
+        let w = whole.top_level();
+        let (a, b) = (
+            whole.level_values(w).expect("level"),
+            resumed.level_values(w).expect("level"),
+        );
+        for (x, y) in a.iter().zip(b) {
+            assert_eq!(x[0].to_bits(), y[0].to_bits(), "level {w}");
+        }
+    }
 }

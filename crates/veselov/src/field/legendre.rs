@@ -103,12 +103,16 @@ impl Failure {
 /// coordinate of z): then the residual is the round-off of differences of
 /// the inputs (positions far from the origin moving little in a step, strains
 /// small against |∂_s r|), which no iterate can reduce.
+///
+/// The point returned is the last one `legendre` was called at
+/// ([`Fibre::renormalize`]d when accepted): a caller may keep by-products of
+/// that last call (its per-cell gradients, say).
 pub fn solve_legendre<F: Fibre<M>, const M: usize>(
     mu: &SVector<f64, M>,
     mu_scale: f64,
     z: F::Point<f64>,
     options: &CauchyOptions,
-    legendre: impl Fn(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
+    legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
     solve_legendre_from::<F, M>(mu, mu_scale, z, options, &mut None, legendre)
 }
@@ -126,7 +130,7 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     mut z: F::Point<f64>,
     options: &CauchyOptions,
     kept: &mut Option<SmallLu<M>>,
-    legendre: impl Fn(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
+    mut legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
     let mut outcome = VertexOutcome::default();
     let mut previous = f64::INFINITY;

@@ -11,9 +11,10 @@ use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
 use super::smooth::{SmoothDensity, energy_density, momentum_density};
 use super::suitability::CellCheck;
 use crate::ad::Scalar;
-use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES};
+use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::Euclidean;
+use crate::field::legendre::CauchyOptions;
 
 /// The affine interpolant of a simplex (Prop. 5.20): barycentre x̄, value ȳ
 /// there, its constant gradient ∂y/∂x (columns ∂/∂x^a) and the simplex volume
@@ -253,6 +254,22 @@ where
         b: usize,
     ) -> Option<(SVector<f64, M>, SMatrix<f64, M, M>)> {
         self.chain_rule.then(|| self.chain_block(cell, y, a, b))?
+    }
+
+    /// The rule's own Newton over its star cells' interpolants
+    /// ([`super::affine_chain`]), which also hands the marcher the solved
+    /// cells' gradients.
+    fn solve_last_vertex(
+        &self,
+        star: &VertexStar<'_, SVector<f64, M>>,
+        mu: &SVector<f64, M>,
+        mu_scale: f64,
+        previous: &SVector<f64, M>,
+        options: &CauchyOptions,
+        gradients: &mut [SVector<f64, M>],
+    ) -> Option<SolvedVertex<SVector<f64, M>>> {
+        self.chain_rule
+            .then(|| self.solve_star(star, mu, mu_scale, previous, options, gradients))?
     }
 }
 

@@ -33,9 +33,10 @@ use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, invert_nodes};
 use super::smooth::SmoothDensity;
 use crate::ad::Scalar;
-use crate::field::cell::MAX_CELL_VERTICES;
+use crate::field::cell::{MAX_CELL_VERTICES, SolvedVertex, VertexStar};
 use crate::field::complex::TopCell;
-use crate::field::fibre::Euclidean;
+use crate::field::fibre::{Euclidean, Fibre};
+use crate::field::legendre::{CauchyOptions, solve_legendre};
 
 /// The affine interpolant of one simplex in `f64`: (T^X)⁻¹, vol_β, the
 /// barycentre x̄ (zero where the density does not read it), ȳ and φ.
@@ -65,6 +66,43 @@ impl<const M: usize, const N: usize> AffineFrame<M, N> {
     }
 }
 
+/// The interpolant of a simplex whose last vertex value is not yet known:
+/// the sums over the other vertices, in the order of the full evaluation, so
+/// that [`complete`](Self::complete) gives the bits of the frame formed from
+/// all N + 1 values at once (a fold's last term added last).
+#[derive(Clone, Copy)]
+struct PartialFrame<const M: usize, const N: usize> {
+    inverse: SMatrix<f64, N, N>,
+    volume: f64,
+    centre: SVector<f64, N>,
+    /// y₀ + … + y_{N−1}.
+    sum: SVector<f64, M>,
+    /// Σ_{c < N−1} (y_{c+1} − y₀)_k (T^X)⁻¹_{ca}.
+    jet: SMatrix<f64, M, N>,
+    /// y₀.
+    first: SVector<f64, M>,
+}
+
+impl<const M: usize, const N: usize> PartialFrame<M, N> {
+    /// The frame with the last vertex value `z`.
+    #[inline]
+    fn complete(&self, z: &SVector<f64, M>) -> AffineFrame<M, N> {
+        let jet =
+            SMatrix::<f64, M, N>::from_fn(|k, a| self.jet[(k, a)] + (z[k] - self.first[k]) * self.inverse[(N - 1, a)]);
+        AffineFrame {
+            inverse: self.inverse,
+            volume: self.volume,
+            centre: self.centre,
+            value: (self.sum + z) * AffineFrame::<M, N>::mean_weight(),
+            jet,
+        }
+    }
+}
+
+/// Cells in the star of a vertex that [`MidpointRule`]'s own vertex solve
+/// handles (N! ≤ 4!, as its shape cache).
+const MAX_STAR: usize = 24;
+
 impl<L, X, const N: usize> MidpointRule<L, X, N>
 where
     X: NodeMap<N>,
@@ -81,7 +119,18 @@ where
         if y.len() != N + 1 {
             return None;
         }
-        let w = AffineFrame::<M, N>::mean_weight();
+        Some(self.partial_frame(cell, y)?.complete(&y[N]))
+    }
+
+    /// The interpolant's sums over the values `y[..N]` of all but the last
+    /// vertex.
+    fn partial_frame<const M: usize>(&self, cell: &TopCell, y: &[SVector<f64, M>]) -> Option<PartialFrame<M, N>>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        if N == 0 || y.len() < N {
+            return None;
+        }
         let (inverse, volume, centre) = match self.cached_geometry(cell) {
             Some((inv, volume)) if !self.density.depends_on_position() => (inv, volume, SVector::zeros()),
             _ => {
@@ -91,20 +140,22 @@ where
                 }
                 let tx = SMatrix::<f64, N, N>::from_fn(|r, c| x[c + 1][r] - x[0][r]);
                 let (inv, jac) = invert_nodes(cell.index, &tx).ok()?;
+                let w = AffineFrame::<M, N>::mean_weight();
                 let centre = x[..=N].iter().fold(SVector::<f64, N>::zeros(), |a, b| a + b) * w;
                 (inv, jac / factorial(N) as f64, centre)
             }
         };
         let jet = SMatrix::<f64, M, N>::from_fn(|k, a| {
-            (0..N).fold(0.0, |acc, c| acc + (y[c + 1][k] - y[0][k]) * inverse[(c, a)])
+            (0..N - 1).fold(0.0, |acc, c| acc + (y[c + 1][k] - y[0][k]) * inverse[(c, a)])
         });
-        let value = y.iter().fold(SVector::<f64, M>::zeros(), |acc, b| acc + b) * w;
-        Some(AffineFrame {
+        let sum = y[..N].iter().fold(SVector::<f64, M>::zeros(), |acc, b| acc + b);
+        Some(PartialFrame {
             inverse,
             volume,
             centre,
-            value,
+            sum,
             jet,
+            first: y[0],
         })
     }
 
@@ -210,13 +261,19 @@ where
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
-        let Some(frame) = self.affine_frame(cell, y) else {
-            return false;
-        };
+        self.affine_frame(cell, y)
+            .is_some_and(|frame| self.frame_gradients(&frame, out))
+    }
+
+    /// [`chain_gradients`](Self::chain_gradients) at a formed frame.
+    fn frame_gradients<const M: usize>(&self, frame: &AffineFrame<M, N>, out: &mut [SVector<f64, M>]) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
         match M * (N + 1) {
-            0..=4 => self.all_gradients::<4, M>(&frame, out),
-            5..=8 => self.all_gradients::<8, M>(&frame, out),
-            9..=16 => self.all_gradients::<16, M>(&frame, out),
+            0..=4 => self.all_gradients::<4, M>(frame, out),
+            5..=8 => self.all_gradients::<8, M>(frame, out),
+            9..=16 => self.all_gradients::<16, M>(frame, out),
             _ => false,
         }
     }
@@ -234,11 +291,23 @@ where
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
-        type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
         if a > N || b > N {
             return None;
         }
-        let frame = self.affine_frame(cell, y)?;
+        Some(self.frame_block(&self.affine_frame(cell, y)?, a, b))
+    }
+
+    /// [`chain_block`](Self::chain_block) at a formed frame.
+    fn frame_block<const M: usize>(
+        &self,
+        frame: &AffineFrame<M, N>,
+        a: usize,
+        b: usize,
+    ) -> (SVector<f64, M>, SMatrix<f64, M, M>)
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
         let w = AffineFrame::<M, N>::mean_weight();
         let seed = |k: usize, re: f64, inner: f64, outer: f64| {
             let inner_eps = SVector::<f64, M>::from_fn(|d, _| if d == k { inner } else { 0.0 });
@@ -250,7 +319,7 @@ where
             )
         };
         let r = self.seeded::<Outer<M>, M>(
-            &frame,
+            frame,
             |k, re| seed(k, re, w, w),
             |k, c, re| seed(k, re, frame.coefficient(a, c), frame.coefficient(b, c)),
         );
@@ -261,6 +330,103 @@ where
                 block.set_column(j, &outer[j].eps.unwrap_generic(Const::<M>, U1));
             }
         }
-        Some((grad, block))
+        (grad, block)
+    }
+
+    /// The rule's own solve of a vertex equation of the Cauchy integrator
+    /// ([`crate::field::cell::DiscreteLagrangian::solve_last_vertex`]): the generic Newton
+    /// ([`solve_legendre`]) on the same equations, with each star cell's
+    /// interpolant summed once over its known vertices and completed with
+    /// the iterate z at every evaluation, and every residual-only evaluation
+    /// taking all the cell's vertex gradients in one pass: those of the
+    /// accepted z are the solved cells' gradients the marcher stores, so it
+    /// need not evaluate the cells again. The residual, Jacobian and stored
+    /// gradients are the bits of the marcher's own evaluation (the frames
+    /// complete to the same sums, and one vertex's gradient is its entry in
+    /// the all-vertex pass). `None` (the marcher's generic path) for stars of
+    /// more than [`MAX_STAR`] cells, more than 16 directions, a failed
+    /// frame, or a vertex none of whose cells is in the action.
+    pub(super) fn solve_star<const M: usize>(
+        &self,
+        star: &VertexStar<'_, SVector<f64, M>>,
+        mu: &SVector<f64, M>,
+        mu_scale: f64,
+        previous: &SVector<f64, M>,
+        options: &CauchyOptions,
+        gradients: &mut [SVector<f64, M>],
+    ) -> Option<SolvedVertex<SVector<f64, M>>>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        let cells = factorial(N);
+        let width = N + 1;
+        if N == 0 || width > MAX_CELL_VERTICES || cells > MAX_STAR || M * width > 16 || gradients.len() != cells * width
+        {
+            return None;
+        }
+        let mut frames: [Option<PartialFrame<M, N>>; MAX_STAR] = [None; MAX_STAR];
+        let mut y = [SVector::<f64, M>::zeros(); MAX_CELL_VERTICES];
+        let mut base = None;
+        for (sigma, slot) in frames.iter_mut().enumerate().take(cells) {
+            if let Some(cell) = star(sigma, &mut y[..width]) {
+                base.get_or_insert(y[0]);
+                *slot = Some(self.partial_frame(&cell, &y[..width])?);
+            }
+        }
+        let start = Euclidean::<M>::extrapolate(previous, &base?);
+        // The point whose cell gradients `gradients` holds.
+        let mut written: Option<SVector<f64, M>> = None;
+        let (z, outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |z, mut jacobian| {
+            let mut leg = SVector::<f64, M>::zeros();
+            let mut scale = 0.0;
+            if let Some(j) = jacobian.as_deref_mut() {
+                j.fill(0.0);
+            }
+            for (sigma, partial) in frames.iter().enumerate().take(cells) {
+                let Some(partial) = partial else { continue };
+                let frame = partial.complete(z);
+                let g = match jacobian.as_deref_mut() {
+                    Some(j) => {
+                        let (g, block) = self.frame_block(&frame, 0, N);
+                        *j += block;
+                        g
+                    }
+                    None => {
+                        let out = &mut gradients[sigma * width..(sigma + 1) * width];
+                        self.frame_gradients(&frame, out);
+                        out[0]
+                    }
+                };
+                leg += g;
+                scale += g.amax();
+            }
+            if jacobian.is_none() {
+                written = Some(*z);
+            }
+            (leg, scale)
+        });
+        if outcome.failure.is_some() {
+            return Some(SolvedVertex {
+                value: z,
+                outcome,
+                gradients_written: false,
+            });
+        }
+        for (sigma, partial) in frames.iter().enumerate().take(cells) {
+            let out = &mut gradients[sigma * width..(sigma + 1) * width];
+            match partial {
+                Some(partial) if written != Some(z) => {
+                    self.frame_gradients(&partial.complete(&z), out);
+                }
+                Some(_) => {}
+                None => out.fill(SVector::zeros()),
+            }
+            out[0] = SVector::zeros();
+        }
+        Some(SolvedVertex {
+            value: z,
+            outcome,
+            gradients_written: true,
+        })
     }
 }
