@@ -55,8 +55,34 @@ pub trait ScalarPotential: Potential<1> {
 pub struct SineGordon;
 
 impl Potential<1> for SineGordon {
+    /// `cos y`; over dual numbers from its closed-form jet ([`through_jet`]).
     fn potential<D: Scalar>(&self, y: &SVector<D, 1>) -> D {
-        y[0].cos()
+        through_jet(self, y[0]).unwrap_or_else(|| y[0].cos())
+    }
+}
+
+/// `N(y)` for a dual number `y` carrying first or second derivatives, from
+/// the potential's closed-form jet at the real part y₀: d = y − y₀ has no
+/// real part and d³ = 0 in every such algebra (ε³ = 0 for second-order
+/// duals; ε₁² = ε₂² = 0 for hyper-duals and nested first-order duals), so
+/// N(y) = N(y₀) + N′(y₀)d + ½N″(y₀)d² exactly, and for first-order duals
+/// (d² = 0) N(y₀) + N′(y₀)d. Sine-Gordon's jet shares one argument
+/// reduction between sin and cos, where the scalar's own `cos` makes two
+/// transcendental calls. `None` for `f64` and for higher orders.
+#[inline]
+fn through_jet<P: ScalarPotential, D: Scalar>(p: &P, y: D) -> Option<D> {
+    match D::NDERIV {
+        1 | 2 => {
+            let y0 = y.re();
+            let [f0, f1, f2] = p.jet(y0);
+            let d = y - D::from(y0);
+            Some(if D::NDERIV == 1 {
+                d * f1 + f0
+            } else {
+                (d * (0.5 * f2) + f1) * d + f0
+            })
+        }
+        _ => None,
     }
 }
 
@@ -183,6 +209,69 @@ mod tests {
         }
     }
     impl ScalarPotential for Exp {}
+
+    /// Sine-Gordon's potential over dual numbers through its jet equals the
+    /// scalar's own `cos` in value and every derivative (first-order,
+    /// multi-direction, second-order, hyper-dual and nested duals), to the
+    /// last bits of the two sin/cos implementations; `f64` keeps `cos`.
+    #[test]
+    fn sine_gordon_through_its_jet_equals_the_scalars_cosine() {
+        use num_dual::{Dual2_64, Dual64, DualNum, DualSVec, DualSVec64, HyperDual64};
+        let close = |a: f64, b: f64| (a - b).abs() <= 4.0 * f64::EPSILON * (1.0 + b.abs());
+        let sg = |y: f64| -> [f64; 4] {
+            let d = Dual64::new(y, 0.7);
+            let v = DualSVec64::<3>::new(y, num_dual::Derivative::some(nalgebra::SVector::from([0.3, -1.1, 2.0])));
+            let h = HyperDual64::new(y, 0.4, -0.9, 0.25);
+            let q = Dual2_64::new(y, 0.6, -0.2);
+            let (pd, pv, ph, pq) = (
+                SineGordon.potential(&SVector::from([d])),
+                SineGordon.potential(&SVector::from([v])),
+                SineGordon.potential(&SVector::from([h])),
+                SineGordon.potential(&SVector::from([q])),
+            );
+            let (cd, cv, ch, cq) = (d.cos(), v.cos(), h.cos(), q.cos());
+            let parts = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| close(*x, *y));
+            let ok = [
+                parts(&[pd.re, pd.eps], &[cd.re, cd.eps]),
+                parts(
+                    pv.eps.unwrap_generic(nalgebra::Const::<3>, nalgebra::U1).as_slice(),
+                    cv.eps.unwrap_generic(nalgebra::Const::<3>, nalgebra::U1).as_slice(),
+                ) && close(pv.re, cv.re),
+                parts(
+                    &[ph.re, ph.eps1, ph.eps2, ph.eps1eps2],
+                    &[ch.re, ch.eps1, ch.eps2, ch.eps1eps2],
+                ),
+                parts(&[pq.re, pq.v1, pq.v2], &[cq.re, cq.v1, cq.v2]),
+            ];
+            ok.map(f64::from)
+        };
+        for &y in &[0.0, 1e-9, 0.3, -1.7, 3.2, 10.0, -250.0, 1e5] {
+            assert_eq!(sg(y), [1.0; 4], "y = {y}");
+            assert_eq!(SineGordon.potential(&SVector::from([y])).to_bits(), y.cos().to_bits());
+        }
+        // Nested first-order duals (the vertex Jacobian blocks).
+        type Outer = DualSVec<DualSVec64<1>, 1>;
+        let inner = DualSVec64::<1>::new(0.8, num_dual::Derivative::some(SVector::from([0.5])));
+        let y = Outer::new(
+            inner,
+            num_dual::Derivative::some(SVector::from([DualSVec64::<1>::from_re(-1.3)])),
+        );
+        let (p, c) = (SineGordon.potential(&SVector::from([y])), y.cos());
+        let outer = |x: &Outer| x.eps.unwrap_generic(nalgebra::Const::<1>, nalgebra::U1)[0];
+        let flat = |x: &Outer| {
+            let o = outer(x);
+            [
+                x.re.re,
+                x.re.eps.unwrap_generic(nalgebra::Const::<1>, nalgebra::U1)[0],
+                o.re,
+                o.eps.unwrap_generic(nalgebra::Const::<1>, nalgebra::U1)[0],
+            ]
+        };
+        for (a, b) in flat(&p).iter().zip(flat(&c)) {
+            assert!(close(*a, b), "nested duals: {:?} vs {:?}", flat(&p), flat(&c));
+        }
+        assert_eq!(Outer::NDERIV, 2);
+    }
 
     #[test]
     fn default_jet_and_divided_difference() {
