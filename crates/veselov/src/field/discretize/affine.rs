@@ -8,7 +8,7 @@ use nalgebra::{SMatrix, SVector};
 use super::error::CellError;
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
-use super::smooth::{SmoothDensity, energy_density, momentum_density};
+use super::smooth::{SmoothDensity, energy_momentum_density};
 use super::suitability::CellCheck;
 use crate::ad::Scalar;
 use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexStar};
@@ -202,10 +202,12 @@ impl<L, X: NodeMap<N>, const N: usize> MidpointRule<L, X, N> {
         X: NodeMap<N>,
     {
         let a = self.jet(cell, y)?;
-        for (axis, p) in momenta.iter_mut().enumerate().take(N - 1) {
-            *p = momentum_density(&self.density, &a.centre, &a.value, &a.gradient, axis) * a.volume;
+        let count = momenta.len().min(N - 1);
+        let energy = energy_momentum_density(&self.density, &a.centre, &a.value, &a.gradient, &mut momenta[..count]);
+        for p in &mut momenta[..count] {
+            *p *= a.volume;
         }
-        Ok(energy_density(&self.density, &a.centre, &a.value, &a.gradient) * a.volume)
+        Ok(energy * a.volume)
     }
 
     /// The cell's energy vol_β·ℰ (see [`cell_energy_momentum`](Self::cell_energy_momentum)).

@@ -81,5 +81,5 @@ pub use error::CellError;
 pub use nodes::{CfkNodes, CubeNodes, NodeMap, cube_corner, factorial, permutation};
 pub use rod_potential::{LinearPotential, NoPotential, RodPotential, Weight};
 pub use rules::{SINGULAR_NODES, VertexQuadrature, VertexRule, invert, vertex_jet};
-pub use smooth::{SmoothDensity, SpaceTime, energy_density, momentum_density, time_flux};
+pub use smooth::{SmoothDensity, SpaceTime, energy_density, energy_momentum_density, momentum_density, time_flux};
 pub use suitability::{CellCheck, GeodesicBall, check_rotations};
