@@ -64,6 +64,14 @@ const CHUNK_WORK_NS: f64 = 20_000.0;
 /// its levels were split.
 const PARALLEL_LEVEL_NS: f64 = 150_000.0;
 
+/// Stars whose cells a generic vertex solve gathers once (3! cells, the
+/// lattices up to 2+1), of at most [`SMALL_CELL`] vertices each; larger
+/// stars gather a cell's values at every evaluation.
+const SMALL_STAR: usize = 6;
+
+/// Vertices of a cell of a gathered star (n + 1 ≤ 4).
+const SMALL_CELL: usize = 4;
+
 /// A vertex (w, i) as the base of its cells ([`CauchyMarcher::base`]).
 #[derive(Clone, Copy)]
 struct Base {
@@ -539,30 +547,61 @@ where
             return (solved.value, solved.outcome, solved.gradients_written);
         }
         let z = F::extrapolate(&previous, &self.value(w, i));
-        let (z, outcome) = solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, mut jac| {
-            let mut leg = SVector::<f64, M>::zeros();
-            if let Some(j) = jac.as_deref_mut() {
-                j.fill(0.0);
-            }
-            let mut scale = 0.0;
-            for sigma in 0..self.perms.len() {
-                if !self.cell_active_at(&base, sigma) {
-                    continue;
+        let (z, outcome) = if self.perms.len() <= SMALL_STAR && n < SMALL_CELL {
+            // The star's cells and their known values gathered once: an
+            // iterate only replaces the top vertex.
+            let mut cells = [None; SMALL_STAR];
+            for (sigma, slot) in cells.iter_mut().enumerate().take(self.perms.len()) {
+                if self.cell_active_at(&base, sigma) {
+                    let mut y = [z; SMALL_CELL];
+                    *slot = Some((self.cell_values_at(&base, sigma, None, &mut y), y));
                 }
-                let mut y = [*z; MAX_LATTICE_DIMENSION + 1];
-                let cell = self.cell_values_at(&base, sigma, Some(*z), &mut y);
-                add_vertex_terms::<F, L, M>(
-                    &self.lag,
-                    &cell,
-                    &y[..=n],
-                    (0, n),
-                    &mut leg,
-                    &mut scale,
-                    jac.as_deref_mut(),
-                );
             }
-            (leg, scale)
-        });
+            solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, mut jac| {
+                let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
+                if let Some(j) = jac.as_deref_mut() {
+                    j.fill(0.0);
+                }
+                for (cell, known) in cells.iter().flatten() {
+                    let mut y = *known;
+                    y[n] = *z;
+                    add_vertex_terms::<F, L, M>(
+                        &self.lag,
+                        cell,
+                        &y[..=n],
+                        (0, n),
+                        &mut leg,
+                        &mut scale,
+                        jac.as_deref_mut(),
+                    );
+                }
+                (leg, scale)
+            })
+        } else {
+            solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, mut jac| {
+                let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
+                if let Some(j) = jac.as_deref_mut() {
+                    j.fill(0.0);
+                }
+                for sigma in 0..self.perms.len() {
+                    if !self.cell_active_at(&base, sigma) {
+                        continue;
+                    }
+                    let mut y = [*z; MAX_LATTICE_DIMENSION + 1];
+                    let cell = self.cell_values_at(&base, sigma, Some(*z), &mut y);
+                    add_vertex_terms::<F, L, M>(
+                        &self.lag,
+                        &cell,
+                        &y[..=n],
+                        (0, n),
+                        &mut leg,
+                        &mut scale,
+                        jac.as_deref_mut(),
+                    );
+                }
+                (leg, scale)
+            })
+        };
         (z, outcome, false)
     }
 
