@@ -31,7 +31,7 @@ use veselov::field::cell::DiscreteLagrangian;
 use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, VertexRule, Weight};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
-use veselov::models::rod::{EndCondition, angular_momentum, energy, linear_momentum, load_impulse};
+use veselov::models::rod::{EndCondition, energy, load_impulse};
 use veselov::run::{Checkpoint, Control, Observer, Status, StepStats, StopWhen, Words};
 
 use crate::error::CliError;
@@ -95,7 +95,7 @@ impl RodObserver<'_> {
     }
 
     fn momenta<L: DiscreteLagrangian<PositionRotation, 6>>(m: &Rod<L>) -> [f64; 6] {
-        let (p, l) = (linear_momentum(m), angular_momentum(m));
+        let (p, l) = veselov::models::rod::momenta(m);
         [p[0], p[1], p[2], l[0], l[1], l[2]]
     }
 

@@ -45,11 +45,22 @@ where
     /// moves the cells based at c across the cut). For n = 1 it is the
     /// discrete Noether momentum ⟨p_k, D(q_k)⟩.
     pub fn level_momentum(&self, generator: impl Fn(&F::Point<f64>) -> SVector<f64, M>) -> f64 {
+        self.level_momenta(|y| [generator(y)])[0]
+    }
+
+    /// [`level_momentum`](Self::level_momentum) along K vector fields at
+    /// once (`generators` returns their values at a point): one sweep over
+    /// the stored gradients for all of them, each sum in the order of a
+    /// single sweep (the same bits).
+    pub fn level_momenta<const K: usize>(
+        &self,
+        generators: impl Fn(&F::Point<f64>) -> [SVector<f64, M>; K],
+    ) -> [f64; K] {
         let n = self.torus.dimension();
         let size = self.torus.level_size();
         let per_vertex = self.perms.len() * (n + 1);
         let c = self.level;
-        let mut sum = 0.0;
+        let mut sum = [0.0; K];
         for j in 1..=n {
             let base_level = c - j as i64;
             let slot = self.grad_slot(base_level);
@@ -58,7 +69,9 @@ where
                     let g = &self.grads[slot][i * per_vertex + sigma * (n + 1)..][..n + 1];
                     for (l, gl) in g.iter().enumerate().skip(j) {
                         let y = self.value(base_level + l as i64, self.up(i, sigma, l));
-                        sum += gl.dot(&generator(&y));
+                        for (s, d) in sum.iter_mut().zip(&generators(&y)) {
+                            *s += gl.dot(d);
+                        }
                     }
                 }
             }

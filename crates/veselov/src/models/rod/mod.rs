@@ -16,5 +16,5 @@ pub mod stability;
 pub use ends::{EndCondition, RodEnds};
 pub use lattice::RodLattice;
 pub use material::{CrossSection, Material, Shear, rod_parameters};
-pub use momentum::{angular_momentum, energy, linear_momentum, load_impulse};
+pub use momentum::{angular_momentum, energy, linear_momentum, load_impulse, momenta};
 pub use stability::{COURANT_LIMIT, StepCheck, courant_number, largest_step, rotary_frequency, wave_speed};

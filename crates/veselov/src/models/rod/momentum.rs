@@ -18,13 +18,8 @@ use crate::field::fibre::{Pose, PositionRotation};
 pub fn linear_momentum<L: DiscreteLagrangian<PositionRotation, 6>>(
     m: &CauchyMarcher<PositionRotation, L, 6>,
 ) -> Vector3<f64> {
-    Vector3::from_fn(|k, _| {
-        m.level_momentum(|_: &Pose<f64>| {
-            let mut d = SVector::<f64, 6>::zeros();
-            d[k] = 1.0;
-            d
-        })
-    })
+    let p = m.level_momenta(|y: &Pose<f64>| std::array::from_fn::<_, 3, _>(|k| generator(k, y)));
+    Vector3::from(p)
 }
 
 /// Angular momentum about the origin at the cut below the current level
@@ -32,14 +27,17 @@ pub fn linear_momentum<L: DiscreteLagrangian<PositionRotation, 6>>(
 pub fn angular_momentum<L: DiscreteLagrangian<PositionRotation, 6>>(
     m: &CauchyMarcher<PositionRotation, L, 6>,
 ) -> Vector3<f64> {
-    Vector3::from_fn(|k, _| {
-        m.level_momentum(|y: &Pose<f64>| {
-            let xi = Vector3::ith(k, 1.0);
-            let a = xi.cross(&y.position);
-            let b = y.rotation.matrix().transpose() * xi;
-            SVector::<f64, 6>::new(a[0], a[1], a[2], b[0], b[1], b[2])
-        })
-    })
+    let l = m.level_momenta(|y: &Pose<f64>| std::array::from_fn::<_, 3, _>(|k| generator(k + 3, y)));
+    Vector3::from(l)
+}
+
+/// [`linear_momentum`] and [`angular_momentum`] in one sweep over the level
+/// (the same bits).
+pub fn momenta<L: DiscreteLagrangian<PositionRotation, 6>>(
+    m: &CauchyMarcher<PositionRotation, L, 6>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let q = m.level_momenta(|y: &Pose<f64>| std::array::from_fn::<_, 6, _>(|k| generator(k, y)));
+    (Vector3::new(q[0], q[1], q[2]), Vector3::new(q[3], q[4], q[5]))
 }
 
 /// The generators of the translations (k = 0, 1, 2) and rotations (k = 3,
