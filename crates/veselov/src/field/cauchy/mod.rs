@@ -547,61 +547,50 @@ where
             return (solved.value, solved.outcome, solved.gradients_written);
         }
         let z = F::extrapolate(&previous, &self.value(w, i));
-        let (z, outcome) = if self.perms.len() <= SMALL_STAR && n < SMALL_CELL {
-            // The star's cells and their known values gathered once: an
-            // iterate only replaces the top vertex.
-            let mut cells = [None; SMALL_STAR];
-            for (sigma, slot) in cells.iter_mut().enumerate().take(self.perms.len()) {
+        // A star of up to SMALL_STAR cells gathers its cells' known values
+        // once: an iterate only replaces the top vertex. Larger stars gather
+        // a cell's values at every evaluation.
+        let mut gathered = [None; SMALL_STAR];
+        let gather = self.perms.len() <= SMALL_STAR && n < SMALL_CELL;
+        if gather {
+            for (sigma, slot) in gathered.iter_mut().enumerate().take(self.perms.len()) {
                 if self.cell_active_at(&base, sigma) {
                     let mut y = [z; SMALL_CELL];
                     *slot = Some((self.cell_values_at(&base, sigma, None, &mut y), y));
                 }
             }
-            solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, mut jac| {
-                let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
-                if let Some(j) = jac.as_deref_mut() {
-                    j.fill(0.0);
-                }
-                for (cell, known) in cells.iter().flatten() {
-                    let mut y = *known;
-                    y[n] = *z;
-                    add_vertex_terms::<F, L, M>(
-                        &self.lag,
-                        cell,
-                        &y[..=n],
-                        (0, n),
-                        &mut leg,
-                        &mut scale,
-                        jac.as_deref_mut(),
-                    );
-                }
-                (leg, scale)
-            })
-        } else {
-            solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, mut jac| {
-                let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
-                if let Some(j) = jac.as_deref_mut() {
-                    j.fill(0.0);
-                }
-                for sigma in 0..self.perms.len() {
-                    if !self.cell_active_at(&base, sigma) {
+        }
+        let (z, outcome) = solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, mut jac| {
+            let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
+            if let Some(j) = jac.as_deref_mut() {
+                j.fill(0.0);
+            }
+            let mut y = [*z; MAX_LATTICE_DIMENSION + 1];
+            for sigma in 0..self.perms.len() {
+                let cell = if gather {
+                    let Some((cell, known)) = &gathered[sigma] else {
                         continue;
-                    }
-                    let mut y = [*z; MAX_LATTICE_DIMENSION + 1];
-                    let cell = self.cell_values_at(&base, sigma, Some(*z), &mut y);
-                    add_vertex_terms::<F, L, M>(
-                        &self.lag,
-                        &cell,
-                        &y[..=n],
-                        (0, n),
-                        &mut leg,
-                        &mut scale,
-                        jac.as_deref_mut(),
-                    );
-                }
-                (leg, scale)
-            })
-        };
+                    };
+                    y[..SMALL_CELL].copy_from_slice(known);
+                    y[n] = *z;
+                    *cell
+                } else if self.cell_active_at(&base, sigma) {
+                    self.cell_values_at(&base, sigma, Some(*z), &mut y)
+                } else {
+                    continue;
+                };
+                add_vertex_terms::<F, L, M>(
+                    &self.lag,
+                    &cell,
+                    &y[..=n],
+                    (0, n),
+                    &mut leg,
+                    &mut scale,
+                    jac.as_deref_mut(),
+                );
+            }
+            (leg, scale)
+        });
         (z, outcome, false)
     }
 
