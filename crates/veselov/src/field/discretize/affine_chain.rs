@@ -159,8 +159,8 @@ where
         })
     }
 
-    /// vol_β·𝓛 at the frame's (ȳ, φ) moved by the seeds: `value_seed(k)` and
-    /// `jet_seed(k, a)` give the dual parts added to ȳ_k and φ_{ka}.
+    /// vol_β·𝓛 at the frame's (ȳ, φ) as dual numbers: `value(k, ȳ_k)` and
+    /// `jet(k, a, φ_{ka})` build the seeded entries from their real parts.
     #[inline]
     fn seeded<D: Scalar, const M: usize>(
         &self,
