@@ -176,41 +176,43 @@ where
         self.density.density(&frame.centre, &y, &phi) * frame.volume
     }
 
-    /// ∂L_β/∂y_l for every vertex l = 0 … N into `out[..=N]` by one pass over
-    /// the density with the M(N + 1) directions D_{lk} (direction lM + k),
-    /// when they fit in `W`.
-    fn all_gradients<const W: usize, const M: usize>(
+    /// ∂L_β/∂y_l for the `count` vertices l = first … first + count − 1 by
+    /// one pass over the density with their M·count directions D_{lk}
+    /// (direction (l − first)M + k, padded to `W`), into `out[..count]`.
+    /// Every direction is seeded alike whatever else is seeded, so a
+    /// vertex's gradient has the same bits in any pass that holds it.
+    fn vertex_pass<const W: usize, const M: usize>(
         &self,
         frame: &AffineFrame<M, N>,
+        first: usize,
+        count: usize,
         out: &mut [SVector<f64, M>],
     ) -> bool
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
-        let count = M * (N + 1);
-        if count > W || out.len() < N + 1 {
+        let directions = M * count;
+        if directions > W || first + count > N + 1 || out.len() < count {
             return false;
         }
         let w = AffineFrame::<M, N>::mean_weight();
+        let seeded = |k: usize, re: f64, coefficient: &dyn Fn(usize) -> f64| {
+            let eps = SVector::<f64, W>::from_fn(|d, _| {
+                if d < directions && d % M == k {
+                    coefficient(first + d / M)
+                } else {
+                    0.0
+                }
+            });
+            DualSVec64::new(re, Derivative::some(eps))
+        };
         let r = self.seeded::<DualSVec64<W>, M>(
             frame,
-            |k, re| {
-                let eps = SVector::<f64, W>::from_fn(|d, _| if d < count && d % M == k { w } else { 0.0 });
-                DualSVec64::new(re, Derivative::some(eps))
-            },
-            |k, a, re| {
-                let eps = SVector::<f64, W>::from_fn(|d, _| {
-                    if d < count && d % M == k {
-                        frame.coefficient(d / M, a)
-                    } else {
-                        0.0
-                    }
-                });
-                DualSVec64::new(re, Derivative::some(eps))
-            },
+            |k, re| seeded(k, re, &|_| w),
+            |k, a, re| seeded(k, re, &|l| frame.coefficient(l, a)),
         );
         let eps = r.eps.unwrap_generic(Const::<W>, U1);
-        for (l, g) in out.iter_mut().enumerate().take(N + 1) {
+        for (l, g) in out.iter_mut().enumerate().take(count) {
             *g = SVector::from_fn(|k, _| eps[l * M + k]);
         }
         true
@@ -226,28 +228,9 @@ where
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
-        if l > N {
-            return None;
-        }
         let frame = self.affine_frame(cell, y)?;
-        let w = AffineFrame::<M, N>::mean_weight();
-        let r = self.seeded::<DualSVec64<M>, M>(
-            &frame,
-            |k, re| {
-                DualSVec64::new(
-                    re,
-                    Derivative::some(SVector::from_fn(|d, _| if d == k { w } else { 0.0 })),
-                )
-            },
-            |k, a, re| {
-                let c = frame.coefficient(l, a);
-                DualSVec64::new(
-                    re,
-                    Derivative::some(SVector::from_fn(|d, _| if d == k { c } else { 0.0 })),
-                )
-            },
-        );
-        Some(r.eps.unwrap_generic(Const::<M>, U1))
+        let mut g = [SVector::zeros()];
+        self.vertex_pass::<M, M>(&frame, l, 1, &mut g).then_some(g[0])
     }
 
     /// Every vertex gradient in one pass (directions padded to 4, 8 or 16;
@@ -271,9 +254,9 @@ where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
         match M * (N + 1) {
-            0..=4 => self.all_gradients::<4, M>(frame, out),
-            5..=8 => self.all_gradients::<8, M>(frame, out),
-            9..=16 => self.all_gradients::<16, M>(frame, out),
+            0..=4 => self.vertex_pass::<4, M>(frame, 0, N + 1, out),
+            5..=8 => self.vertex_pass::<8, M>(frame, 0, N + 1, out),
+            9..=16 => self.vertex_pass::<16, M>(frame, 0, N + 1, out),
             _ => false,
         }
     }
