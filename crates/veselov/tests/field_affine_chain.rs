@@ -157,6 +157,21 @@ fn chain_rule_gradients_match_finite_differences_of_the_cell_lagrangian() {
     assert!(worst < 1e-8, "gradients and differences differ by {worst:e}");
 }
 
+/// Cauchy data: the six levels of a prescribed space–time function.
+fn cauchy_data<const M: usize>(
+    torus: &CfkTorus,
+    nodes: &CfkNodes<3>,
+    f: impl Fn(&SVector<f64, 3>) -> SVector<f64, M>,
+) -> Vec<Vec<SVector<f64, M>>> {
+    (0..6)
+        .map(|w| {
+            (0..torus.level_size())
+                .map(|i| f(&nodes.node(&torus.vertex(w, i))))
+                .collect()
+        })
+        .collect()
+}
+
 /// The march with the chain rule (and the rule's own vertex solve) and
 /// with the reference dual passes through the marcher's generic solve: the
 /// same field to round-off. (They agree bit for bit today: the chain rule's
@@ -168,16 +183,9 @@ fn chain_rule_gradients_match_finite_differences_of_the_cell_lagrangian() {
 fn marches_with_and_without_the_chain_rule_agree() {
     let torus = CfkTorus::new(3, &[8, 8]).expect("torus");
     let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
-    let data: Vec<Vec<SVector<f64, 2>>> = (0..6)
-        .map(|w| {
-            (0..torus.level_size())
-                .map(|i| {
-                    let x = nodes.node(&torus.vertex(w, i));
-                    Vector2::new((0.9 * x[0] - 0.5 * x[2]).sin(), 0.4 * (0.8 * x[1] + 0.3 * x[2]).cos())
-                })
-                .collect()
-        })
-        .collect();
+    let data = cauchy_data(&torus, &nodes, |x| {
+        Vector2::new((0.9 * x[0] - 0.5 * x[2]).sin(), 0.4 * (0.8 * x[1] + 0.3 * x[2]).cos())
+    });
     let density = NonlinearWave(ComplexKleinGordon { m2: 1.0, lambda: 0.8 });
     let fast = MidpointRule::new(density, nodes);
     let reference = MidpointRule::new(density, nodes).with_chain_rule(false);
@@ -211,16 +219,9 @@ fn a_restored_march_continues_bit_for_bit() {
     use veselov::run::{Checkpoint, Words};
     let torus = CfkTorus::new(3, &[6, 6]).expect("torus");
     let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
-    let data: Vec<Vec<SVector<f64, 1>>> = (0..6)
-        .map(|w| {
-            (0..torus.level_size())
-                .map(|i| {
-                    let x = nodes.node(&torus.vertex(w, i));
-                    SVector::from([1.2 * (1.1 * x[0] - 0.4 * x[2]).sin() * (0.9 * x[1]).cos()])
-                })
-                .collect()
-        })
-        .collect();
+    let data = cauchy_data(&torus, &nodes, |x| {
+        SVector::from([1.2 * (1.1 * x[0] - 0.4 * x[2]).sin() * (0.9 * x[1]).cos()])
+    });
     let rule = MidpointRule::new(NonlinearWave(SineGordon), nodes);
     let new = || CauchyMarcher::new(rule, torus.clone(), 0, &data, CauchyOptions::default()).expect("marcher");
     let mut whole = new();
