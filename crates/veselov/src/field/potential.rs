@@ -55,7 +55,7 @@ pub trait ScalarPotential: Potential<1> {
 pub struct SineGordon;
 
 impl Potential<1> for SineGordon {
-    /// `cos y`; over dual numbers from its closed-form jet ([`through_jet`]).
+    /// `cos y`; over dual numbers from its closed-form jet (`through_jet`).
     fn potential<D: Scalar>(&self, y: &SVector<D, 1>) -> D {
         through_jet(self, y[0]).unwrap_or_else(|| y[0].cos())
     }
