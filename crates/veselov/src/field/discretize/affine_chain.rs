@@ -24,9 +24,20 @@
 //! derivative is computed by the same operations whatever else is seeded,
 //! so one vertex's gradient equals its entry in the all-vertex pass bit for
 //! bit.
+//!
+//! A density with a diagonal quadratic jet part
+//! ([`SmoothDensity::diagonal_jet_metric`]: 𝓛 = ½ Σ_{k,a} η_a φ_{ka}² + V(x, y)
+//! with V(x, y) = 𝓛(x, y, 0), as the nonlinear waves of seed 002 (4.32)) needs
+//! no dual directions for the jet at all:
+//!
+//! ∂L_β/∂(y_l)_k = vol_β·(Σ_a η_a φ_{ka} c_{la} + ∂_kV(x̄, ȳ)/(N + 1)),
+//! ∂²L_β/∂(y_a)_i∂(y_b)_j = vol_β·(δ_{ij} Σ_c η_c c_{ac} c_{bc} + ∂_i∂_jV(x̄, ȳ)/(N + 1)²),
+//!
+//! and only V is evaluated over dual numbers (M directions, or second order
+//! for the block): one evaluation of the potential per cell and evaluation.
 
 use nalgebra::{Const, SMatrix, SVector, U1};
-use num_dual::{Derivative, DualSVec, DualSVec64};
+use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec, DualSVec64};
 
 use super::affine::MidpointRule;
 use super::nodes::{NodeMap, factorial};
@@ -41,28 +52,35 @@ use crate::field::legendre::{CauchyOptions, solve_legendre};
 /// The affine interpolant of one simplex in `f64`: (T^X)⁻¹, vol_β, the
 /// barycentre x̄ (zero where the density does not read it), ȳ and φ.
 pub(super) struct AffineFrame<const M: usize, const N: usize> {
-    inverse: SMatrix<f64, N, N>,
-    volume: f64,
-    centre: SVector<f64, N>,
-    value: SVector<f64, M>,
-    jet: SMatrix<f64, M, N>,
+    pub(super) inverse: SMatrix<f64, N, N>,
+    pub(super) volume: f64,
+    pub(super) centre: SVector<f64, N>,
+    pub(super) value: SVector<f64, M>,
+    pub(super) jet: SMatrix<f64, M, N>,
 }
 
 impl<const M: usize, const N: usize> AffineFrame<M, N> {
     /// c_{la} = ∂φ_{ka}/∂(y_l)_k.
     #[inline]
-    fn coefficient(&self, l: usize, a: usize) -> f64 {
-        if l == 0 {
-            -(0..N).fold(0.0, |acc, c| acc + self.inverse[(c, a)])
-        } else {
-            self.inverse[(l - 1, a)]
-        }
+    pub(super) fn coefficient(&self, l: usize, a: usize) -> f64 {
+        vertex_coefficient(&self.inverse, l, a)
     }
 
     /// The weight of every vertex in ȳ.
     #[inline]
-    fn mean_weight() -> f64 {
+    pub(super) fn mean_weight() -> f64 {
         1.0 / (N + 1) as f64
+    }
+}
+
+/// c_{la} = ∂φ_{ka}/∂(y_l)_k from (T^X)⁻¹: its row l − 1 for l ≥ 1, minus
+/// the sum of its rows for l = 0.
+#[inline]
+pub(super) fn vertex_coefficient<const N: usize>(inverse: &SMatrix<f64, N, N>, l: usize, a: usize) -> f64 {
+    if l == 0 {
+        -(0..N).fold(0.0, |acc, c| acc + inverse[(c, a)])
+    } else {
+        inverse[(l - 1, a)]
     }
 }
 
@@ -71,37 +89,90 @@ impl<const M: usize, const N: usize> AffineFrame<M, N> {
 /// that [`complete`](Self::complete) gives the bits of the frame formed from
 /// all N + 1 values at once (a fold's last term added last).
 #[derive(Clone, Copy)]
-struct PartialFrame<const M: usize, const N: usize> {
-    inverse: SMatrix<f64, N, N>,
-    volume: f64,
-    centre: SVector<f64, N>,
+pub(super) struct PartialFrame<const M: usize, const N: usize> {
+    pub(super) inverse: SMatrix<f64, N, N>,
+    pub(super) volume: f64,
+    pub(super) centre: SVector<f64, N>,
     /// y₀ + … + y_{N−1}.
-    sum: SVector<f64, M>,
+    pub(super) sum: SVector<f64, M>,
     /// Σ_{c < N−1} (y_{c+1} − y₀)_k (T^X)⁻¹_{ca}.
-    jet: SMatrix<f64, M, N>,
+    pub(super) jet: SMatrix<f64, M, N>,
     /// y₀.
-    first: SVector<f64, M>,
+    pub(super) first: SVector<f64, M>,
 }
 
 impl<const M: usize, const N: usize> PartialFrame<M, N> {
     /// The frame with the last vertex value `z`.
     #[inline]
-    fn complete(&self, z: &SVector<f64, M>) -> AffineFrame<M, N> {
-        let jet =
-            SMatrix::<f64, M, N>::from_fn(|k, a| self.jet[(k, a)] + (z[k] - self.first[k]) * self.inverse[(N - 1, a)]);
+    pub(super) fn complete(&self, z: &SVector<f64, M>) -> AffineFrame<M, N> {
+        let jet = SMatrix::<f64, M, N>::from_fn(|k, a| self.jet_entry(z, k, a));
         AffineFrame {
             inverse: self.inverse,
             volume: self.volume,
             centre: self.centre,
-            value: (self.sum + z) * AffineFrame::<M, N>::mean_weight(),
+            value: self.value(z),
             jet,
         }
     }
 }
 
+impl<const M: usize, const N: usize> PartialFrame<M, N> {
+    /// ȳ with the last vertex value `z` (the bits of the completed frame's).
+    #[inline]
+    pub(super) fn value(&self, z: &SVector<f64, M>) -> SVector<f64, M> {
+        (self.sum + z) * AffineFrame::<M, N>::mean_weight()
+    }
+
+    /// φ_{ka} with the last vertex value `z` (the completed frame's entry).
+    #[inline]
+    pub(super) fn jet_entry(&self, z: &SVector<f64, M>, k: usize, a: usize) -> f64 {
+        self.jet[(k, a)] + (z[k] - self.first[k]) * self.inverse[(N - 1, a)]
+    }
+}
+
+/// η_a c_{la} for a = 0 … N − 1: the weights of vertex l's jet term.
+#[inline]
+pub(super) fn metric_coefficients<const N: usize>(
+    inverse: &SMatrix<f64, N, N>,
+    eta: &SVector<f64, N>,
+    l: usize,
+) -> SVector<f64, N> {
+    SVector::from_fn(|a, _| eta[a] * vertex_coefficient(inverse, l, a))
+}
+
+/// ∂L_β/∂y_l = vol_β·(Σ_a η_a φ_{·a} c_{la} + ∇_yV/(N + 1)) for a density of
+/// diagonal jet metric η, from the jet's entries `jet(k, a)`, the weights
+/// η_a c_{la} ([`metric_coefficients`]) and ∇_yV at the frame: every
+/// vertex's gradient by the same operations, whichever pass asks for it.
+#[inline]
+pub(super) fn metric_gradient_from<const M: usize, const N: usize>(
+    jet: impl Fn(usize, usize) -> f64,
+    coefficients: &SVector<f64, N>,
+    dv: &SVector<f64, M>,
+    volume: f64,
+) -> SVector<f64, M> {
+    let w = AffineFrame::<M, N>::mean_weight();
+    SVector::from_fn(|k, _| {
+        let kinetic = (0..N).fold(0.0, |acc, a| acc + jet(k, a) * coefficients[a]);
+        (kinetic + dv[k] * w) * volume
+    })
+}
+
+/// [`metric_gradient_from`] at a formed frame.
+#[inline]
+pub(super) fn metric_gradient<const M: usize, const N: usize>(
+    frame: &AffineFrame<M, N>,
+    eta: &SVector<f64, N>,
+    dv: &SVector<f64, M>,
+    l: usize,
+) -> SVector<f64, M> {
+    let coefficients = metric_coefficients(&frame.inverse, eta, l);
+    metric_gradient_from(|k, a| frame.jet[(k, a)], &coefficients, dv, frame.volume)
+}
+
 /// Cells in the star of a vertex that [`MidpointRule`]'s own vertex solve
 /// handles (N! ≤ 4!, as its shape cache).
-const MAX_STAR: usize = 24;
+pub(super) const MAX_STAR: usize = 24;
 
 impl<L, X, const N: usize> MidpointRule<L, X, N>
 where
@@ -124,7 +195,11 @@ where
 
     /// The interpolant's sums over the values `y[..N]` of all but the last
     /// vertex.
-    fn partial_frame<const M: usize>(&self, cell: &TopCell, y: &[SVector<f64, M>]) -> Option<PartialFrame<M, N>>
+    pub(super) fn partial_frame<const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &[SVector<f64, M>],
+    ) -> Option<PartialFrame<M, N>>
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
@@ -191,8 +266,18 @@ where
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
+        if first + count > N + 1 || out.len() < count {
+            return false;
+        }
+        if let Some(eta) = self.density.diagonal_jet_metric() {
+            let dv = self.jet_free_gradient(&frame.centre, &frame.value);
+            for (i, g) in out.iter_mut().enumerate().take(count) {
+                *g = metric_gradient(frame, &eta, &dv, first + i);
+            }
+            return true;
+        }
         let directions = M * count;
-        if directions > W || first + count > N + 1 || out.len() < count {
+        if directions > W {
             return false;
         }
         let w = AffineFrame::<M, N>::mean_weight();
@@ -216,6 +301,57 @@ where
             *g = SVector::from_fn(|k, _| eps[l * M + k]);
         }
         true
+    }
+
+    /// ∇_yV at (x̄, ȳ), V(x, y) = 𝓛(x, y, 0)
+    /// ([`SmoothDensity::jet_free_part`]), by one pass with M directions
+    /// (a plain dual number for a scalar field).
+    #[inline]
+    pub(super) fn jet_free_gradient<const M: usize>(
+        &self,
+        centre: &SVector<f64, N>,
+        value: &SVector<f64, M>,
+    ) -> SVector<f64, M>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        if M == 1 {
+            let y = SVector::<Dual64, M>::from_fn(|k, _| Dual64::new(value[k], 1.0));
+            return SVector::from_element(self.density.jet_free_part(centre, &y).eps);
+        }
+        let y = SVector::<DualSVec64<M>, M>::from_fn(|k, _| {
+            DualSVec64::new(
+                value[k],
+                Derivative::some(SVector::from_fn(|d, _| if d == k { 1.0 } else { 0.0 })),
+            )
+        });
+        self.density
+            .jet_free_part(centre, &y)
+            .eps
+            .unwrap_generic(Const::<M>, U1)
+    }
+
+    /// ∇_yV and ∇²_yV at (x̄, ȳ) by one second-order pass.
+    #[inline]
+    pub(super) fn jet_free_hessian<const M: usize>(
+        &self,
+        centre: &SVector<f64, N>,
+        value: &SVector<f64, M>,
+    ) -> (SVector<f64, M>, SMatrix<f64, M, M>)
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        if M == 1 {
+            let y = SVector::<Dual2_64, M>::from_fn(|k, _| Dual2_64::new(value[k], 1.0, 0.0));
+            let v = self.density.jet_free_part(centre, &y);
+            return (SVector::from_element(v.v1), SMatrix::from_element(v.v2));
+        }
+        let y = SVector::<Dual2SVec64<M>, M>::from_fn(|k, _| Dual2SVec64::from_re(value[k]).derivative(k));
+        let v = self.density.jet_free_part(centre, &y);
+        (
+            v.v1.unwrap_generic(U1, Const::<M>).transpose(),
+            v.v2.unwrap_generic(Const::<M>, Const::<M>),
+        )
     }
 
     /// ∂L_β/∂y_l by one pass with the M directions D_{lk}.
@@ -254,6 +390,8 @@ where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
         match M * (N + 1) {
+            // The closed form of a diagonal jet metric takes no directions.
+            _ if self.density.diagonal_jet_metric().is_some() => self.vertex_pass::<0, M>(frame, 0, N + 1, out),
             0..=4 => self.vertex_pass::<4, M>(frame, 0, N + 1, out),
             5..=8 => self.vertex_pass::<8, M>(frame, 0, N + 1, out),
             9..=16 => self.vertex_pass::<16, M>(frame, 0, N + 1, out),
@@ -290,8 +428,19 @@ where
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
-        type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
         let w = AffineFrame::<M, N>::mean_weight();
+        if let Some(eta) = self.density.diagonal_jet_metric() {
+            let (dv, hessian) = self.jet_free_hessian(&frame.centre, &frame.value);
+            let metric = (0..N).fold(0.0, |acc, c| {
+                acc + eta[c] * frame.coefficient(a, c) * frame.coefficient(b, c)
+            });
+            let block = SMatrix::<f64, M, M>::from_fn(|i, j| {
+                let diagonal = if i == j { metric } else { 0.0 };
+                (diagonal + hessian[(i, j)] * (w * w)) * frame.volume
+            });
+            return (metric_gradient(frame, &eta, &dv, a), block);
+        }
+        type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
         let seed = |k: usize, re: f64, inner: f64, outer: f64| {
             let inner_eps = SVector::<f64, M>::from_fn(|d, _| if d == k { inner } else { 0.0 });
             let outer_eps =
@@ -343,7 +492,12 @@ where
     {
         let cells = factorial(N);
         let width = N + 1;
-        if N == 0 || width > MAX_CELL_VERTICES || cells > MAX_STAR || M * width > 16 || gradients.len() != cells * width
+        let closed_form = self.density.diagonal_jet_metric().is_some();
+        if N == 0
+            || width > MAX_CELL_VERTICES
+            || cells > MAX_STAR
+            || (M * width > 16 && !closed_form)
+            || gradients.len() != cells * width
         {
             return None;
         }
@@ -357,6 +511,10 @@ where
             }
         }
         let start = Euclidean::<M>::extrapolate(previous, &base?);
+        if let Some(eta) = self.density.diagonal_jet_metric() {
+            let frames = &frames[..cells];
+            return Some(self.solve_metric_star(&eta, frames, mu, mu_scale, start, options, gradients));
+        }
         // The point whose cell gradients `gradients` holds.
         let mut written: Option<SVector<f64, M>> = None;
         let (z, outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |z, mut jacobian| {

@@ -1,0 +1,157 @@
+//! [`MidpointRule`]'s vertex solve for a density with a diagonal jet metric
+//! ([`SmoothDensity::diagonal_jet_metric`]: 𝓛 = ½ Σ_{k,a} η_a φ_{ka}² + V(x, y),
+//! e.g. the nonlinear waves of seed 002 (4.32) in any dimension).
+//!
+//! The vertex equation Leg_v(z) = Σ_β ∂L_β/∂y₀ = μ_v (note 003 §2.4) sums,
+//! over the cells β based at v whose last vertex z is unknown,
+//!
+//! ∂L_β/∂y₀ = vol_β·(Σ_a η_a φ_{·a}(z) c_{0a} + ∇V(x̄_β, ȳ_β(z))/(N + 1)),
+//!
+//! with φ_{ka}(z) = φ̃_{ka} + (z − y₀)_k c_{Na} and ȳ_β(z) = (s_β + z)/(N + 1)
+//! (φ̃ and s_β the known vertices' parts, [`PartialFrame`]), and
+//!
+//! ∂²L_β/∂y₀∂z = vol_β·(b_β I + ∇²V(ȳ_β(z))/(N + 1)²),  b_β = Σ_a η_a c_{0a} c_{Na}.
+//!
+//! An evaluation of the equation is one evaluation of V per cell (over
+//! M-direction dual numbers; second order for the Jacobian) and the jet
+//! term from the partial frame, with the weights η_a c_{0a} and b_β formed
+//! once per vertex. The residual is computed by the operations of the
+//! rule's own gradients ([`metric_gradient_from`]), so Newton zeroes the
+//! equation the marcher's momenta are made of (a residual of another
+//! rounding, affine in z, lets the translation momenta drift by ~1e-11
+//! over 1000 levels instead of ~1e-14). The solved cells' gradients for the
+//! marcher are formed once at the accepted z, from ∇V of the last
+//! evaluation at that very point: the operations and bits of
+//! [`DiscreteLagrangian::analytic_gradients`](crate::field::cell::DiscreteLagrangian::analytic_gradients),
+//! which a restored march recomputes from the values.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::affine::MidpointRule;
+use super::affine_chain::{
+    AffineFrame, MAX_STAR, PartialFrame, metric_coefficients, metric_gradient, metric_gradient_from, vertex_coefficient,
+};
+use super::nodes::NodeMap;
+use super::smooth::SmoothDensity;
+use crate::field::cell::SolvedVertex;
+use crate::field::fibre::Euclidean;
+use crate::field::legendre::{CauchyOptions, solve_legendre};
+
+/// One star cell's constants in the unknown z.
+#[derive(Clone, Copy)]
+struct StarTerm<const N: usize> {
+    /// η_a c_{0a}.
+    weights: SVector<f64, N>,
+    /// vol_β b_β = vol_β Σ_a η_a c_{0a} c_{Na}.
+    slope: f64,
+}
+
+impl<const N: usize> StarTerm<N> {
+    fn new<const M: usize>(partial: &PartialFrame<M, N>, eta: &SVector<f64, N>) -> Self {
+        let weights = metric_coefficients(&partial.inverse, eta, 0);
+        let slope = (0..N).fold(0.0, |acc, a| {
+            acc + weights[a] * vertex_coefficient(&partial.inverse, N, a)
+        });
+        Self {
+            weights,
+            slope: slope * partial.volume,
+        }
+    }
+}
+
+impl<L, X, const N: usize> MidpointRule<L, X, N>
+where
+    X: NodeMap<N>,
+{
+    /// Solves Leg_v(z) = μ_v by the generic Newton
+    /// ([`solve_legendre`]) from `start` over the star's cells `frames`
+    /// (`None`: not in the action) and writes their gradients at the solved
+    /// z into `gradients` (the marcher's layout, N + 1 per cell, zero at the
+    /// base vertex and for absent cells).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn solve_metric_star<const M: usize>(
+        &self,
+        eta: &SVector<f64, N>,
+        frames: &[Option<PartialFrame<M, N>>],
+        mu: &SVector<f64, M>,
+        mu_scale: f64,
+        start: SVector<f64, M>,
+        options: &CauchyOptions,
+        gradients: &mut [SVector<f64, M>],
+    ) -> SolvedVertex<SVector<f64, M>>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        let w = AffineFrame::<M, N>::mean_weight();
+        let blank = StarTerm {
+            weights: SVector::zeros(),
+            slope: 0.0,
+        };
+        let mut terms = [blank; MAX_STAR];
+        for (term, partial) in terms.iter_mut().zip(frames) {
+            if let Some(partial) = partial {
+                *term = StarTerm::new(partial, eta);
+            }
+        }
+        // ∇V of each cell at the last residual-only evaluation, at `written`.
+        let mut potential_gradients = [SVector::<f64, M>::zeros(); MAX_STAR];
+        let mut written: Option<SVector<f64, M>> = None;
+        let (z, outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |z, mut jacobian| {
+            let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
+            if let Some(j) = jacobian.as_deref_mut() {
+                j.fill(0.0);
+            }
+            for (c, (partial, term)) in frames.iter().zip(&terms).enumerate() {
+                let Some(partial) = partial else { continue };
+                let value = partial.value(z);
+                let dv = match jacobian.as_deref_mut() {
+                    Some(j) => {
+                        let (dv, hessian) = self.jet_free_hessian(&partial.centre, &value);
+                        *j += SMatrix::<f64, M, M>::identity() * term.slope + hessian * (w * w * partial.volume);
+                        dv
+                    }
+                    None => {
+                        let dv = self.jet_free_gradient(&partial.centre, &value);
+                        potential_gradients[c] = dv;
+                        dv
+                    }
+                };
+                let g = metric_gradient_from(|k, a| partial.jet_entry(z, k, a), &term.weights, &dv, partial.volume);
+                leg += g;
+                scale += g.amax();
+            }
+            written = if jacobian.is_none() { Some(*z) } else { None };
+            (leg, scale)
+        });
+        if outcome.failure.is_some() {
+            return SolvedVertex {
+                value: z,
+                outcome,
+                gradients_written: false,
+            };
+        }
+        let width = N + 1;
+        for (c, partial) in frames.iter().enumerate() {
+            let out = &mut gradients[c * width..(c + 1) * width];
+            out[0] = SVector::zeros();
+            let Some(partial) = partial else {
+                out.fill(SVector::zeros());
+                continue;
+            };
+            let frame = partial.complete(&z);
+            let dv = if written == Some(z) {
+                potential_gradients[c]
+            } else {
+                self.jet_free_gradient(&frame.centre, &frame.value)
+            };
+            for (l, g) in out.iter_mut().enumerate().skip(1) {
+                *g = metric_gradient(&frame, eta, &dv, l);
+            }
+        }
+        SolvedVertex {
+            value: z,
+            outcome,
+            gradients_written: true,
+        }
+    }
+}
