@@ -195,6 +195,7 @@ where
 
     /// The interpolant's sums over the values `y[..N]` of all but the last
     /// vertex.
+    #[inline]
     pub(super) fn partial_frame<const M: usize>(
         &self,
         cell: &TopCell,
@@ -208,17 +209,7 @@ where
         }
         let (inverse, volume, centre) = match self.cached_geometry(cell) {
             Some((inv, volume)) if !self.density.depends_on_position() => (inv, volume, SVector::zeros()),
-            _ => {
-                let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
-                if cell_nodes(&self.nodes, cell, &mut x) != N + 1 {
-                    return None;
-                }
-                let tx = SMatrix::<f64, N, N>::from_fn(|r, c| x[c + 1][r] - x[0][r]);
-                let (inv, jac) = invert_nodes(cell.index, &tx).ok()?;
-                let w = AffineFrame::<M, N>::mean_weight();
-                let centre = x[..=N].iter().fold(SVector::<f64, N>::zeros(), |a, b| a + b) * w;
-                (inv, jac / factorial(N) as f64, centre)
-            }
+            _ => self.node_geometry(cell)?,
         };
         let jet = SMatrix::<f64, M, N>::from_fn(|k, a| {
             (0..N - 1).fold(0.0, |acc, c| acc + (y[c + 1][k] - y[0][k]) * inverse[(c, a)])
@@ -232,6 +223,21 @@ where
             jet,
             first: y[0],
         })
+    }
+
+    /// (T^X)⁻¹, vol_β and x̄ of a cell from its nodes (kept out of line: the
+    /// cached shapes' path, inlined into the vertex solve, stays small).
+    #[inline(never)]
+    fn node_geometry(&self, cell: &TopCell) -> Option<(SMatrix<f64, N, N>, f64, SVector<f64, N>)> {
+        let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
+        if cell_nodes(&self.nodes, cell, &mut x) != N + 1 {
+            return None;
+        }
+        let tx = SMatrix::<f64, N, N>::from_fn(|r, c| x[c + 1][r] - x[0][r]);
+        let (inv, jac) = invert_nodes(cell.index, &tx).ok()?;
+        let w = 1.0 / (N + 1) as f64;
+        let centre = x[..=N].iter().fold(SVector::<f64, N>::zeros(), |a, b| a + b) * w;
+        Some((inv, jac / factorial(N) as f64, centre))
     }
 
     /// vol_β·𝓛 at the frame's (ȳ, φ) as dual numbers: `value(k, ȳ_k)` and
