@@ -354,6 +354,7 @@ fn close<S>(
         "levels": levels,
         "energy_initial": if obs.e.first.is_nan() { None } else { Some(obs.e.first) },
         "energy_error_max": energy_error_max,
+        "energy_error_max_relative": crate::pipeline::summary::relative_energy_error(energy_error_max, obs.e.first),
         "charges_error_max": charges_error_max,
         "recentred_by": info.recentred_by,
     });

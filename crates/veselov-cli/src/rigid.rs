@@ -614,6 +614,8 @@ where
                 "steps_requested": steps,
                 "energy_initial": energy.map(|c| c.first),
                 "energy_error_max": energy.map_or(0.0, |c| c.value),
+                "energy_error_max_relative": energy
+                    .map_or(serde_json::Value::Null, |c| summary::relative_energy_error(c.value, c.first)),
                 "momentum_error_max": momentum_errors,
                 "orthogonality_defect_max": orthogonality(t),
             });

@@ -296,6 +296,7 @@ where
                 "steps_requested": steps,
                 "energy_initial": e0,
                 "energy_error_max": energy,
+                "energy_error_max_relative": summary::relative_energy_error(energy, e0),
                 "momentum_error_max": t.deviations(&momenta),
                 "newton_iterations_mean": iterations as f64 / outcome.last_step.max(1) as f64,
                 // Exact Jacobians per step on the Newton path (null where not counted).
@@ -491,6 +492,9 @@ fn run_variable<const N: usize>(
                 "dt": dt,
                 "energy_initial": t.column("energy").map_or(f64::NAN, |c| c.first),
                 "energy_error_max": t.column("energy").map_or(0.0, |c| c.value),
+                "energy_error_max_relative": t
+                    .column("energy")
+                    .map_or(serde_json::Value::Null, |c| summary::relative_energy_error(c.value, c.first)),
                 "discrete_energy": tracked(0).map(|c| c.first).filter(|e| !e.is_nan()),
                 "discrete_energy_error_max": tracked(0).map_or(0.0, |c| c.value),
                 "h_min": tracked(1).map_or(f64::INFINITY, |c| c.value),

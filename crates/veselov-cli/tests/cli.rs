@@ -246,6 +246,7 @@ fn run_writes_npy_json_and_momentum_columns() {
     }
     assert_eq!(s["order"], 4);
     assert!(s["momentum_error_max"]["angular"].as_f64().expect("number") < 1e-13);
+    relative_energy_error_is_stated(&s);
     assert!(out.join("orbit.svg").exists() && out.join("momentum_error.svg").exists());
     // `veselov plot` redraws from the CSV.
     std::fs::remove_file(out.join("orbit.svg")).expect("remove");
@@ -608,6 +609,7 @@ fn lattice_field_run_reports_energy_and_charges() {
     // Guo's E^{j+½} is conserved exactly for N = 0 up to the solve tolerance.
     let e0 = s["energy_initial"].as_f64().expect("energy").abs();
     assert!(s["energy_error_max"].as_f64().expect("err") <= 1e-11 * e0, "{s}");
+    relative_energy_error_is_stated(&s);
     assert!(s["charges_error_max"]["shift_charge"].as_f64().expect("charge") <= 1e-12);
     let npy = std::fs::read(out.join("snapshots.npy")).expect("npy");
     let header = String::from_utf8_lossy(&npy[..128]).into_owned();
@@ -777,6 +779,21 @@ fn generic_lattice_paths_complex_field_and_fixed_ends() {
 /// A 2+1 field on the CFK lattice: the snapshot array has the grid's shape,
 /// the free field's shift momentum is conserved to round-off, the phase
 /// charge of the complex field too, and bad lattice keys are refused by name.
+/// `energy_error_max_relative` is `energy_error_max / |energy_initial|` (to
+/// a few ulps: serde_json's default float parser may miss the nearest
+/// double by one ulp).
+fn relative_energy_error_is_stated(s: &serde_json::Value) {
+    let error = s["energy_error_max"].as_f64().expect("energy error");
+    let initial = s["energy_initial"].as_f64().expect("initial energy");
+    let relative = s["energy_error_max_relative"].as_f64().expect("relative energy error");
+    assert!(initial != 0.0, "{s}");
+    let expected = error / initial.abs();
+    assert!(
+        (relative - expected).abs() <= 4.0 * f64::EPSILON * expected,
+        "{relative:e} against {expected:e}: {s}"
+    );
+}
+
 #[test]
 fn cfk_lattice_fields_run_and_conserve_their_momenta() {
     let dir = temp_dir("cfk");
@@ -804,6 +821,7 @@ fn cfk_lattice_fields_run_and_conserve_their_momenta() {
         assert_eq!(s["time_steps"], 30, "{model}");
         let drift = s["charges_error_max"][column].as_f64().expect("charge error");
         assert!(drift < 1e-12, "{model}: {column} drift {drift:e}");
+        relative_energy_error_is_stated(&s);
         let momentum = std::fs::read_to_string(out.join("momentum.csv")).expect("momentum.csv");
         assert_eq!(momentum.lines().next(), Some(format!("t,p_x,p_y,{column}").as_str()));
         assert_eq!(momentum.lines().count(), 32, "{model}: one row per time step");

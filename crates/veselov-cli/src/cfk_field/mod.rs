@@ -501,6 +501,7 @@ where
         "vertex_solves": outcome.last_step * (setup.nodes[0] * setup.nodes[1]) as u64,
         "energy_initial": obs.energy0,
         "energy_error_max": obs.energy_error_max,
+        "energy_error_max_relative": crate::pipeline::summary::relative_energy_error(obs.energy_error_max, obs.energy0),
         "charges_error_max": match symmetry {
             Some((name, _)) => json!({ name: obs.charge_error_max }),
             None => json!({}),

@@ -64,3 +64,13 @@ pub fn common(status: &Status, steps: u64, t_final: f64, wall_seconds: f64, iter
     }
     Value::Object(map)
 }
+
+/// The largest energy error relative to the initial energy, |E − E₀|/|E₀|
+/// (`null` where E₀ is zero or not finite: no scale to relate to).
+pub fn relative_energy_error(error_max: f64, initial: f64) -> Value {
+    if initial.is_finite() && initial != 0.0 && error_max.is_finite() {
+        json!(error_max / initial.abs())
+    } else {
+        Value::Null
+    }
+}
