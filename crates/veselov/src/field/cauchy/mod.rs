@@ -433,7 +433,7 @@ where
     }
 
     /// [`cell_values_into`](Self::cell_values_into) at a base computed once.
-    #[inline]
+    #[inline(always)]
     fn cell_values_at(
         &self,
         base: &Base,
@@ -445,10 +445,12 @@ where
         let size = self.torus.level_size();
         let ring = 2 * n + 1;
         let (first, i) = (base.slot, base.index);
+        let y = &mut y[..=n];
+        let up = &self.up[(i * self.perms.len() + sigma) * (n + 1)..][..=n];
         y[0] = self.values[first * size + i];
-        for (l, slot) in y.iter_mut().enumerate().take(n + 1).skip(1) {
+        for l in 1..=n {
             let level_slot = if first + l >= ring { first + l - ring } else { first + l };
-            *slot = self.values[level_slot * size + self.up(i, sigma, l)];
+            y[l] = self.values[level_slot * size + up[l] as usize];
         }
         if let Some(z) = top {
             y[n] = z;
