@@ -269,3 +269,70 @@ fn later_gradients_in_one_pass_are_the_per_vertex_gradients() {
     let mut out = [SVector::<f64, 6>::zeros(); 3];
     assert!(!later_gradients::<PositionRotation, _, 6>(&frame, &cell, &y, &mut out));
 }
+
+/// The parallel block sums over the straddling cells: the sequential sum to
+/// round-off, the same bits on one and two threads, and a failing cell's
+/// error returned (on a level of 24 × 24 = 576 vertices: two blocks of
+/// `STRADDLING_BLOCK` per level, six blocks in all).
+#[test]
+fn straddling_cell_sums_are_the_sequential_sum_on_any_thread_count() {
+    use veselov::field::cauchy::STRADDLING_BLOCK;
+    let torus = CfkTorus::new(3, &[24, 24]).expect("torus");
+    assert!(torus.level_size() > STRADDLING_BLOCK);
+    let nodes = CfkNodes::<3>::space_time(0.25, 0.1).expect("node map");
+    let y = data::<1>(&torus, &nodes, |x| {
+        SVector::from([1.2 * (0.8 * x[0] - 0.3 * x[2]).sin() * (0.5 * x[1]).cos()])
+    });
+    let rule = MidpointRule::new(NonlinearWave(SineGordon), nodes);
+    let mut m = CauchyMarcher::new(rule, torus, 0, &y, CauchyOptions::default()).expect("marcher");
+    for _ in 0..4 {
+        m.step().expect("level");
+    }
+    let mut sequential = [0.0; 3];
+    m.for_each_straddling_cell(|cell, y| {
+        let mut p = [0.0; 2];
+        sequential[0] += rule.cell_energy_momentum(cell, y, &mut p).expect("cell");
+        sequential[1] += p[0];
+        sequential[2] += p[1];
+    });
+    let sums = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        pool.install(|| {
+            m.sum_straddling_cells(|cell, y| {
+                let mut p = [0.0; 2];
+                let e = rule.cell_energy_momentum(cell, y, &mut p)?;
+                Ok::<_, veselov::field::discretize::CellError>([e, p[0], p[1]])
+            })
+            .expect("sums")
+        })
+    };
+    let (one, two) = (sums(1), sums(2));
+    assert_eq!(one.map(f64::to_bits), two.map(f64::to_bits), "thread counts");
+    for (a, b) in one.iter().zip(&sequential) {
+        assert!(
+            (a - b).abs() <= 1e-13 * b.abs().max(1.0),
+            "{one:?} against {sequential:?}"
+        );
+    }
+    // The error is that of the first failing cell in the sequential order,
+    // on any thread count (here: the first cell of shape 3, named by its
+    // origin).
+    let mut first = None;
+    m.for_each_straddling_cell(|cell, _| {
+        if cell.shape == 3 && first.is_none() {
+            first = Some(cell.origin);
+        }
+    });
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        let failing = pool
+            .install(|| m.sum_straddling_cells(|cell, _| if cell.shape == 3 { Err(cell.origin) } else { Ok([1.0]) }));
+        assert_eq!(failing, Err(first.expect("a cell of shape 3")), "{threads} threads");
+    }
+}

@@ -25,25 +25,15 @@ impl<P: Potential<M> + Copy, const M: usize> CfkObserver<P, M>
 where
     NonlinearWave<P>: SmoothDensity<Euclidean<M>, M, 3>,
 {
-    /// Energy and field momenta of the slab below the cut.
+    /// Energy and field momenta of the slab below the cut (summed over the
+    /// cells in parallel blocks, the same bits for every thread count).
     fn measure(&self, m: &Marcher<P, M>) -> Result<(f64, [f64; 2]), veselov::Error> {
-        let (mut e, mut p) = (0.0, [0.0; 2]);
-        let mut failure = None;
-        m.for_each_straddling_cell(|cell, y| {
-            let mut pc = [0.0; 2];
-            match self.rule.cell_energy_momentum(cell, y, &mut pc) {
-                Ok(ec) => {
-                    e += ec;
-                    p[0] += pc[0];
-                    p[1] += pc[1];
-                }
-                Err(err) => failure = Some(err),
-            }
-        });
-        match failure {
-            Some(err) => Err(err.into()),
-            None => Ok((e / self.dt, [p[0] / self.dt, p[1] / self.dt])),
-        }
+        let [e, p0, p1] = m.sum_straddling_cells(|cell, y| {
+            let mut p = [0.0; 2];
+            let e = self.rule.cell_energy_momentum(cell, y, &mut p)?;
+            Ok::<_, veselov::field::discretize::CellError>([e, p[0], p[1]])
+        })?;
+        Ok((e / self.dt, [p0 / self.dt, p1 / self.dt]))
     }
 
     /// The field at the level of time step k (weight 3k), on the fixed grid:

@@ -43,6 +43,7 @@ use crate::{Error, Result};
 
 mod checkpoint;
 mod momentum;
+pub use momentum::STRADDLING_BLOCK;
 
 /// One vertex of a level as the solve loop sees it: its index, its new
 /// value, its cells' gradients and its outcome.

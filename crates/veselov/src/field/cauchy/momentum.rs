@@ -3,11 +3,15 @@
 //! forces on a level.
 
 use nalgebra::SVector;
+use rayon::prelude::*;
 
 use super::CauchyMarcher;
 use crate::field::cell::{DiscreteLagrangian, vertex_force};
 use crate::field::complex::TopCell;
 use crate::field::fibre::Fibre;
+
+/// Vertices per block of [`CauchyMarcher::sum_straddling_cells`].
+pub const STRADDLING_BLOCK: usize = 512;
 
 impl<F, L, const M: usize> CauchyMarcher<F, L, M>
 where
@@ -35,6 +39,49 @@ where
                 }
             }
         }
+    }
+
+    /// Σ_β f(β, y_β) over the cells of
+    /// [`for_each_straddling_cell`](Self::for_each_straddling_cell), K sums
+    /// at once: blocks of [`STRADDLING_BLOCK`] vertices of one level in
+    /// parallel, each summed in index order, then the blocks' sums in block
+    /// order, so the bits do not depend on the thread count. The first error
+    /// in that order is returned.
+    pub fn sum_straddling_cells<const K: usize, E: Send>(
+        &self,
+        f: impl Fn(&TopCell, &[F::Point<f64>]) -> Result<[f64; K], E> + Sync,
+    ) -> Result<[f64; K], E>
+    where
+        L: Sync,
+    {
+        let n = self.torus.dimension();
+        let size = self.torus.level_size();
+        let blocks = size.div_ceil(STRADDLING_BLOCK);
+        let block_sum = |b: usize| -> Result<[f64; K], E> {
+            let (j, first) = (1 + b / blocks, (b % blocks) * STRADDLING_BLOCK);
+            let base = self.level - j as i64;
+            let mut sum = [0.0; K];
+            for i in first..(first + STRADDLING_BLOCK).min(size) {
+                for sigma in 0..self.perms.len() {
+                    if !self.cell_active(base, i, sigma) {
+                        continue;
+                    }
+                    let (cell, y) = self.cell_values(base, i, sigma, None);
+                    for (s, v) in sum.iter_mut().zip(f(&cell, &y[..=n])?) {
+                        *s += v;
+                    }
+                }
+            }
+            Ok(sum)
+        };
+        let sums: Vec<Result<[f64; K], E>> = (0..n * blocks).into_par_iter().map(block_sum).collect();
+        let mut total = [0.0; K];
+        for sum in sums {
+            for (t, v) in total.iter_mut().zip(sum?) {
+                *t += v;
+            }
+        }
+        Ok(total)
     }
 
     /// The level momentum of a vertical symmetry D at the cut below the
