@@ -114,9 +114,7 @@ impl<const M: usize, const N: usize> PartialFrame<M, N> {
             jet,
         }
     }
-}
 
-impl<const M: usize, const N: usize> PartialFrame<M, N> {
     /// ȳ with the last vertex value `z` (the bits of the completed frame's).
     #[inline]
     pub(super) fn value(&self, z: &SVector<f64, M>) -> SVector<f64, M> {
