@@ -1,7 +1,8 @@
 #![allow(unsafe_code)] // a counting global allocator needs `unsafe impl GlobalAlloc`
 //! The lattice paths allocate nothing per level: a counting global
 //! allocator watches 200 levels of every fast scheme and of the generic
-//! (core) path on triangles and rectangles, periodic and Dirichlet.
+//! (core) path on triangles and rectangles, periodic and Dirichlet, and 30
+//! levels of the Cauchy marcher on 2+1 fields and on the rod.
 
 use std::sync::atomic::Ordering;
 
@@ -76,4 +77,109 @@ fn generic_level_solves_do_not_allocate() {
     generic_levels_do_not_allocate("Dirichlet triangles", triangle, fixed);
     generic_levels_do_not_allocate("periodic rectangles", rectangle, periodic);
     generic_levels_do_not_allocate("Dirichlet rectangles", rectangle, fixed);
+}
+
+/// `levels` levels of a Cauchy march on a one-thread pool, the allocations
+/// of the thread that solves them counted.
+fn cauchy_levels_allocations<F, L, const M: usize>(
+    m: &mut veselov::field::cauchy::CauchyMarcher<F, L, M>,
+    levels: usize,
+) -> usize
+where
+    F: veselov::field::fibre::Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: veselov::field::cell::DiscreteLagrangian<F, M> + Sync,
+{
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool");
+    pool.install(|| {
+        m.step().expect("warm-up");
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        WATCHED.with(|w| w.set(true));
+        for _ in 0..levels {
+            std::hint::black_box(m.step().expect("level"));
+        }
+        WATCHED.with(|w| w.set(false));
+        ALLOCATIONS.load(Ordering::SeqCst) - before
+    })
+}
+
+/// The Cauchy marcher's levels allocate nothing: the 2+1 midpoint rule of
+/// sine-Gordon and of the complex Klein–Gordon field (closed form of the
+/// diagonal jet metric), the same rule through dual numbers over whole
+/// cells, and the Cosserat rod's split vertex step.
+#[test]
+fn cauchy_levels_do_not_allocate() {
+    use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
+    use veselov::field::complex::CfkTorus;
+    use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, MidpointRule, RodParameters};
+    use veselov::field::fibre::Pose;
+    use veselov::field::potential::ComplexKleinGordon;
+    let torus = CfkTorus::new(3, &[8, 8]).expect("torus");
+    let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
+    let data = |m: usize| -> Vec<Vec<SVector<f64, 2>>> {
+        (0..6)
+            .map(|w| {
+                (0..torus.level_size())
+                    .map(|i| {
+                        let x = nodes.node(&torus.vertex(w, i));
+                        SVector::from_fn(|k, _| ((0.9 + k as f64) * x[0] - 0.4 * x[2]).sin() * (0.7 * x[1]).cos())
+                            * (m as f64).recip()
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let scalar: Vec<Vec<SVector<f64, 1>>> = data(1)
+        .iter()
+        .map(|level| level.iter().map(|y| SVector::from([y[0]])).collect())
+        .collect();
+    let sg = MidpointRule::new(NonlinearWave(SineGordon), nodes);
+    let mut a = CauchyMarcher::new(sg, torus.clone(), 0, &scalar, CauchyOptions::default()).expect("marcher");
+    assert_eq!(cauchy_levels_allocations(&mut a, 30), 0, "sine-Gordon, closed form");
+    let mut b = CauchyMarcher::new(
+        sg.with_chain_rule(false),
+        torus.clone(),
+        0,
+        &scalar,
+        CauchyOptions::default(),
+    )
+    .expect("marcher");
+    assert_eq!(
+        cauchy_levels_allocations(&mut b, 30),
+        0,
+        "sine-Gordon, dual numbers over cells"
+    );
+    let kg = MidpointRule::new(NonlinearWave(ComplexKleinGordon { m2: 1.0, lambda: 0.5 }), nodes);
+    let mut c = CauchyMarcher::new(kg, torus.clone(), 0, &data(2), CauchyOptions::default()).expect("marcher");
+    assert_eq!(
+        cauchy_levels_allocations(&mut c, 30),
+        0,
+        "complex Klein-Gordon, closed form"
+    );
+    let p = RodParameters::new(
+        1.0,
+        nalgebra::Matrix3::identity() * 0.1,
+        nalgebra::Matrix3::identity() * 10.0,
+        nalgebra::Matrix3::identity(),
+        nalgebra::Vector3::new(0.0, 0.0, 1.0),
+    )
+    .expect("parameters");
+    let lattice = veselov::models::rod::RodLattice::new(21, 2.0, 0.01).expect("lattice");
+    let cell = CosseratCell::new(CosseratDensity::free(p), lattice.ds(), 0.01).expect("cell");
+    let rod = lattice.cauchy_data(|s, t| {
+        Pose::new(
+            nalgebra::Vector3::new(0.01 * (3.0 * s).sin() * (1.0 + t), 0.0, s),
+            veselov::lie::so3::exp(&nalgebra::Vector3::new(0.01 * s, 0.0, 0.02 * t)),
+        )
+    });
+    let mut d = CauchyMarcher::with_window(
+        cell,
+        lattice.torus().clone(),
+        0,
+        &rod,
+        CauchyOptions::default(),
+        lattice.window(),
+    )
+    .expect("marcher");
+    assert_eq!(cauchy_levels_allocations(&mut d, 30), 0, "Cosserat rod");
 }
