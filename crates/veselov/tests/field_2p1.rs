@@ -18,6 +18,10 @@ use veselov::field::discretize::{CfkNodes, MidpointRule};
 use veselov::field::fibre::Euclidean;
 use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
 
+#[path = "support/threads.rs"]
+mod threads;
+use threads::on_threads;
+
 /// Cauchy data: the six levels of a prescribed space–time function.
 fn data<const M: usize>(
     torus: &CfkTorus,
@@ -296,11 +300,7 @@ fn straddling_cell_sums_are_the_sequential_sum_on_any_thread_count() {
         sequential[2] += p[1];
     });
     let sums = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool");
-        pool.install(|| {
+        on_threads(threads, || {
             m.sum_straddling_cells(|cell, y| {
                 let mut p = [0.0; 2];
                 let e = rule.cell_energy_momentum(cell, y, &mut p)?;
@@ -327,12 +327,9 @@ fn straddling_cell_sums_are_the_sequential_sum_on_any_thread_count() {
         }
     });
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool");
-        let failing = pool
-            .install(|| m.sum_straddling_cells(|cell, _| if cell.shape == 3 { Err(cell.origin) } else { Ok([1.0]) }));
+        let failing = on_threads(threads, || {
+            m.sum_straddling_cells(|cell, _| if cell.shape == 3 { Err(cell.origin) } else { Ok([1.0]) })
+        });
         assert_eq!(failing, Err(first.expect("a cell of shape 3")), "{threads} threads");
     }
 }

@@ -15,6 +15,10 @@ use veselov::field::variational::{action, euler_lagrange, noether_balance};
 use veselov::lie::{SE3, SO3, so3};
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, PhaseState, integrate};
 
+#[path = "support/threads.rs"]
+mod threads;
+use threads::on_threads;
+
 /// A small deterministic generator (xorshift) for random fields.
 struct Rng(u64);
 impl Rng {
@@ -403,11 +407,7 @@ fn marching_conserves_the_level_charge_and_solves_euler_lagrange() {
 #[test]
 fn results_are_identical_for_one_and_two_threads() {
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool");
-        pool.install(|| {
+        on_threads(threads, || {
             let mut m = complex_field_marcher(8);
             for _ in 0..40 {
                 m.step().expect("level");

@@ -15,6 +15,9 @@ use veselov::field::{
 #[path = "support/counting_alloc.rs"]
 mod counting_alloc;
 use counting_alloc::{ALLOCATIONS, WATCHED};
+#[path = "support/threads.rs"]
+mod threads;
+use threads::on_threads;
 
 #[test]
 fn level_updates_do_not_allocate() {
@@ -90,8 +93,7 @@ where
     F::Point<f64>: Send + Sync,
     L: veselov::field::cell::DiscreteLagrangian<F, M> + Sync,
 {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool");
-    pool.install(|| {
+    on_threads(1, || {
         m.step().expect("warm-up");
         let before = ALLOCATIONS.load(Ordering::SeqCst);
         WATCHED.with(|w| w.set(true));

@@ -13,6 +13,10 @@ use veselov::models::rod::{
     CrossSection, Material, RodLattice, Shear, angular_momentum, linear_momentum, rod_parameters,
 };
 
+#[path = "support/threads.rs"]
+mod threads;
+use threads::on_threads;
+
 /// A slender steel-like rod in units with E/ρ = 1 (fastest wave speed 1).
 fn parameters() -> RodParameters {
     let material = Material {
@@ -250,11 +254,7 @@ fn generic_discretisation_marches_the_same_rod_and_q_sym_conserves_momentum() {
 fn one_and_two_threads_give_identical_bits() {
     let lattice = RodLattice::new(101, 1.0, 0.005).expect("lattice");
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool");
-        pool.install(|| {
+        on_threads(threads, || {
             let mut m = rod_march(closed_form(&lattice), &lattice);
             for _ in 0..20 {
                 m.step().expect("stable step");

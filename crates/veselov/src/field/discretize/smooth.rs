@@ -200,13 +200,24 @@ mod tests {
     use super::*;
     use crate::field::potential::{ComplexKleinGordon, SineGordon};
 
+    /// Twenty reproducible arguments (x, y, φ) of a density.
+    #[allow(clippy::type_complexity)]
+    fn samples<const M: usize, const N: usize>() -> Vec<(SVector<f64, N>, SVector<f64, M>, SMatrix<f64, M, N>)> {
+        (0..20)
+            .map(|trial| {
+                let t = trial as f64;
+                (
+                    SVector::from_fn(|a, _| (0.3 * t + a as f64).sin()),
+                    SVector::from_fn(|k, _| 2.0 * (0.7 * t - k as f64).cos()),
+                    SMatrix::from_fn(|k, a| (1.3 * t + 0.4 * k as f64 - 0.9 * a as f64).sin() * 1.7),
+                )
+            })
+            .collect()
+    }
+
     fn check<S: SmoothDensity<Euclidean<M>, M, N>, const M: usize, const N: usize>(density: &S) -> f64 {
         let mut worst: f64 = 0.0;
-        for trial in 0..20 {
-            let t = trial as f64;
-            let x = SVector::<f64, N>::from_fn(|a, _| (0.3 * t + a as f64).sin());
-            let y = SVector::<f64, M>::from_fn(|k, _| 2.0 * (0.7 * t - k as f64).cos());
-            let jet = SMatrix::<f64, M, N>::from_fn(|k, a| (1.3 * t + 0.4 * k as f64 - 0.9 * a as f64).sin() * 1.7);
+        for (x, y, jet) in samples::<M, N>() {
             let mut momenta = [0.0; N];
             let e = energy_momentum_density(density, &x, &y, &jet, &mut momenta[..N - 1]);
             let e1 = energy_density(density, &x, &y, &jet);
@@ -253,11 +264,7 @@ mod tests {
     fn metric_form<S: SmoothDensity<Euclidean<M>, M, N>, const M: usize, const N: usize>(density: &S) -> f64 {
         let eta = density.diagonal_jet_metric().expect("a declared metric");
         let mut worst: f64 = 0.0;
-        for trial in 0..20 {
-            let t = trial as f64;
-            let x = SVector::<f64, N>::from_fn(|a, _| (0.3 * t + a as f64).sin());
-            let y = SVector::<f64, M>::from_fn(|k, _| 2.0 * (0.7 * t - k as f64).cos());
-            let jet = SMatrix::<f64, M, N>::from_fn(|k, a| (1.3 * t + 0.4 * k as f64 - 0.9 * a as f64).sin() * 1.7);
+        for (x, y, jet) in samples::<M, N>() {
             let quadratic: f64 = (0..M)
                 .map(|k| (0..N).map(|a| 0.5 * eta[a] * jet[(k, a)] * jet[(k, a)]).sum::<f64>())
                 .sum();
