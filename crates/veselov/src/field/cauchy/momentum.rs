@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::CauchyMarcher;
 use crate::field::cell::{DiscreteLagrangian, vertex_force};
-use crate::field::complex::TopCell;
+use crate::field::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::field::fibre::Fibre;
 
 /// Vertices per block of [`CauchyMarcher::sum_straddling_cells`].
@@ -62,11 +62,13 @@ where
             let base = self.level - j as i64;
             let mut sum = [0.0; K];
             for i in first..(first + STRADDLING_BLOCK).min(size) {
+                let at = self.base(base, i);
+                let mut y = [self.values[at.slot * size + i]; MAX_LATTICE_DIMENSION + 1];
                 for sigma in 0..self.perms.len() {
-                    if !self.cell_active(base, i, sigma) {
+                    if !self.cell_active_at(&at, sigma) {
                         continue;
                     }
-                    let (cell, y) = self.cell_values(base, i, sigma, None);
+                    let cell = self.cell_values_at(&at, sigma, None, &mut y);
                     for (s, v) in sum.iter_mut().zip(f(&cell, &y[..=n])?) {
                         *s += v;
                     }
