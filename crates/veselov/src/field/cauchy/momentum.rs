@@ -26,15 +26,29 @@ where
     /// energy over them divided by Δt is a level energy. With a window, only
     /// the cells inside it.
     pub fn for_each_straddling_cell(&self, mut f: impl FnMut(&TopCell, &[F::Point<f64>])) {
+        for j in 1..=self.torus.dimension() {
+            self.visit_straddling(j, 0..self.torus.level_size(), &mut f);
+        }
+    }
+
+    /// Calls `f` on the straddling cells based at level `level() − j` on
+    /// the vertices `vertices`, in index order (each vertex's base and
+    /// values gathered once for its cells).
+    fn visit_straddling(
+        &self,
+        j: usize,
+        vertices: std::ops::Range<usize>,
+        mut f: impl FnMut(&TopCell, &[F::Point<f64>]),
+    ) {
         let n = self.torus.dimension();
-        for j in 1..=n {
-            let base = self.level - j as i64;
-            for i in 0..self.torus.level_size() {
-                for sigma in 0..self.perms.len() {
-                    if !self.cell_active(base, i, sigma) {
-                        continue;
-                    }
-                    let (cell, y) = self.cell_values(base, i, sigma, None);
+        let size = self.torus.level_size();
+        let w = self.level - j as i64;
+        for i in vertices {
+            let at = self.base(w, i);
+            let mut y = [self.values[at.slot * size + i]; MAX_LATTICE_DIMENSION + 1];
+            for sigma in 0..self.perms.len() {
+                if self.cell_active_at(&at, sigma) {
+                    let cell = self.cell_values_at(&at, sigma, None, &mut y);
                     f(&cell, &y[..=n]);
                 }
             }
@@ -59,22 +73,17 @@ where
         let blocks = size.div_ceil(STRADDLING_BLOCK);
         let block_sum = |b: usize| -> Result<[f64; K], E> {
             let (j, first) = (1 + b / blocks, (b % blocks) * STRADDLING_BLOCK);
-            let base = self.level - j as i64;
-            let mut sum = [0.0; K];
-            for i in first..(first + STRADDLING_BLOCK).min(size) {
-                let at = self.base(base, i);
-                let mut y = [self.values[at.slot * size + i]; MAX_LATTICE_DIMENSION + 1];
-                for sigma in 0..self.perms.len() {
-                    if !self.cell_active_at(&at, sigma) {
-                        continue;
-                    }
-                    let cell = self.cell_values_at(&at, sigma, None, &mut y);
-                    for (s, v) in sum.iter_mut().zip(f(&cell, &y[..=n])?) {
-                        *s += v;
+            let mut sum = Ok([0.0; K]);
+            self.visit_straddling(j, first..(first + STRADDLING_BLOCK).min(size), |cell, y| {
+                // After the block's first error its other cells are skipped.
+                if let Ok(total) = &mut sum {
+                    match f(cell, y) {
+                        Ok(value) => total.iter_mut().zip(value).for_each(|(s, v)| *s += v),
+                        Err(e) => sum = Err(e),
                     }
                 }
-            }
-            Ok(sum)
+            });
+            sum
         };
         let sums: Vec<Result<[f64; K], E>> = (0..n * blocks).into_par_iter().map(block_sum).collect();
         let mut total = [0.0; K];
