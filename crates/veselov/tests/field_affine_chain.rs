@@ -32,6 +32,39 @@ impl<const M: usize, const N: usize> SmoothDensity<Euclidean<M>, M, N> for Inhom
     }
 }
 
+/// A density that declares an anisotropic diagonal jet metric and reads the
+/// base point in its jet-free part: 𝓛 = ½ Σ_{k,a} η_a φ_{ka}² + (1 + 0.2x₀) Σ_k cos y_k
+/// + 0.1 x₁ y₀², η = (0.7, −1.3, 2.1, …).
+struct Anisotropic;
+
+impl Anisotropic {
+    fn eta(a: usize) -> f64 {
+        [0.7, -1.3, 2.1, 0.4][a]
+    }
+}
+
+impl<const M: usize, const N: usize> SmoothDensity<Euclidean<M>, M, N> for Anisotropic {
+    fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &SVector<D, M>, jet: &SMatrix<D, M, N>) -> D {
+        let mut value = self.jet_free_part(x, y);
+        for k in 0..M {
+            for a in 0..N {
+                value += jet[(k, a)] * jet[(k, a)] * (0.5 * Self::eta(a));
+            }
+        }
+        value
+    }
+    fn diagonal_jet_metric(&self) -> Option<SVector<f64, N>> {
+        Some(SVector::from_fn(|a, _| Self::eta(a)))
+    }
+    fn jet_free_part<D: Scalar>(&self, x: &SVector<f64, N>, y: &SVector<D, M>) -> D {
+        let mut value = y[0] * y[0] * (0.1 * x[1 % N]);
+        for k in 0..M {
+            value += y[k].cos() * (1.0 + 0.2 * x[0]);
+        }
+        value
+    }
+}
+
 /// A density that does not declare its diagonal jet metric: the rule
 /// differentiates it by dual numbers over the whole density.
 #[derive(Clone)]
@@ -127,6 +160,7 @@ fn chain_rule_derivatives_equal_the_dual_passes_over_the_cell() {
         Opaque(NonlinearWave(ComplexKleinGordon { m2: 1.3, lambda: 0.4 })),
         CfkNodes::<3>::space_time(0.25, 0.07).expect("nodes"),
     );
+    let anisotropic = MidpointRule::new(Anisotropic, CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes"));
     let inhomogeneous = MidpointRule::new(Inhomogeneous, CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes"));
     let inhomogeneous2 = MidpointRule::new(Inhomogeneous, CfkNodes::<3>::space_time(0.2, 0.15).expect("nodes"));
     let results = [
@@ -146,6 +180,14 @@ fn chain_rule_derivatives_equal_the_dual_passes_over_the_cell() {
         (
             "complex Klein-Gordon, 2+1 (8 directions)",
             compare::<_, 2>(&kg_duals, 3, &origins),
+        ),
+        (
+            "anisotropic metric, position-dependent potential, scalar (closed form)",
+            compare::<_, 1>(&anisotropic, 3, &origins),
+        ),
+        (
+            "anisotropic metric, position-dependent potential, pair (closed form)",
+            compare::<_, 2>(&anisotropic, 3, &origins),
         ),
         (
             "position-dependent scalar",
