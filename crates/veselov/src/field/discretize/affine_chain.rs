@@ -138,6 +138,18 @@ pub(super) fn metric_coefficients<const N: usize>(
     SVector::from_fn(|a, _| eta[a] * vertex_coefficient(inverse, l, a))
 }
 
+/// Σ_c η_c c_{ac} c_{bc}: the jet term of ∂²L_β/∂y_a∂y_b over vol_β (a
+/// multiple of the identity), formed from the weights η_c c_{ac}
+/// ([`metric_coefficients`] of vertex a).
+#[inline]
+pub(super) fn metric_product<const N: usize>(
+    inverse: &SMatrix<f64, N, N>,
+    weights_a: &SVector<f64, N>,
+    b: usize,
+) -> f64 {
+    (0..N).fold(0.0, |acc, c| acc + weights_a[c] * vertex_coefficient(inverse, b, c))
+}
+
 /// ∂L_β/∂y_l = vol_β·(Σ_a η_a φ_{·a} c_{la} + ∇_yV/(N + 1)) for a density of
 /// diagonal jet metric η, from the jet's entries `jet(k, a)`, the weights
 /// η_a c_{la} ([`metric_coefficients`]) and ∇_yV at the frame: every
@@ -435,9 +447,7 @@ where
         let w = AffineFrame::<M, N>::mean_weight();
         if let Some(eta) = self.density.diagonal_jet_metric() {
             let (dv, hessian) = self.jet_free_hessian(&frame.centre, &frame.value);
-            let metric = (0..N).fold(0.0, |acc, c| {
-                acc + eta[c] * frame.coefficient(a, c) * frame.coefficient(b, c)
-            });
+            let metric = metric_product(&frame.inverse, &metric_coefficients(&frame.inverse, &eta, a), b);
             let block = SMatrix::<f64, M, M>::from_fn(|i, j| {
                 let diagonal = if i == j { metric } else { 0.0 };
                 (diagonal + hessian[(i, j)] * (w * w)) * frame.volume
@@ -496,11 +506,11 @@ where
     {
         let cells = factorial(N);
         let width = N + 1;
-        let closed_form = self.density.diagonal_jet_metric().is_some();
+        let metric = self.density.diagonal_jet_metric();
         if N == 0
             || width > MAX_CELL_VERTICES
             || cells > MAX_STAR
-            || (M * width > 16 && !closed_form)
+            || (M * width > 16 && metric.is_none())
             || gradients.len() != cells * width
         {
             return None;
@@ -515,7 +525,7 @@ where
             }
         }
         let start = Euclidean::<M>::extrapolate(previous, &base?);
-        if let Some(eta) = self.density.diagonal_jet_metric() {
+        if let Some(eta) = metric {
             let frames = &frames[..cells];
             return Some(self.solve_metric_star(&eta, frames, mu, mu_scale, start, options, gradients));
         }

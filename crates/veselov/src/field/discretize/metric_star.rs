@@ -29,7 +29,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
 use super::affine_chain::{
-    AffineFrame, MAX_STAR, PartialFrame, metric_coefficients, metric_gradient, metric_gradient_from, vertex_coefficient,
+    AffineFrame, MAX_STAR, PartialFrame, metric_coefficients, metric_gradient, metric_gradient_from, metric_product,
 };
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;
@@ -49,9 +49,7 @@ struct StarTerm<const N: usize> {
 impl<const N: usize> StarTerm<N> {
     fn new<const M: usize>(partial: &PartialFrame<M, N>, eta: &SVector<f64, N>) -> Self {
         let weights = metric_coefficients(&partial.inverse, eta, 0);
-        let slope = (0..N).fold(0.0, |acc, a| {
-            acc + weights[a] * vertex_coefficient(&partial.inverse, N, a)
-        });
+        let slope = metric_product(&partial.inverse, &weights, N);
         Self {
             weights,
             slope: slope * partial.volume,
