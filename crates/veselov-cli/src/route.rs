@@ -51,8 +51,14 @@ pub fn run_scenario(path: &Path, job: run::RunJob) -> Result<(), CliError> {
 
 /// Run the scenario `text` attributed to `path` (for messages and the
 /// default output directory), whatever its kind: parse and validate, build
-/// the kind's job and run it on the pipeline into the job's directory.
+/// the kind's job and run it on the pipeline into the job's directory, on a
+/// thread of the rayon pool ([`veselov::run::on_pool`]: the lattice
+/// marchers' parallel levels are cheap to hand over from there).
 pub fn run_text(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliError> {
+    veselov::run::on_pool(|| run_kind(path, text, job))
+}
+
+fn run_kind(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliError> {
     match kind(path, text)? {
         ScenarioKind::RigidBody => rigid::run(path, text, job),
         ScenarioKind::Field => field::run(path, text, job),

@@ -2,9 +2,10 @@
 //! The lattice paths allocate nothing per level: a counting global
 //! allocator watches 200 levels of every fast scheme and of the generic
 //! (core) path on triangles and rectangles, periodic and Dirichlet, and 30
-//! levels of the Cauchy marcher on 2+1 fields and on the rod.
+//! levels of the Cauchy marcher on 2+1 fields and on the rod, on one thread
+//! and with levels split between two.
 
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use nalgebra::SVector;
 use veselov::field::{
@@ -14,10 +15,7 @@ use veselov::field::{
 
 #[path = "support/counting_alloc.rs"]
 mod counting_alloc;
-use counting_alloc::{ALLOCATIONS, WATCHED};
-#[path = "support/threads.rs"]
-mod threads;
-use threads::on_threads;
+use counting_alloc::{ALLOCATIONS, POOL_ALLOCATIONS, POOL_WATCHED, WATCHED, mark_pool_thread};
 
 #[test]
 fn level_updates_do_not_allocate() {
@@ -82,26 +80,46 @@ fn generic_level_solves_do_not_allocate() {
     generic_levels_do_not_allocate("Dirichlet rectangles", rectangle, fixed);
 }
 
-/// `levels` levels of a Cauchy march on a one-thread pool, the allocations
-/// of the thread that solves them counted.
+/// `levels` levels of a Cauchy march on a pool of `threads` threads, the
+/// allocations of the pool's threads counted (after two warm-up levels, the
+/// first measured on one thread and the second possibly split, and the
+/// threads' one-time registration with their work queues).
 fn cauchy_levels_allocations<F, L, const M: usize>(
     m: &mut veselov::field::cauchy::CauchyMarcher<F, L, M>,
     levels: usize,
+    threads: usize,
 ) -> usize
 where
     F: veselov::field::fibre::Fibre<M>,
     F::Point<f64>: Send + Sync,
     L: veselov::field::cell::DiscreteLagrangian<F, M> + Sync,
 {
-    on_threads(1, || {
+    static POOLS: AtomicUsize = AtomicUsize::new(0);
+    let number = POOLS.fetch_add(1, Ordering::SeqCst) + 1;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .start_handler(move |_| mark_pool_thread(number))
+        .build()
+        .expect("a thread pool");
+    pool.install(|| {
         m.step().expect("warm-up");
-        let before = ALLOCATIONS.load(Ordering::SeqCst);
-        WATCHED.with(|w| w.set(true));
+        m.step().expect("warm-up");
+        // A pool thread allocates once in its life, on its first look into
+        // a work queue (it registers with the queues' memory reclamation);
+        // every thread looks into its queue before it takes a broadcast job.
+        pool.broadcast(|_| ());
+        pool.broadcast(|_| ());
+        let before = POOL_ALLOCATIONS.load(Ordering::SeqCst);
+        POOL_WATCHED.store(number, Ordering::SeqCst);
+        let mut parallel = 0;
         for _ in 0..levels {
-            std::hint::black_box(m.step().expect("level"));
+            parallel += usize::from(std::hint::black_box(m.step().expect("level")).parallel);
         }
-        WATCHED.with(|w| w.set(false));
-        ALLOCATIONS.load(Ordering::SeqCst) - before
+        POOL_WATCHED.store(0, Ordering::SeqCst);
+        if threads > 1 {
+            assert_eq!(parallel, levels, "every level split between {threads} threads");
+        }
+        POOL_ALLOCATIONS.load(Ordering::SeqCst) - before
     })
 }
 
@@ -137,7 +155,13 @@ fn cauchy_levels_do_not_allocate() {
         .collect();
     let sg = MidpointRule::new(NonlinearWave(SineGordon), nodes);
     let mut a = CauchyMarcher::new(sg, torus.clone(), 0, &scalar, CauchyOptions::default()).expect("marcher");
-    assert_eq!(cauchy_levels_allocations(&mut a, 30), 0, "sine-Gordon, closed form");
+    for threads in [1, 2] {
+        assert_eq!(
+            cauchy_levels_allocations(&mut a, 30, threads),
+            0,
+            "sine-Gordon, closed form, {threads} threads"
+        );
+    }
     let mut b = CauchyMarcher::new(
         sg.with_chain_rule(false),
         torus.clone(),
@@ -147,14 +171,14 @@ fn cauchy_levels_do_not_allocate() {
     )
     .expect("marcher");
     assert_eq!(
-        cauchy_levels_allocations(&mut b, 30),
+        cauchy_levels_allocations(&mut b, 30, 1),
         0,
         "sine-Gordon, dual numbers over cells"
     );
     let kg = MidpointRule::new(NonlinearWave(ComplexKleinGordon { m2: 1.0, lambda: 0.5 }), nodes);
     let mut c = CauchyMarcher::new(kg, torus.clone(), 0, &data(2), CauchyOptions::default()).expect("marcher");
     assert_eq!(
-        cauchy_levels_allocations(&mut c, 30),
+        cauchy_levels_allocations(&mut c, 30, 1),
         0,
         "complex Klein-Gordon, closed form"
     );
@@ -166,8 +190,9 @@ fn cauchy_levels_do_not_allocate() {
         nalgebra::Vector3::new(0.0, 0.0, 1.0),
     )
     .expect("parameters");
-    let lattice = veselov::models::rod::RodLattice::new(21, 2.0, 0.01).expect("lattice");
-    let cell = CosseratCell::new(CosseratDensity::free(p), lattice.ds(), 0.01).expect("cell");
+    // 81 nodes: 41 vertices per level, enough work to split a level.
+    let lattice = veselov::models::rod::RodLattice::new(81, 2.0, 0.002).expect("lattice");
+    let cell = CosseratCell::new(CosseratDensity::free(p), lattice.ds(), 0.002).expect("cell");
     let rod = lattice.cauchy_data(|s, t| {
         Pose::new(
             nalgebra::Vector3::new(0.01 * (3.0 * s).sin() * (1.0 + t), 0.0, s),
@@ -183,5 +208,11 @@ fn cauchy_levels_do_not_allocate() {
         lattice.window(),
     )
     .expect("marcher");
-    assert_eq!(cauchy_levels_allocations(&mut d, 30), 0, "Cosserat rod");
+    for threads in [1, 2] {
+        assert_eq!(
+            cauchy_levels_allocations(&mut d, 30, threads),
+            0,
+            "Cosserat rod, {threads} threads"
+        );
+    }
 }

@@ -256,9 +256,17 @@ fn one_and_two_threads_give_identical_bits() {
     let run = |threads: usize| {
         on_threads(threads, || {
             let mut m = rod_march(closed_form(&lattice), &lattice);
+            let mut parallel = 0;
             for _ in 0..20 {
-                m.step().expect("stable step");
+                parallel += usize::from(m.step().expect("stable step").parallel);
             }
+            // On a thread of the pool, a level of 51 vertices (above 10 µs
+            // of work) is split between two threads after the first.
+            assert_eq!(
+                parallel,
+                if threads == 1 { 0 } else { 19 },
+                "levels split on {threads} threads"
+            );
             let mut bits = Vec::new();
             for w in [m.top_level() - 1, m.top_level()] {
                 for y in m.level_values(w).expect("level") {

@@ -48,6 +48,9 @@ pub struct LevelReport {
     pub jacobians: usize,
     /// Largest final residual max|Leg_v − μ_v| relative to its scale.
     pub max_relative_residual: f64,
+    /// Whether the level's vertices were shared among the threads of the
+    /// pool (the values do not depend on it).
+    pub parallel: bool,
 }
 
 /// How one vertex solve ended.

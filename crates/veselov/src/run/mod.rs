@@ -21,13 +21,18 @@
 //! [`Checkpoint`] lets a stepper save and restore what it carries from step
 //! to step (predictor history, compensated-summation terms, lattice levels),
 //! so that a resumed run continues bit for bit.
+//!
+//! [`on_pool`] runs a whole run on a thread of the rayon pool, where the
+//! lattice marchers hand a level's vertices to the other threads cheaply.
 
 mod adapters;
 mod checkpoint;
 mod driver;
+mod pool;
 mod states;
 
 pub use adapters::{DynStepper, GroupStepper, PhaseStepper, SemStepper};
 pub use checkpoint::{Checkpoint, Words, save_count};
 pub(crate) use checkpoint::{restore_option, save_option};
 pub use driver::{Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, drive};
+pub use pool::on_pool;

@@ -51,19 +51,28 @@ type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f
 
 /// The work one thread takes at least: the chunk is sized from the cost per
 /// vertex measured on the last level solved on one thread so that it holds
-/// about this much. The first level is always solved on the calling thread
-/// (a level solved in parallel is never measured: if the first one were,
-/// the chunk would keep its first guess for the whole march). Chunking
-/// decides only who solves which vertex, never what is computed: results
-/// stay bit-identical for every thread count.
+/// about this much (and at most a thread's share of the level, so that a
+/// level worth splitting is split). The first level is always solved on the
+/// calling thread (a level solved in parallel is never measured: if the
+/// first one were, the chunk would keep its first guess for the whole
+/// march). Chunking decides only who solves which vertex, never what is
+/// computed: results stay bit-identical for every thread count.
 const CHUNK_WORK_NS: f64 = 20_000.0;
 
-/// The least work of a level solved in parallel. Handing work to pool
-/// threads that went to sleep while the run did other things between levels
-/// (diagnostics, output) costs tens of µs per level: a 41-node loaded rod
-/// (about 50 µs per level) ran 30 % slower on two threads than on one when
-/// its levels were split.
+/// The least work of a level solved in parallel when the march runs outside
+/// the pool (on a thread of its own, e.g. a program's main thread). The
+/// hand-over then goes through a sleeping lock: the calling thread blocks
+/// until the pool has solved the whole level and is woken up, tens of µs
+/// per level; a 41-node loaded rod (about 50 µs per level) ran 30 % slower
+/// on two threads than on one when its levels were split.
 const PARALLEL_LEVEL_NS: f64 = 150_000.0;
+
+/// The least work of a level solved in parallel when the march runs on a
+/// thread of the pool itself ([`crate::run::on_pool`], as the command line
+/// runs every scenario): that thread solves its share and hands the rest to
+/// the other workers through their queues, a few µs per level. A 100-element
+/// rod's levels (about 30 µs each) take 1.7× less wall time on two threads.
+const PARALLEL_LEVEL_NS_ON_POOL: f64 = 10_000.0;
 
 /// Stars whose cells a generic vertex solve gathers once (3! cells, the
 /// lattices up to 2+1), of at most [`SMALL_CELL`] vertices each; larger
@@ -99,8 +108,10 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     next_values: Vec<F::Point<f64>>,
     next_grads: Vec<SVector<f64, M>>,
     outcomes: Vec<VertexOutcome>,
-    /// Vertices per parallel chunk (see [`CHUNK_WORK_NS`]).
-    chunk: usize,
+    /// Wall time per vertex of the last level solved on one thread (ns;
+    /// `None` before the first), which sizes the parallel chunks
+    /// ([`CHUNK_WORK_NS`]).
+    vertex_ns: Option<f64>,
     level: i64,
     /// In-level index of v + e_{σ(0)} + … + e_{σ(l−1)}: `up[(i·n! + σ)·(n+1) + l]`.
     up: Vec<u32>,
@@ -262,7 +273,7 @@ where
             next_values: vec![data[0][0]; size],
             next_grads,
             outcomes: vec![VertexOutcome::default(); size],
-            chunk: usize::MAX,
+            vertex_ns: None,
             lag,
             torus,
             options,
@@ -597,6 +608,27 @@ where
         (z, outcome, false)
     }
 
+    /// The vertices per parallel chunk of a level of `size` vertices, `size`
+    /// for a level solved on the calling thread alone: one thread in the
+    /// pool, no level measured yet, or a level too cheap to split from where
+    /// the march runs ([`PARALLEL_LEVEL_NS`] outside the pool,
+    /// [`PARALLEL_LEVEL_NS_ON_POOL`] on one of its threads).
+    fn parallel_chunk(&self, size: usize) -> usize {
+        let threads = rayon::current_num_threads();
+        let Some(vertex_ns) = self.vertex_ns else {
+            return size;
+        };
+        let least = if rayon::current_thread_index().is_some() {
+            PARALLEL_LEVEL_NS_ON_POOL
+        } else {
+            PARALLEL_LEVEL_NS
+        };
+        if threads < 2 || vertex_ns * (size as f64) < least {
+            return size;
+        }
+        ((CHUNK_WORK_NS / vertex_ns).ceil() as usize).clamp(1, (size / threads).max(1))
+    }
+
     /// Solves every vertex of level `level()`, which determines level
     /// `level() + n`, and advances. On failure nothing is advanced: the
     /// marcher keeps its last complete state, and the error names the first
@@ -610,7 +642,8 @@ where
         let mut next_grads = std::mem::take(&mut self.next_grads);
         let mut outcomes = std::mem::take(&mut self.outcomes);
         let started = std::time::Instant::now();
-        let parallel = rayon::current_num_threads() > 1 && size > self.chunk;
+        let chunk = self.parallel_chunk(size);
+        let parallel = chunk < size;
         {
             let this = &*self;
             let solve = |(i, ((value, grads), outcome)): VertexSlot<'_, F::Point<f64>, M>| {
@@ -626,7 +659,7 @@ where
                     .par_iter_mut()
                     .zip(next_grads.par_chunks_mut(per_vertex))
                     .zip(outcomes.par_iter_mut())
-                    .with_min_len(self.chunk)
+                    .with_min_len(chunk)
                     .enumerate()
                     .for_each(solve);
             } else {
@@ -644,11 +677,7 @@ where
         // the pool, which would shrink the chunks and feed on itself).
         let vertex_ns = started.elapsed().as_nanos() as f64 / size.max(1) as f64;
         if !parallel && vertex_ns > 0.0 {
-            self.chunk = if vertex_ns * (size as f64) < PARALLEL_LEVEL_NS {
-                size.max(1)
-            } else {
-                ((CHUNK_WORK_NS / vertex_ns).ceil() as usize).clamp(1, size.max(1))
-            };
+            self.vertex_ns = Some(vertex_ns);
         }
         let failure = outcomes
             .iter()
@@ -659,6 +688,7 @@ where
             iterations: outcomes.iter().map(|o| o.iterations).sum(),
             jacobians: outcomes.iter().map(|o| o.jacobians).sum(),
             max_relative_residual: outcomes.iter().map(|o| o.relative_residual).fold(0.0, f64::max),
+            parallel,
         };
         if let Some((i, f, o)) = failure {
             self.next_values = next_values;
