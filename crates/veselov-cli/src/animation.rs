@@ -5,8 +5,12 @@
 
 use std::path::Path;
 
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use crate::gif_frames::{AnimationEncoder, LINE_COLOUR};
 use crate::plot::{FONT, PlotError, register_font};
 
 /// Frames kept (rows are subsampled evenly, first and last kept).
@@ -50,9 +54,32 @@ fn plane(frames: &[Vec<[f64; 3]>]) -> ([usize; 2], [(f64, f64); 2]) {
     (axes, [range(axes[0]), range(axes[1])])
 }
 
+/// The chart of every frame: a square plotting area (one unit the same
+/// length on both axes) below the title's band.
+fn chart<'a, 'b>(
+    root: &'a DrawingArea<BitMapBackend<'b>, Shift>,
+    ranges: [(f64, f64); 2],
+) -> Result<ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>, String> {
+    let [ra, rb] = ranges;
+    ChartBuilder::on(root)
+        .margin(15)
+        .margin_top(TITLE_BAND)
+        .margin_left(80)
+        .margin_right(80)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(ra.0..ra.1, rb.0..rb.1)
+        .map_err(|e| e.to_string())
+}
+
+/// Height of the band above the chart that holds the title (pixels).
+const TITLE_BAND: u32 = 45;
+
 /// Draw `frames` (each the points of the centreline) at `times` as an
 /// animated GIF at `path`; `time_label` names the evolution parameter (`t`,
-/// or `s` for the beam's space evolution).
+/// or `s` for the beam's space evolution). The axes, mesh and labels are
+/// drawn once; each frame copies them and draws its title and centreline
+/// ([`AnimationEncoder`] stores only what changed).
 pub fn draw_centerline_animation(
     path: &Path,
     frames: &[Vec<[f64; 3]>],
@@ -64,43 +91,53 @@ pub fn draw_centerline_animation(
         message,
     };
     register_font().map_err(fail)?;
-    let ([a, b], [ra, rb]) = plane(frames);
+    let ([a, b], ranges) = plane(frames);
     let names = ["x", "y", "z"];
-    let root = BitMapBackend::gif(path, SIZE, FRAME_DELAY_MS)
-        .map_err(|e| fail(e.to_string()))?
-        .into_drawing_area();
-    let text = |e: DrawingAreaErrorKind<_>| fail(e.to_string());
-    for (k, points) in frames.iter().enumerate() {
-        root.fill(&WHITE).map_err(text)?;
-        let title = match times.get(k) {
-            Some(t) => format!("Centreline, {time_label} = {t:.4}"),
-            None => format!("Centreline, frame {k}"),
-        };
-        // A square plotting area keeps one unit the same length on both axes.
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, (FONT, 20))
-            .margin(15)
-            .margin_left(80)
-            .margin_right(80)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(ra.0..ra.1, rb.0..rb.1)
-            .map_err(text)?;
-        chart
+    let (w, h) = SIZE;
+    let mut background = vec![0u8; 3 * w as usize * h as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut background, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
+        chart(&root, ranges)
+            .map_err(fail)?
             .configure_mesh()
             .x_desc(names[a])
             .y_desc(names[b])
             .label_style((FONT, 13))
             .axis_desc_style((FONT, 15))
             .draw()
-            .map_err(text)?;
-        chart
-            .draw_series(LineSeries::new(
-                points.iter().map(|p| (p[a], p[b])),
-                RGBColor(31, 119, 180).stroke_width(2),
-            ))
-            .map_err(text)?;
-        root.present().map_err(text)?;
+            .map_err(|e| fail(e.to_string()))?;
+        root.present().map_err(|e| fail(e.to_string()))?;
+    }
+    let narrow = |v: u32| u16::try_from(v).unwrap_or(u16::MAX);
+    let mut encoder = AnimationEncoder::create(path, (narrow(w), narrow(h)), FRAME_DELAY_MS).map_err(fail)?;
+    let mut pixels = background.clone();
+    let title_style = TextStyle::from((FONT, 20).into_font()).pos(Pos::new(HPos::Center, VPos::Center));
+    for (k, points) in frames.iter().enumerate() {
+        pixels.copy_from_slice(&background);
+        {
+            let root = BitMapBackend::with_buffer(&mut pixels, SIZE).into_drawing_area();
+            let title = match times.get(k) {
+                Some(t) => format!("Centreline, {time_label} = {t:.4}"),
+                None => format!("Centreline, frame {k}"),
+            };
+            let centre = (
+                i32::try_from(w / 2).unwrap_or(0),
+                i32::try_from(TITLE_BAND / 2).unwrap_or(0),
+            );
+            root.draw(&Text::new(title, centre, &title_style))
+                .map_err(|e| fail(e.to_string()))?;
+            let [r, g, bl] = LINE_COLOUR;
+            chart(&root, ranges)
+                .map_err(fail)?
+                .draw_series(LineSeries::new(
+                    points.iter().map(|p| (p[a], p[b])),
+                    RGBColor(r, g, bl).stroke_width(2),
+                ))
+                .map_err(|e| fail(e.to_string()))?;
+            root.present().map_err(|e| fail(e.to_string()))?;
+        }
+        encoder.push(&pixels).map_err(fail)?;
     }
     Ok(())
 }

@@ -13,6 +13,7 @@ pub mod error;
 pub mod field;
 pub mod field_run;
 pub mod figures;
+pub mod gif_frames;
 pub mod heatmap;
 pub mod output;
 pub mod pipeline;
