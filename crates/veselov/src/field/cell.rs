@@ -78,6 +78,13 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         false
     }
 
+    /// Whether F^l_β may be nonzero at position `l` of a cell (default:
+    /// [`has_forces`](Self::has_forces)); sums of the forces skip the
+    /// positions where it is not.
+    fn has_force_at(&self, _l: usize) -> bool {
+        self.has_forces()
+    }
+
     /// The discrete Lagrange–d'Alembert force F^l_β at position `l` of
     /// `cell` (seed 000 §3.1.4, note 000 §8): a covector in the fibre's chart
     /// at y_l, added to ∂L_β/∂y_l in the forced Euler–Lagrange equations

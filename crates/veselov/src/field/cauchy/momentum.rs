@@ -174,14 +174,17 @@ where
             if !self.is_active(c, i) {
                 continue;
             }
-            let d = generators(&self.value(c, i));
-            for j in 0..=n {
+            let here = self.value(c, i);
+            let d = generators(&here);
+            let mut y = [here; MAX_LATTICE_DIMENSION + 1];
+            for j in (0..=n).filter(|&j| self.lag.has_force_at(j)) {
                 for sigma in 0..self.perms.len() {
                     let base = if j == 0 { i } else { self.down(i, sigma, j) };
-                    if !self.cell_active(c - j as i64, base, sigma) {
+                    let at = self.base(c - j as i64, base);
+                    if !self.cell_active_at(&at, sigma) {
                         continue;
                     }
-                    let (cell, y) = self.cell_values(c - j as i64, base, sigma, None);
+                    let cell = self.cell_values_at(&at, sigma, None, &mut y);
                     let force = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
                     for (s, dk) in sum.iter_mut().zip(&d) {
                         *s += force.dot(dk);

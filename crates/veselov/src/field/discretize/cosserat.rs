@@ -697,6 +697,12 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
         self.loads.is_some()
     }
 
+    /// The loads act at the cell's time edge v₀v₂ (damping) and at v₀ (end
+    /// load), never at the middle vertex v₁.
+    fn has_force_at(&self, l: usize) -> bool {
+        self.loads.is_some() && l != 1
+    }
+
     fn cell_force<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>], l: usize) -> SVector<D, 6> {
         self.force(cell, y, l)
     }
