@@ -126,7 +126,8 @@ where
 /// The Cauchy marcher's levels allocate nothing: the 2+1 midpoint rule of
 /// sine-Gordon and of the complex Klein–Gordon field (closed form of the
 /// diagonal jet metric), the same rule through dual numbers over whole
-/// cells, and the Cosserat rod's split vertex step.
+/// cells, and the Cosserat rod's split vertex step, free and with damping
+/// and an end load.
 #[test]
 fn cauchy_levels_do_not_allocate() {
     use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
@@ -199,20 +200,34 @@ fn cauchy_levels_do_not_allocate() {
             veselov::lie::so3::exp(&nalgebra::Vector3::new(0.01 * s, 0.0, 0.02 * t)),
         )
     });
-    let mut d = CauchyMarcher::with_window(
-        cell,
-        lattice.torus().clone(),
-        0,
-        &rod,
-        CauchyOptions::default(),
-        lattice.window(),
-    )
-    .expect("marcher");
-    for threads in [1, 2] {
-        assert_eq!(
-            cauchy_levels_allocations(&mut d, 30, threads),
+    let loads = veselov::field::discretize::RodLoads {
+        damping_linear: 0.3,
+        damping_angular: 0.01,
+        end_force: nalgebra::Vector3::new(0.01, -0.02, 0.0),
+        end_torque: nalgebra::Vector3::new(0.0, 0.001, 0.0),
+        tip: 80,
+        ramp: 0.1,
+        start: 0.0,
+    };
+    for (name, cell) in [
+        ("free", cell.clone()),
+        ("damped and loaded", cell.with_loads(loads).expect("loads")),
+    ] {
+        let mut d = CauchyMarcher::with_window(
+            cell,
+            lattice.torus().clone(),
             0,
-            "Cosserat rod, {threads} threads"
-        );
+            &rod,
+            CauchyOptions::default(),
+            lattice.window(),
+        )
+        .expect("marcher");
+        for threads in [1, 2] {
+            assert_eq!(
+                cauchy_levels_allocations(&mut d, 30, threads),
+                0,
+                "Cosserat rod, {name}, {threads} threads"
+            );
+        }
     }
 }

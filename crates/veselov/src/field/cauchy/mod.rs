@@ -334,13 +334,8 @@ where
         self.window.as_ref().is_none_or(|m| m.contains(&self.origin(w, i)))
     }
 
-    /// Whether the simplex (v, σ) based at v = (w, i) enters the action.
-    #[inline]
-    fn cell_active(&self, w: i64, i: usize, sigma: usize) -> bool {
-        self.cell_active_at(&self.base(w, i), sigma)
-    }
-
-    /// [`cell_active`](Self::cell_active) at a base computed once.
+    /// Whether the simplex (v, σ) based at v ([`base`](Self::base)) enters
+    /// the action.
     #[inline]
     fn cell_active_at(&self, base: &Base, sigma: usize) -> bool {
         self.window
@@ -418,33 +413,8 @@ where
         self.values[self.value_slot(w) * self.torus.level_size() + i]
     }
 
-    /// The cell (v, σ) for v = (level `w`, index `i`) and its vertex values,
-    /// the last one replaced by `top` if given.
-    fn cell_values(
-        &self,
-        w: i64,
-        i: usize,
-        sigma: usize,
-        top: Option<F::Point<f64>>,
-    ) -> (TopCell, [F::Point<f64>; MAX_LATTICE_DIMENSION + 1]) {
-        let mut y = [self.values[self.value_slot(w) * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
-        let cell = self.cell_values_into(w, i, sigma, top, &mut y);
-        (cell, y)
-    }
-
-    /// [`cell_values`](Self::cell_values) written into `y[..=n]`.
-    fn cell_values_into(
-        &self,
-        w: i64,
-        i: usize,
-        sigma: usize,
-        top: Option<F::Point<f64>>,
-        y: &mut [F::Point<f64>],
-    ) -> TopCell {
-        self.cell_values_at(&self.base(w, i), sigma, top, y)
-    }
-
-    /// [`cell_values_into`](Self::cell_values_into) at a base computed once.
+    /// The cell (v, σ) based at v ([`base`](Self::base)) and its vertex values
+    /// written into `y[..=n]`, the last one replaced by `top` if given.
     #[inline(always)]
     fn cell_values_at(
         &self,
@@ -511,18 +481,24 @@ where
         let per_vertex = self.perms.len() * (n + 1);
         let mut mu = SVector::zeros();
         let mut scale = 0.0;
+        // The cells' values, gathered only where a force acts at position j.
+        let mut y = [self.values[self.value_slot(w) * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
         for j in 1..=n {
             let slot = self.grad_slot(w - j as i64);
+            let forced = self.lag.has_force_at(j);
             for sigma in 0..self.perms.len() {
                 let base = self.down(i, sigma, j);
                 let g = &self.grads[slot][base * per_vertex + sigma * (n + 1) + j];
                 mu -= g;
                 scale += g.amax();
-                if self.lag.has_forces() && self.cell_active(w - j as i64, base, sigma) {
-                    let (cell, y) = self.cell_values(w - j as i64, base, sigma, None);
-                    let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
-                    mu -= f;
-                    scale += f.amax();
+                if forced {
+                    let at = self.base(w - j as i64, base);
+                    if self.cell_active_at(&at, sigma) {
+                        let cell = self.cell_values_at(&at, sigma, None, &mut y);
+                        let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
+                        mu -= f;
+                        scale += f.amax();
+                    }
                 }
             }
         }
