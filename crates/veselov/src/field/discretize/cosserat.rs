@@ -576,32 +576,49 @@ impl<P: RodPotential> CosseratCell<P> {
             let Ok(b) = Rotations::log(&y[0].rotation, &y[2].rotation) else {
                 return SVector::from_element(D::from(f64::NAN));
             };
-            let w = -0.5 * self.area() / self.dt;
-            let v = (y[2].position - y[0].position) * D::from(w * loads.damping_linear);
-            let o = b * D::from(w * loads.damping_angular);
+            let v = self.linear_damping(loads, &y[0].position, &y[2].position);
+            let o = b * D::from(self.damping_weight() * loads.damping_angular);
             f += SVector::<D, 6>::new(v[0], v[1], v[2], o[0], o[1], o[2]);
         }
-        if l == 0 {
-            let p = cell.origin[0] - cell.origin[1];
-            let inside = if loads.tip == 0 { 0 } else { 1 };
-            if p == loads.tip && cell.shape == inside {
-                // Δt·(F; R₀ᵀτ) at the loaded end: each of its vertices stands
-                // for the time Δt between its level and the one two above.
-                let t = (cell.origin[0] + cell.origin[1]) as f64 * 0.5 * self.dt;
-                let k = self.dt * loads.ramp_factor(t);
-                let torque = y[0].rotation.matrix().transpose() * loads.end_torque.map(D::from);
-                let force = loads.end_force * k;
-                f += SVector::<D, 6>::new(
-                    D::from(force[0]),
-                    D::from(force[1]),
-                    D::from(force[2]),
-                    torque[0] * D::from(k),
-                    torque[1] * D::from(k),
-                    torque[2] * D::from(k),
-                );
-            }
+        if l == 0
+            && let Some((force, torque)) = self.end_load(loads, cell, &y[0])
+        {
+            f += SVector::<D, 6>::new(force[0], force[1], force[2], torque[0], torque[1], torque[2]);
         }
         f
+    }
+
+    /// −A_β/(2Δt): the weight of the damping forces on the time edge.
+    fn damping_weight(&self) -> f64 {
+        -0.5 * self.area() / self.dt
+    }
+
+    /// The linear damping force of F⁰ = F² with r₀ and r₂ at the cell's
+    /// time edge: −(A_β/2)c_r (r₂ − r₀)/Δt.
+    pub(super) fn linear_damping<D: Scalar>(&self, loads: &RodLoads, r0: &Vector3<D>, r2: &Vector3<D>) -> Vector3<D> {
+        (r2 - r0) * D::from(self.damping_weight() * loads.damping_linear)
+    }
+
+    /// The end load's part of F⁰ at the loaded end's cell, (Δt f(t) F,
+    /// Δt f(t) R₀ᵀτ), `None` on every other cell.
+    pub(super) fn end_load<D: Scalar>(
+        &self,
+        loads: &RodLoads,
+        cell: &TopCell,
+        y0: &Pose<D>,
+    ) -> Option<(Vector3<D>, Vector3<D>)> {
+        let p = cell.origin[0] - cell.origin[1];
+        let inside = if loads.tip == 0 { 0 } else { 1 };
+        if p != loads.tip || cell.shape != inside {
+            return None;
+        }
+        // Δt·(F; R₀ᵀτ) at the loaded end: each of its vertices stands for
+        // the time Δt between its level and the one two above.
+        let t = (cell.origin[0] + cell.origin[1]) as f64 * 0.5 * self.dt;
+        let k = self.dt * loads.ramp_factor(t);
+        let torque = y0.rotation.matrix().transpose() * loads.end_torque.map(D::from);
+        let force = loads.end_force * k;
+        Some((force.map(D::from), torque * D::from(k)))
     }
 }
 

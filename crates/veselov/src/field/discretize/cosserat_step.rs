@@ -28,7 +28,7 @@ use nalgebra::{Matrix3, SVector, Vector3};
 use super::cosserat::{CosseratCell, StepConstants};
 use super::rod_potential::RodPotential;
 use crate::ad::{mat3_mul, mat3_vec};
-use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexStar};
+use crate::field::cell::{SolvedVertex, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome};
@@ -262,7 +262,6 @@ pub(crate) fn split_solve<P: RodPotential>(
     let y0 = y[0];
     let r0m = *y0.rotation.matrix();
     let constants = lag.constants_at(s0);
-    let loaded = lag.loads().is_some();
     let n = count as f64;
     // Σ_σ ∇_{r₀}L_{(v,σ)} at the start r₂ = 2r₀ − r₋:
     // n(−(ρΔs/4)v_d − (ΔsΔt/8)∇_rP) + (Δt/4)R₀C₁Σ_σ σε_σ (+ the forces).
@@ -278,11 +277,17 @@ pub(crate) fn split_solve<P: RodPotential>(
         // |R₀w|∞ ≥ |w|∞/√3: the body vector's size stands for the term's.
         scale += c1e.amax();
         strain_sum += c1e * c.sigma;
-        if loaded {
-            let f = lag
-                .cell_force(&c.cell, &[y0, c.y1, Pose::new(start, y0.rotation)], 0)
-                .fixed_rows::<3>(0)
-                .into_owned();
+        if let Some(loads) = lag.loads() {
+            // F⁰'s position part at (start, R₀): the linear damping and the
+            // end force ([`CosseratCell::cell_force`]'s terms in its order;
+            // its rotation part, with a logarithm, is not needed here).
+            let mut f = Vector3::zeros();
+            if loads.damping_linear > 0.0 || loads.damping_angular > 0.0 {
+                f += lag.linear_damping(loads, &y0.position, &start);
+            }
+            if let Some((force, _)) = lag.end_load(loads, &c.cell, &y0) {
+                f += force;
+            }
             forces += f;
             scale += f.amax();
         }
@@ -311,10 +316,12 @@ pub(crate) fn split_solve<P: RodPotential>(
         let strain_term = lag.strain_torque(s0, &eps);
         fixed += strain_term;
         fixed_scale += strain_term.amax();
-        if loaded {
-            // The force at (r₂, R₀) has no damping torque (b = 0): only the end load.
-            let y = [y0, c.y1, Pose::new(r2, y0.rotation)];
-            let load = lag.cell_force(&c.cell, &y, 0).fixed_rows::<3>(3).into_owned();
+        if let Some(loads) = lag.loads() {
+            // F⁰'s rotation part at (r₂, R₀) has no damping torque
+            // (log(R₀ᵀR₀) = 0 exactly): only the end load's torque.
+            let load = lag
+                .end_load(loads, &c.cell, &y0)
+                .map_or_else(Vector3::zeros, |(_, torque)| torque);
             fixed += load;
             fixed_scale += load.amax();
         }
