@@ -32,8 +32,9 @@ pub struct Quantizer {
 }
 
 impl Quantizer {
-    /// Builds the palette and its table (32 768 nearest-entry searches over
-    /// 255 colours, once per animation).
+    /// Builds the palette and its table (for each of the 32 768 cells, the
+    /// nearest of the cube's colours and of the 39 others, once per
+    /// animation).
     pub fn new() -> Self {
         let mut palette = [[255, 0, 255]; 256];
         let level = |k: usize| (51 * k) as u8;
@@ -56,9 +57,14 @@ impl Quantizer {
         for (cell, slot) in table.iter_mut().enumerate() {
             let centre = [(cell >> 10) & 31, (cell >> 5) & 31, cell & 31].map(|v| ((v << 3) | 4) as i32);
             let distance = |c: &[u8; 3]| -> i32 { (0..3).map(|i| (i32::from(c[i]) - centre[i]).pow(2)).sum() };
-            *slot = (0..TRANSPARENT)
-                .min_by_key(|&i| distance(&palette[usize::from(i)]))
-                .unwrap_or(0);
+            // The nearest cube colour channel by channel (the cube is a
+            // product grid), then the 39 greys and blends.
+            let [r, g, b] = centre.map(|c| ((c + 25) / 51) as u8);
+            let cube = 36 * r + 6 * g + b;
+            *slot = (216..TRANSPARENT)
+                .chain(std::iter::once(cube))
+                .min_by_key(|&i| (distance(&palette[usize::from(i)]), i))
+                .unwrap_or(cube);
         }
         Self { palette, table }
     }
