@@ -481,8 +481,9 @@ where
         let per_vertex = self.perms.len() * (n + 1);
         let mut mu = SVector::zeros();
         let mut scale = 0.0;
-        // The cells' values, gathered only where a force acts at position j.
-        let mut y = [self.values[self.value_slot(w) * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
+        // The cells' values, gathered only where a force acts at position j
+        // (the buffer made at the first such cell).
+        let mut buffer = None;
         for j in 1..=n {
             let slot = self.grad_slot(w - j as i64);
             let forced = self.lag.has_force_at(j);
@@ -494,7 +495,8 @@ where
                 if forced {
                     let at = self.base(w - j as i64, base);
                     if self.cell_active_at(&at, sigma) {
-                        let cell = self.cell_values_at(&at, sigma, None, &mut y);
+                        let y = buffer.get_or_insert_with(|| [self.value(w, i); MAX_LATTICE_DIMENSION + 1]);
+                        let cell = self.cell_values_at(&at, sigma, None, y);
                         let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
                         mu -= f;
                         scale += f.amax();
