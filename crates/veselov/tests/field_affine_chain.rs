@@ -328,3 +328,83 @@ where
         }
     }
 }
+
+/// The anisotropic density with one entry of its declared metric wrong, or
+/// with a jet-free part that is not its density at a zero jet.
+struct Misdeclared {
+    /// Which entry of η is declared with the wrong sign (None: η right).
+    flipped: Option<usize>,
+    /// Whether the jet-free part leaves out the density's cosine.
+    wrong_potential: bool,
+}
+
+impl<const M: usize, const N: usize> SmoothDensity<Euclidean<M>, M, N> for Misdeclared {
+    fn density<D: Scalar>(&self, x: &SVector<f64, N>, y: &SVector<D, M>, jet: &SMatrix<D, M, N>) -> D {
+        SmoothDensity::<Euclidean<M>, M, N>::density(&Anisotropic, x, y, jet)
+    }
+    fn diagonal_jet_metric(&self) -> Option<SVector<f64, N>> {
+        Some(SVector::from_fn(|a, _| {
+            let eta = Anisotropic::eta(a);
+            if self.flipped == Some(a) { -eta } else { eta }
+        }))
+    }
+    fn jet_free_part<D: Scalar>(&self, x: &SVector<f64, N>, y: &SVector<D, M>) -> D {
+        let full = SmoothDensity::<Euclidean<M>, M, N>::jet_free_part(&Anisotropic, x, y);
+        if self.wrong_potential { full - y[0].cos() } else { full }
+    }
+}
+
+/// A marcher is not built on a density whose declared jet metric or
+/// jet-free part does not hold: the closed form they give is checked
+/// against the derivative of the cell Lagrangian on the Cauchy data's first
+/// cells, and the error names the cell. The right declaration passes.
+#[test]
+fn a_wrong_metric_declaration_is_refused() {
+    let torus = CfkTorus::new(3, &[8, 8]).expect("torus");
+    let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
+    let data = cauchy_data(&torus, &nodes, |x| {
+        SVector::<f64, 1>::from([(0.9 * x[0] - 0.5 * x[2]).sin() + 0.3 * (0.7 * x[1]).cos()])
+    });
+    let build = |density: Misdeclared| {
+        CauchyMarcher::new(
+            MidpointRule::new(density, nodes),
+            torus.clone(),
+            0,
+            &data,
+            CauchyOptions::default(),
+        )
+        .map(|_| ())
+    };
+    let right = Misdeclared {
+        flipped: None,
+        wrong_potential: false,
+    };
+    assert!(build(right).is_ok(), "the right declaration");
+    for wrong in [
+        Misdeclared {
+            flipped: Some(0),
+            wrong_potential: false,
+        },
+        Misdeclared {
+            flipped: Some(2),
+            wrong_potential: false,
+        },
+        Misdeclared {
+            flipped: None,
+            wrong_potential: true,
+        },
+    ] {
+        let what = format!(
+            "η flipped at {:?}, wrong potential {}",
+            wrong.flipped, wrong.wrong_potential
+        );
+        let message = build(wrong).expect_err(&what).to_string();
+        println!("{what}: {message}");
+        assert!(
+            message.contains("cell Lagrangian")
+                && message.contains("level 0")
+                && message.contains("diagonal_jet_metric"),
+            "{what}: {message}"
+        );
+    }
+}

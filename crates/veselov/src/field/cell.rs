@@ -367,6 +367,56 @@ where
     vertex_gradient::<F, L, M>(lag, cell, y, l).1
 }
 
+/// Checks the Lagrangian's closed-form gradients
+/// ([`DiscreteLagrangian::analytic_gradients`]) against the derivative of
+/// its own cell Lagrangian ([`vertex_gradient`]) on one cell: a closed form
+/// resting on a declaration of the model (such as
+/// [`SmoothDensity::diagonal_jet_metric`](crate::field::discretize::SmoothDensity::diagonal_jet_metric))
+/// that does not hold gives another gradient. `Ok` where the Lagrangian has
+/// no closed form or is not finite on the cell (suitability is checked
+/// elsewhere); an error message naming the vertex where the two differ by
+/// more than 1e-9 of the cell's largest gradient entry (they agree to
+/// round-off where the declaration holds). Data without variation along a
+/// direction cannot reveal a wrong declaration for it.
+///
+/// # Errors
+/// The message, for the caller to name the cell.
+pub fn check_closed_form<F, L, const M: usize>(lag: &L, cell: &TopCell, y: &[F::Point<f64>]) -> Result<(), String>
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+{
+    let k = y.len();
+    let mut closed = [SVector::<f64, M>::zeros(); MAX_CELL_VERTICES];
+    if k > MAX_CELL_VERTICES || !lag.analytic_gradients(cell, y, &mut closed[..k]) {
+        return Ok(());
+    }
+    let mut dual = [SVector::<f64, M>::zeros(); MAX_CELL_VERTICES];
+    for (l, g) in dual.iter_mut().enumerate().take(k) {
+        *g = vertex_gradient::<F, L, M>(lag, cell, y, l).1;
+    }
+    if !dual[..k]
+        .iter()
+        .chain(&closed[..k])
+        .all(|g| g.iter().all(|x| x.is_finite()))
+    {
+        return Ok(());
+    }
+    let scale = dual[..k].iter().map(|g| g.amax()).fold(0.0, f64::max);
+    for l in 0..k {
+        let difference = (closed[l] - dual[l]).amax();
+        if difference > 1e-9 * scale.max(f64::MIN_POSITIVE) {
+            return Err(format!(
+                "its closed-form gradient at vertex {l} differs from the derivative of its cell Lagrangian by \
+                 {difference:.2e} ({:.1e} of the largest entry {scale:.2e}): a declaration the closed form rests on \
+                 (such as SmoothDensity::diagonal_jet_metric) does not hold",
+                difference / scale.max(f64::MIN_POSITIVE)
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// ∂L_β/∂y_a and its derivative with respect to y_b:
 /// `J[(i, j)] = ∂/∂ζ_j (∂L_β/∂y_a)_i` at y_b·τ(ζ), ζ = 0. For b = a it is
 /// the second derivative of L_β(…, y_a·τ(ζ)·τ(ξ), …) at ξ = ζ = 0: the

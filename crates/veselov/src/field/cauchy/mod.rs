@@ -33,7 +33,8 @@ use nalgebra::SVector;
 use rayon::prelude::*;
 
 use super::cell::{
-    DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, later_gradients, vertex_force, vertex_gradient,
+    DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, check_closed_form, later_gradients, vertex_force,
+    vertex_gradient,
 };
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
 use super::fibre::Fibre;
@@ -73,6 +74,11 @@ const PARALLEL_LEVEL_NS: f64 = 150_000.0;
 /// the other workers through their queues, a few µs per level. A 100-element
 /// rod's levels (about 30 µs each) take 1.7× less wall time on two threads.
 const PARALLEL_LEVEL_NS_ON_POOL: f64 = 10_000.0;
+
+/// Vertices whose cells the marcher checks for a closed form that
+/// disagrees with the cell Lagrangian when it is built
+/// ([`check_closed_form`]).
+const CHECKED_VERTICES: usize = 8;
 
 /// Stars whose cells a generic vertex solve gathers once (3! cells, the
 /// lattices up to 2+1), of at most [`SMALL_CELL`] vertices each; larger
@@ -285,8 +291,30 @@ where
             let slot = marcher.value_slot(first_level + l as i64);
             marcher.values[slot * size..(slot + 1) * size].copy_from_slice(level);
         }
+        marcher.check_closed_forms(first_level)?;
         marcher.fill_gradients();
         Ok(marcher)
+    }
+
+    /// [`check_closed_form`] on the cells based at the first
+    /// [`CHECKED_VERTICES`] vertices of level `w` in the body (all their
+    /// vertices are Cauchy data).
+    fn check_closed_forms(&self, w: i64) -> Result<()> {
+        let n = self.torus.dimension();
+        let mut y = [self.values[self.value_slot(w) * self.torus.level_size()]; MAX_LATTICE_DIMENSION + 1];
+        let vertices = (0..self.torus.level_size()).filter(|&i| self.is_active(w, i));
+        for i in vertices.take(CHECKED_VERTICES) {
+            let at = self.base(w, i);
+            for sigma in (0..self.perms.len()).filter(|&s| self.cell_active_at(&at, s)) {
+                let cell = self.cell_values_at(&at, sigma, None, &mut y);
+                check_closed_form::<F, L, M>(&self.lag, &cell, &y[..=n]).map_err(|reason| Error::InvalidParameter {
+                    name: "cell Lagrangian".into(),
+                    value: format!("cell {sigma} based at vertex {i} of level {w}"),
+                    reason,
+                })?;
+            }
+        }
+        Ok(())
     }
 
     /// Gradients of the cells based at the n levels below `level()` (all
