@@ -175,6 +175,14 @@ impl DenseLu {
     }
 }
 
+/// max |mᵢⱼ| passing over NaN entries, as nalgebra's `amax`, by a fold of
+/// `f64::max` without branches: for the sizes of terms that scale a
+/// relative residual in the small solves' hot loops.
+#[inline]
+pub fn largest_abs<const R: usize, const C: usize>(m: &nalgebra::SMatrix<f64, R, C>) -> f64 {
+    m.iter().fold(0.0_f64, |largest, x| largest.max(x.abs()))
+}
+
 /// max |vᵢ| of a residual, NaN if any vᵢ is: nalgebra's `amax` passes over
 /// a NaN next to a number (f64::max), so a residual with one NaN entry
 /// would look finite.

@@ -40,6 +40,7 @@ use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, p
 use super::fibre::Fibre;
 pub use super::legendre::{CauchyOptions, LevelReport};
 use super::legendre::{VertexOutcome, solve_legendre};
+use crate::solve::largest_abs;
 use crate::{Error, Result};
 
 mod checkpoint;
@@ -519,7 +520,7 @@ where
                 let base = self.down(i, sigma, j);
                 let g = &self.grads[slot][base * per_vertex + sigma * (n + 1) + j];
                 mu -= g;
-                scale += g.amax();
+                scale += largest_abs(g);
                 if forced {
                     let at = self.base(w - j as i64, base);
                     if self.cell_active_at(&at, sigma) {
@@ -527,7 +528,7 @@ where
                         let cell = self.cell_values_at(&at, sigma, None, y);
                         let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
                         mu -= f;
-                        scale += f.amax();
+                        scale += largest_abs(&f);
                     }
                 }
             }

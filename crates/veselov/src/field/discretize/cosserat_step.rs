@@ -33,6 +33,7 @@ use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome};
 use crate::lie::{series, so3};
+use crate::solve::largest_abs;
 
 /// One cell based at v in the rotation equation: a = log(R₀ᵀR₁) and
 /// D_a = dlog a (left-trivialised, `so3::dexp_inv(−a)`).
@@ -112,9 +113,9 @@ impl RotationEquation {
             return None;
         }
         const SQRT_3: f64 = 1.732_050_807_568_877_2;
-        let d = SQRT_3 * delta.amax();
+        let d = SQRT_3 * largest_abs(&delta);
         let l = self.linear_norm;
-        let x = SQRT_3 * (mat3_vec(&self.linear, b) + self.offset).amax() + l * d;
+        let x = SQRT_3 * largest_abs(&(mat3_vec(&self.linear, b) + self.offset)) + l * d;
         Some(0.5 * (1.5 * l + 0.25 * x) * d * d)
     }
 
@@ -268,14 +269,14 @@ pub(crate) fn split_solve<P: RodPotential>(
     let start = y0.position * 2.0 - previous.position;
     let kinetic = (start - y0.position) * (-p.rho() * ds / (4.0 * dt));
     let weight = lag.density.potential.gradient(s0, &y0.position) * (-(ds * dt / 8.0));
-    let mut scale = mu_scale + n * (kinetic.amax() + weight.amax());
+    let mut scale = mu_scale + n * (largest_abs(&kinetic) + largest_abs(&weight));
     let mut strain_sum = Vector3::zeros();
     let mut forces = Vector3::zeros();
     for c in cells.iter() {
         let eps = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &start);
         let c1e = p.c1() * eps * (0.25 * dt);
         // |R₀w|∞ ≥ |w|∞/√3: the body vector's size stands for the term's.
-        scale += c1e.amax();
+        scale += largest_abs(&c1e);
         strain_sum += c1e * c.sigma;
         if let Some(loads) = lag.loads() {
             // F⁰'s position part at (start, R₀): the linear damping and the
@@ -289,7 +290,7 @@ pub(crate) fn split_solve<P: RodPotential>(
                 f += force;
             }
             forces += f;
-            scale += f.amax();
+            scale += largest_abs(&f);
         }
     }
     let leg_r = (kinetic + weight) * n + mat3_vec(&r0m, &strain_sum) + forces;
@@ -302,7 +303,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let z = compliance * rhs;
     let r2 = start - mat3_vec(&r0m, &z) * n.recip();
     // The linear solve's residual, in the body frame.
-    let residual_r = (constants.stiffness * z - rhs).amax();
+    let residual_r = largest_abs(&(constants.stiffness * z - rhs));
     if !residual_r.is_finite() || !r2.iter().all(|x| x.is_finite()) {
         return fail(Failure::NonFinite, outcome);
     }
@@ -315,7 +316,7 @@ pub(crate) fn split_solve<P: RodPotential>(
         c.eps = eps;
         let strain_term = lag.strain_torque(s0, &eps);
         fixed += strain_term;
-        fixed_scale += strain_term.amax();
+        fixed_scale += largest_abs(&strain_term);
         if let Some(loads) = lag.loads() {
             // F⁰'s rotation part at (r₂, R₀) has no damping torque
             // (log(R₀ᵀR₀) = 0 exactly): only the end load's torque.
@@ -323,7 +324,7 @@ pub(crate) fn split_solve<P: RodPotential>(
                 .end_load(loads, &c.cell, &y0)
                 .map_or_else(Vector3::zeros, |(_, torque)| torque);
             fixed += load;
-            fixed_scale += load.amax();
+            fixed_scale += largest_abs(&load);
         }
     }
     let cells = &cells[..];
@@ -362,23 +363,23 @@ pub(crate) fn split_solve<P: RodPotential>(
         let residual = value - target;
         let r = crate::solve::max_abs(&residual);
         outcome.iterations = it;
-        let terms = (scale + fixed_scale + value.amax()).max(f64::MIN_POSITIVE);
+        let terms = (scale + fixed_scale + largest_abs(&value)).max(f64::MIN_POSITIVE);
         outcome.relative_residual = r.max(residual_r) / terms;
         if !r.is_finite() {
             return fail(Failure::NonFinite, outcome);
         }
         let inverse = jacobian.try_inverse();
-        let jacobian_scale = jacobian.amax() * (1.0 + b.amax());
+        let jacobian_scale = largest_abs(&jacobian) * (1.0 + largest_abs(&b));
         let stalled = r > 0.5 * previous
             && (r <= 100.0 * options.tolerance * (terms + jacobian_scale)
-                || last_step <= 64.0 * f64::EPSILON * (1.0 + b.amax()));
+                || last_step <= 64.0 * f64::EPSILON * (1.0 + largest_abs(&b)));
         if r <= options.tolerance * terms || stalled {
             // One last correction with the Jacobian at hand (no further
             // evaluation): from a converged iterate Newton's step only
             // removes the remaining residual (quadratic convergence).
             if let Some(inv) = inverse {
                 let delta = -(inv * residual);
-                if delta.amax() < 1e-3 {
+                if largest_abs(&delta) < 1e-3 {
                     b += delta;
                 }
             }
@@ -393,7 +394,7 @@ pub(crate) fn split_solve<P: RodPotential>(
         };
         let delta = -(inv * residual);
         let remainder = equation.newton_remainder_bound(&b, &delta);
-        last_step = delta.amax();
+        last_step = largest_abs(&delta);
         b += delta;
         let angle = b.norm();
         if angle.is_nan() || angle >= std::f64::consts::PI {
@@ -404,7 +405,7 @@ pub(crate) fn split_solve<P: RodPotential>(
         {
             // Plus the rounding of δ through the computed inverse:
             // |Jδ + residual|∞ ≤ 12ε κ∞(J) |residual|∞.
-            let norm = |m: &Matrix3<f64>| m.abs().column_sum().amax();
+            let norm = |m: &Matrix3<f64>| largest_abs(&m.abs().column_sum());
             let bound = remainder + 12.0 * f64::EPSILON * norm(&jacobian) * norm(&inv) * r;
             if bound <= options.tolerance * terms {
                 // The evaluation that would confirm it is skipped; the
