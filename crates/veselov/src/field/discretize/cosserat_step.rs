@@ -113,7 +113,7 @@ impl RotationEquation {
             return None;
         }
         const SQRT_3: f64 = 1.732_050_807_568_877_2;
-        let d = SQRT_3 * largest_abs(&delta);
+        let d = SQRT_3 * largest_abs(delta);
         let l = self.linear_norm;
         let x = SQRT_3 * largest_abs(&(mat3_vec(&self.linear, b) + self.offset)) + l * d;
         Some(0.5 * (1.5 * l + 0.25 * x) * d * d)
