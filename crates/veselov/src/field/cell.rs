@@ -372,12 +372,15 @@ where
 /// its own cell Lagrangian ([`vertex_gradient`]) on one cell: a closed form
 /// resting on a declaration of the model (such as
 /// [`SmoothDensity::diagonal_jet_metric`](crate::field::discretize::SmoothDensity::diagonal_jet_metric))
-/// that does not hold gives another gradient. `Ok` where the Lagrangian has
-/// no closed form or is not finite on the cell (suitability is checked
-/// elsewhere); an error message naming the vertex where the two differ by
-/// more than 1e-9 of the cell's largest gradient entry (they agree to
-/// round-off where the declaration holds). Data without variation along a
-/// direction cannot reveal a wrong declaration for it.
+/// that does not hold gives another gradient. The comparison is made at the
+/// vertex values `y` moved by fixed chart steps of size 1e-2 in every
+/// direction, so that every term of the Lagrangian varies (a direction along
+/// which the data do not vary would hide a wrong declaration for it) and no
+/// gradient is at round-off level (data at rest, say). `Ok` where the
+/// Lagrangian has no closed form or is not finite there (suitability is
+/// checked elsewhere); an error message naming the vertex where the two
+/// differ by more than 1e-9 of the cell's largest gradient entry (they agree
+/// to round-off where the declaration holds).
 ///
 /// # Errors
 /// The message, for the caller to name the cell.
@@ -387,13 +390,22 @@ where
     L: DiscreteLagrangian<F, M> + ?Sized,
 {
     let k = y.len();
+    if k == 0 || k > MAX_CELL_VERTICES {
+        return Ok(());
+    }
+    let mut moved = [y[0]; MAX_CELL_VERTICES];
+    for (l, z) in moved.iter_mut().enumerate().take(k) {
+        let step = SVector::<f64, M>::from_fn(|c, _| 1e-2 * (1.0 + 3.7 * l as f64 + 1.3 * c as f64).sin());
+        *z = F::retract(&y[l], &step);
+    }
+    let moved = &moved[..k];
     let mut closed = [SVector::<f64, M>::zeros(); MAX_CELL_VERTICES];
-    if k > MAX_CELL_VERTICES || !lag.analytic_gradients(cell, y, &mut closed[..k]) {
+    if !lag.analytic_gradients(cell, moved, &mut closed[..k]) {
         return Ok(());
     }
     let mut dual = [SVector::<f64, M>::zeros(); MAX_CELL_VERTICES];
     for (l, g) in dual.iter_mut().enumerate().take(k) {
-        *g = vertex_gradient::<F, L, M>(lag, cell, y, l).1;
+        *g = vertex_gradient::<F, L, M>(lag, cell, moved, l).1;
     }
     if !dual[..k]
         .iter()
