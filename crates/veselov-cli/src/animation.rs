@@ -54,6 +54,26 @@ fn plane(frames: &[Vec<[f64; 3]>]) -> ([usize; 2], [(f64, f64); 2]) {
     (axes, [range(axes[0]), range(axes[1])])
 }
 
+/// A tick label with at most the decimals of the axis' tick spacing (about
+/// a tenth of `span`), trailing zeros dropped, and never "-0" for a tick at
+/// zero that round-off put below it.
+fn tick_label(v: f64, span: f64) -> String {
+    let step = span / 10.0;
+    let decimals = if step > 0.0 && step.is_finite() {
+        (-step.log10().floor()).clamp(0.0, 12.0) as usize
+    } else {
+        1
+    };
+    let mut text = format!("{v:.decimals$}");
+    if text.contains('.') {
+        text.truncate(text.trim_end_matches('0').trim_end_matches('.').len());
+    }
+    match text.strip_prefix('-') {
+        Some("0") => "0".to_string(),
+        _ => text,
+    }
+}
+
 /// The chart of every frame: a square plotting area (one unit the same
 /// length on both axes) below the title's band.
 fn chart<'a, 'b>(
@@ -98,9 +118,12 @@ pub fn draw_centerline_animation(
     {
         let root = BitMapBackend::with_buffer(&mut background, SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
+        let [(x0, x1), (y0, y1)] = ranges;
         chart(&root, ranges)
             .map_err(fail)?
             .configure_mesh()
+            .x_label_formatter(&|v| tick_label(*v, x1 - x0))
+            .y_label_formatter(&|v| tick_label(*v, y1 - y0))
             .x_desc(names[a])
             .y_desc(names[b])
             .label_style((FONT, 13))
@@ -184,6 +207,18 @@ mod tests {
         assert_eq!(axes, [1, 2]);
         assert!((ra.1 - ra.0 - (rb.1 - rb.0)).abs() < 1e-12, "equal units");
         assert!(rb.0 <= 0.0 && rb.1 >= 0.4);
+    }
+
+    #[test]
+    fn tick_labels_follow_the_spacing_and_never_read_minus_zero() {
+        assert_eq!(tick_label(-1e-17, 1.0), "0");
+        assert_eq!(tick_label(-0.0, 1.0), "0");
+        assert_eq!(tick_label(-0.1, 1.0), "-0.1");
+        assert_eq!(tick_label(0.1, 0.95), "0.1");
+        assert_eq!(tick_label(0.25, 0.5), "0.25");
+        assert_eq!(tick_label(40.0, 100.0), "40");
+        assert_eq!(tick_label(-1e-8, 1e-7), "-0.00000001");
+        assert_eq!(tick_label(-1e-9, 1e-7), "0");
     }
 
     #[test]
