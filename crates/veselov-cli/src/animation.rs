@@ -162,7 +162,7 @@ pub fn draw_centerline_animation(
         }
         encoder.push(&pixels).map_err(fail)?;
     }
-    Ok(())
+    encoder.finish().map_err(fail)
 }
 
 /// Read the centreline of every stored row (at most [`MAX_FRAMES`]) from
@@ -219,6 +219,20 @@ mod tests {
         assert_eq!(tick_label(40.0, 100.0), "40");
         assert_eq!(tick_label(-1e-8, 1e-7), "-0.00000001");
         assert_eq!(tick_label(-1e-9, 1e-7), "0");
+    }
+
+    /// A device that refuses every write (Linux's /dev/full): an error naming
+    /// the file, no panic (the encoder's trailer and the buffered writer's
+    /// flush fail at the end).
+    #[test]
+    fn a_full_disk_is_an_error() {
+        let full = std::path::Path::new("/dev/full");
+        if !full.exists() {
+            return;
+        }
+        let frames: Vec<Vec<[f64; 3]>> = (0..2).map(|k| vec![[0.0, k as f64, 0.0], [1.0, 0.0, 0.0]]).collect();
+        let e = draw_centerline_animation(full, &frames, &[0.0, 1.0], "t").expect_err("no space");
+        assert_eq!(e.path, full);
     }
 
     #[test]

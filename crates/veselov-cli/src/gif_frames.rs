@@ -11,7 +11,7 @@
 //! about 2 s with a per-frame neural-net quantisation of whole frames.
 
 use std::fs::File;
-use std::io::BufWriter;
+use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use gif::{DisposalMethod, Encoder, Frame, Repeat};
@@ -150,6 +150,14 @@ impl AnimationEncoder {
         Ok(())
     }
 
+    /// Writes the GIF's trailer and flushes the file, reporting a failure
+    /// (an encoder merely dropped, after an error, writes its trailer and
+    /// ignores what fails).
+    pub fn finish(self) -> Result<(), String> {
+        let mut file = self.encoder.into_inner().map_err(|e| e.to_string())?;
+        file.flush().map_err(|e| e.to_string())
+    }
+
     /// The frame of the pixels that differ from the previous frame.
     fn changed_patch(&mut self, w: usize, h: usize) -> Frame<'static> {
         let (mut left, mut right, mut top, mut bottom) = (w, 0, h, 0);
@@ -267,7 +275,7 @@ mod tests {
         }
         // The unchanged last frame: a 1 × 1 patch.
         encoder.push(&frames[4]).expect("frame");
-        drop(encoder);
+        encoder.finish().expect("written");
         let mut options = gif::DecodeOptions::new();
         options.set_color_output(gif::ColorOutput::Indexed);
         let mut decoder = options.read_info(File::open(&path).expect("file")).expect("a GIF");
