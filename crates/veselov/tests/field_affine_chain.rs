@@ -428,3 +428,41 @@ fn a_wrong_metric_declaration_is_refused() {
         );
     }
 }
+
+/// The flow marcher (any finite complex) makes the same check on the cells
+/// whose values are all known when it is built.
+#[test]
+fn a_flow_marcher_refuses_a_wrong_metric_declaration() {
+    use veselov::field::complex::{CfkWindow, TopCells};
+    use veselov::field::flow::FlowMarcher;
+    let window = CfkWindow::open(&[3, 3, 2]).expect("window");
+    let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
+    let count = window.vertex_count();
+    // Linear in x₀ and t: every jet along x₁ is exactly zero.
+    let values: Vec<SVector<f64, 1>> = (0..count)
+        .map(|v| {
+            let x = nodes.node(&window.extent().vertex(v));
+            SVector::from([0.4 + 0.3 * x[0] - 0.2 * x[2]])
+        })
+        .collect();
+    let build = |flipped: Option<usize>| {
+        let density = Misdeclared {
+            flipped,
+            wrong_potential: false,
+        };
+        FlowMarcher::<_, Euclidean<1>, _, 1>::new(
+            window.clone(),
+            MidpointRule::new(density, nodes),
+            values.clone(),
+            vec![true; count],
+            CauchyOptions::default(),
+        )
+        .map(|_| ())
+    };
+    assert!(build(None).is_ok(), "the right declaration");
+    let message = build(Some(1)).expect_err("η₁ flipped").to_string();
+    assert!(
+        message.contains("cell Lagrangian") && message.contains("diagonal_jet_metric"),
+        "{message}"
+    );
+}

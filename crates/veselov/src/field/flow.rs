@@ -26,7 +26,10 @@
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, exact_gradient, vertex_force, with_values};
+use super::cell::{
+    DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, check_closed_form, exact_gradient, vertex_force,
+    with_values,
+};
 use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre_from};
@@ -54,6 +57,10 @@ pub struct FlowMarcher<C: TopCells, F: Fibre<M>, L, const M: usize> {
     /// Star buffer of single solves (no allocation once grown).
     scratch: Vec<StarEntry>,
 }
+
+/// Cells whose closed-form gradients a marcher checks against its cell
+/// Lagrangian when it is built ([`check_closed_form`]).
+const CHECKED_CELLS: usize = 48;
 
 fn flow_error(v: usize, reason: String) -> Error {
     Error::InvalidParameter {
@@ -96,14 +103,45 @@ where
                 value: f64::NAN,
             });
         }
-        Ok(Self {
+        let marcher = Self {
             complex,
             lag,
             values,
             known,
             options,
             scratch: Vec::with_capacity(MAX_CELL_VERTICES),
-        })
+        };
+        marcher.check_closed_forms()?;
+        Ok(marcher)
+    }
+
+    /// [`check_closed_form`] on the first [`CHECKED_CELLS`] cells whose
+    /// vertices are all known.
+    fn check_closed_forms(&self) -> Result<()> {
+        let mut verts = [0; MAX_CELL_VERTICES];
+        let mut checked = 0;
+        for index in 0..self.complex.cell_count() {
+            if checked == CHECKED_CELLS {
+                break;
+            }
+            let k = self.complex.cell_vertices(index, &mut verts);
+            if k > MAX_CELL_VERTICES || !verts[..k].iter().all(|&v| self.known.get(v).copied().unwrap_or(false)) {
+                continue;
+            }
+            checked += 1;
+            let cell = self.complex.cell(index);
+            with_values(
+                k,
+                |i| self.values[verts[i]],
+                |y| check_closed_form::<F, L, M>(&self.lag, &cell, y),
+            )
+            .map_err(|reason| Error::InvalidParameter {
+                name: "cell Lagrangian".into(),
+                value: format!("cell {index}"),
+                reason,
+            })?;
+        }
+        Ok(())
     }
 
     /// The complex.
