@@ -524,10 +524,7 @@ impl RodSetup {
             // Lattice time Δt is the run's t = 0 (see `motion`).
             start: dt,
         };
-        let any_load = loads.damping_linear > 0.0
-            || loads.damping_angular > 0.0
-            || loads.end_force != Vector3::zeros()
-            || loads.end_torque != Vector3::zeros();
+        let any_load = loads.damped() || loads.end_force != Vector3::zeros() || loads.end_torque != Vector3::zeros();
         if any_load
             && !ends.end.is_free()
             && (loads.end_force != Vector3::zeros() || loads.end_torque != Vector3::zeros())

@@ -378,13 +378,19 @@ where
 /// which the data do not vary would hide a wrong declaration for it) and no
 /// gradient is at round-off level (data at rest, say). `Ok` where the
 /// Lagrangian has no closed form or is not finite there (suitability is
-/// checked elsewhere); an error message naming the vertex where the two
-/// differ by more than 1e-9 of the cell's largest gradient entry (they agree
-/// to round-off where the declaration holds).
+/// checked elsewhere).
 ///
 /// # Errors
-/// The message, for the caller to name the cell.
-pub fn check_closed_form<F, L, const M: usize>(lag: &L, cell: &TopCell, y: &[F::Point<f64>]) -> Result<(), String>
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for
+/// `cell Lagrangian`, the cell named by `name()`, where the two differ by
+/// more than 1e-9 of the cell's largest gradient entry at some vertex (they
+/// agree to round-off where the declaration holds).
+pub fn check_closed_form<F, L, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+    name: impl FnOnce() -> String,
+) -> crate::Result<()>
 where
     F: Fibre<M>,
     L: DiscreteLagrangian<F, M> + ?Sized,
@@ -418,12 +424,16 @@ where
     for l in 0..k {
         let difference = (closed[l] - dual[l]).amax();
         if difference > 1e-9 * scale.max(f64::MIN_POSITIVE) {
-            return Err(format!(
-                "its closed-form gradient at vertex {l} differs from the derivative of its cell Lagrangian by \
+            return Err(crate::Error::InvalidParameter {
+                name: "cell Lagrangian".into(),
+                value: name(),
+                reason: format!(
+                    "its closed-form gradient at vertex {l} differs from the derivative of its cell Lagrangian by \
                  {difference:.2e} ({:.1e} of the largest entry {scale:.2e}): a declaration the closed form rests on \
                  (such as SmoothDensity::diagonal_jet_metric) does not hold",
-                difference / scale.max(f64::MIN_POSITIVE)
-            ));
+                    difference / scale.max(f64::MIN_POSITIVE)
+                ),
+            });
         }
     }
     Ok(())

@@ -125,7 +125,10 @@ where
                 break;
             }
             let k = self.complex.cell_vertices(index, &mut verts);
-            if k > MAX_CELL_VERTICES || !verts[..k].iter().all(|&v| self.known.get(v).copied().unwrap_or(false)) {
+            if k == 0
+                || k > MAX_CELL_VERTICES
+                || !verts[..k].iter().all(|&v| self.known.get(v).copied().unwrap_or(false))
+            {
                 continue;
             }
             checked += 1;
@@ -133,13 +136,8 @@ where
             with_values(
                 k,
                 |i| self.values[verts[i]],
-                |y| check_closed_form::<F, L, M>(&self.lag, &cell, y),
-            )
-            .map_err(|reason| Error::InvalidParameter {
-                name: "cell Lagrangian".into(),
-                value: format!("cell {index}"),
-                reason,
-            })?;
+                |y| check_closed_form::<F, L, M>(&self.lag, &cell, y, || format!("cell {index}")),
+            )?;
         }
         Ok(())
     }

@@ -308,10 +308,8 @@ where
             let at = self.base(w, i);
             for sigma in (0..self.perms.len()).filter(|&s| self.cell_active_at(&at, s)) {
                 let cell = self.cell_values_at(&at, sigma, None, &mut y);
-                check_closed_form::<F, L, M>(&self.lag, &cell, &y[..=n]).map_err(|reason| Error::InvalidParameter {
-                    name: "cell Lagrangian".into(),
-                    value: format!("cell {sigma} based at vertex {i} of level {w}"),
-                    reason,
+                check_closed_form::<F, L, M>(&self.lag, &cell, &y[..=n], || {
+                    format!("cell {sigma} based at vertex {i} of level {w}")
                 })?;
             }
         }

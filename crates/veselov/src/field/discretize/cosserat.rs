@@ -569,7 +569,7 @@ impl<P: RodPotential> CosseratCell<P> {
             return zero;
         }
         let mut f = zero;
-        if l != 1 && (loads.damping_linear > 0.0 || loads.damping_angular > 0.0) {
+        if l != 1 && loads.damped() {
             // F⁰ = F² = −(A_β/2)(c_r v_d; c_R ω_d): the damping work
             // ∫∫ −(c_r ∂_t r·δr + c_R ω·η) ds dt by the trapezoidal rule on
             // the time edge v₀v₂ of the cell.
@@ -676,6 +676,12 @@ impl RodLoads {
             return Err(invalid("tip", self.tip, "must be a material point (0 or the last)"));
         }
         Ok(())
+    }
+
+    /// Whether either damping coefficient is positive (the forces F⁰ = F²
+    /// on the cells' time edges are then not zero).
+    pub fn damped(&self) -> bool {
+        self.damping_linear > 0.0 || self.damping_angular > 0.0
     }
 
     /// The fraction of the end load applied at time t:

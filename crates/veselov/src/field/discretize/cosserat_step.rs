@@ -283,7 +283,7 @@ pub(crate) fn split_solve<P: RodPotential>(
             // end force ([`CosseratCell::cell_force`]'s terms in its order;
             // its rotation part, with a logarithm, is not needed here).
             let mut f = Vector3::zeros();
-            if loads.damping_linear > 0.0 || loads.damping_angular > 0.0 {
+            if loads.damped() {
                 f += lag.linear_damping(loads, &y0.position, &start);
             }
             if let Some((force, _)) = lag.end_load(loads, &c.cell, &y0) {
