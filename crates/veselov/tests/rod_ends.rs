@@ -6,7 +6,7 @@
 
 use nalgebra::Vector3;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
-use veselov::field::cell::vertex_gradient;
+use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
 use veselov::field::complex::TopCell;
 use veselov::field::discretize::{CosseratCell, CosseratDensity, RodLoads, RodParameters};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
@@ -153,6 +153,116 @@ fn split_step_with_loads_and_a_clamp_matches_the_generic_newton() {
     println!("split step vs generic Newton with loads and a clamp: {worst:.1e}");
     assert!(clamped_seen >= 19);
     assert!(worst <= 1e-13, "{worst:.1e}");
+}
+
+/// The forces of a cell at all its positions at once (`cell_forces`, what
+/// the march stores) are `cell_force` at each position, bit for bit, on
+/// cells with and without the end load.
+#[test]
+fn cell_forces_are_the_cell_force_at_each_position() {
+    let lattice = RodLattice::new(21, 1.0, 0.04).expect("lattice");
+    let lag = CosseratCell::new(CosseratDensity::free(parameters(0.1)), lattice.ds(), lattice.dt())
+        .expect("spacings")
+        .with_loads(loads(20))
+        .expect("loads");
+    let motion = motion(1.0);
+    let (mut loaded, mut checked) = (0, 0);
+    for w in 0..6_i64 {
+        for i in 0..lattice.torus().level_size() {
+            for shape in 0..2 {
+                let perm = veselov::field::complex::permutation(2, shape);
+                let v0 = lattice.window().unwrap(&lattice.torus().vertex(w, i));
+                if !lattice.window().contains_cell(&v0, &perm) {
+                    continue;
+                }
+                let cell = TopCell {
+                    index: 0,
+                    shape,
+                    origin: v0,
+                };
+                // The leapfrog embedding (6.2): s = (i − j)Δs/2, t = (i + j)Δt/2.
+                let mut v = v0;
+                let y: Vec<Pose<f64>> = (0..3)
+                    .map(|l| {
+                        if l > 0 {
+                            v[perm[l - 1]] += 1;
+                        }
+                        let s = (v[0] - v[1]) as f64 * 0.5 * lattice.ds();
+                        let t = (v[0] + v[1]) as f64 * 0.5 * lattice.dt();
+                        motion(s, t)
+                    })
+                    .collect();
+                let mut all = [nalgebra::SVector::<f64, 6>::zeros(); 3];
+                lag.cell_forces(&cell, &y, &mut all);
+                for (l, f) in all.iter().enumerate() {
+                    let one: nalgebra::SVector<f64, 6> = lag.cell_force(&cell, &y, l);
+                    assert_eq!(
+                        f.map(f64::to_bits),
+                        one.map(f64::to_bits),
+                        "cell {v0:?}/{shape}, position {l}"
+                    );
+                }
+                loaded += usize::from(all[0] != all[2]);
+                checked += 1;
+            }
+        }
+    }
+    assert!(
+        checked > 100 && loaded > 0,
+        "{checked} cells, {loaded} with the end load"
+    );
+}
+
+/// A march rebuilt from its own values (the last 2n levels as Cauchy data:
+/// gradients and forces recomputed from the values, as after a checkpoint)
+/// continues bit for bit as the march that stored them when its cells were
+/// solved (the split step writes the gradients and forces of its cells).
+#[test]
+fn a_loaded_march_rebuilt_from_its_values_continues_bit_for_bit() {
+    let lattice = RodLattice::new(21, 1.0, 0.04).expect("lattice");
+    let lag = CosseratCell::new(CosseratDensity::free(parameters(0.1)), lattice.ds(), lattice.dt())
+        .expect("spacings")
+        .with_loads(loads(20))
+        .expect("loads");
+    let mut m = march(lag.clone(), &lattice, &RodEnds::default(), motion(1.0));
+    for _ in 0..30 {
+        m.step().expect("stable step");
+    }
+    let k = m.level();
+    let data: Vec<Vec<Pose<f64>>> = (k - 2..k + 2)
+        .map(|w| m.level_values(w).expect("stored level").to_vec())
+        .collect();
+    let mut rebuilt =
+        CauchyMarcher::with_window(lag, lattice.torus().clone(), k - 2, &data, ROUND_OFF, lattice.window())
+            .expect("marcher");
+    assert_eq!(rebuilt.level(), k);
+    for _ in 0..20 {
+        m.step().expect("stable step");
+        rebuilt.step().expect("stable step");
+        assert_eq!(
+            load_impulse(&m),
+            load_impulse(&rebuilt),
+            "impulse at level {}",
+            m.level()
+        );
+        let w = m.top_level();
+        let bits = |x: &[Pose<f64>]| -> Vec<u64> {
+            x.iter()
+                .flat_map(|p| {
+                    p.position
+                        .iter()
+                        .chain(p.rotation.matrix().iter())
+                        .map(|v| v.to_bits())
+                        .collect::<Vec<_>>()
+                })
+                .collect()
+        };
+        assert_eq!(
+            bits(m.level_values(w).expect("level")),
+            bits(rebuilt.level_values(w).expect("level")),
+            "level {w}"
+        );
+    }
 }
 
 /// A cantilever clamped at s = 0 (r = 0, R = I, along e₃), loaded at the tip

@@ -94,6 +94,22 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         SVector::from_element(D::zero())
     }
 
+    /// F^l_β at every position l of `cell` at once, into `out[..y.len()]`
+    /// (zero where [`has_force_at`](Self::has_force_at) says none acts):
+    /// the forces the Cauchy marcher stores when a cell's last vertex is
+    /// solved. The default calls [`cell_force`](Self::cell_force) once per
+    /// position; a model whose positions share work (a logarithm, say) may
+    /// compute them together, with the bits of `cell_force` at each.
+    fn cell_forces(&self, cell: &TopCell, y: &[F::Point<f64>], out: &mut [SVector<f64, M>]) {
+        for (l, f) in out.iter_mut().enumerate().take(y.len()) {
+            *f = if self.has_force_at(l) {
+                self.cell_force(cell, y, l)
+            } else {
+                SVector::zeros()
+            };
+        }
+    }
+
     /// A model's own solve of one vertex equation of the Cauchy integrator
     /// (note 003 §2.4): find z with
     /// Σ_σ (∂L_{(v,σ)}/∂y_v + F⁰_{(v,σ)})(y_v, …, z) = μ over the cells
@@ -115,7 +131,13 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// [`SolvedVertex::gradients_written`]; the marcher then skips its own
     /// evaluation of them. They must be the bits the marcher's own evaluation
     /// would give from the stored value z (a march restored from a
-    /// checkpoint recomputes them so).
+    /// checkpoint recomputes them so). When the Lagrangian has forces,
+    /// `gradients` continues with room for the cells' forces in the same
+    /// layout, F^l_{(v,σ)} at `gradients[n!(n + 1) + σ(n + 1) + l]`
+    /// (l = 0 … n; zero for cells outside the action): an implementation
+    /// may write those too, with the bits of
+    /// [`cell_forces`](Self::cell_forces) at z, and say so in
+    /// [`SolvedVertex::forces_written`].
     fn solve_last_vertex(
         &self,
         _star: &VertexStar<'_, F::Point<f64>>,
@@ -167,6 +189,8 @@ pub struct SolvedVertex<P> {
     pub outcome: VertexOutcome,
     /// Whether the solved cells' gradients at positions 1 … n were written.
     pub gradients_written: bool,
+    /// Whether the solved cells' forces were written (after the gradients).
+    pub forces_written: bool,
 }
 
 /// F^l_β at the vertex values `y` and its derivative with respect to the

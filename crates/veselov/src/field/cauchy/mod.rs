@@ -33,8 +33,7 @@ use nalgebra::SVector;
 use rayon::prelude::*;
 
 use super::cell::{
-    DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, check_closed_form, later_gradients, vertex_force,
-    vertex_gradient,
+    DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, check_closed_form, later_gradients, vertex_gradient,
 };
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
 use super::fibre::Fibre;
@@ -89,6 +88,14 @@ const SMALL_STAR: usize = 6;
 /// Vertices of a cell of a gathered star (n + 1 ≤ 4).
 const SMALL_CELL: usize = 4;
 
+/// Which of the solved cells' stored terms a model's vertex solve wrote
+/// ([`SolvedVertex`](super::cell::SolvedVertex)).
+#[derive(Clone, Copy, Default)]
+struct Written {
+    gradients: bool,
+    forces: bool,
+}
+
 /// A vertex (w, i) as the base of its cells ([`CauchyMarcher::base`]).
 #[derive(Clone, Copy)]
 struct Base {
@@ -110,7 +117,10 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     values: Vec<F::Point<f64>>,
     /// Gradients of the cells based at levels k − n … k, slot w mod (n + 1)
     /// (one buffer per slot: a solved level's buffer is swapped in, not
-    /// copied); per base vertex n!·(n + 1) vectors, cell σ then position.
+    /// copied); per base vertex n!·(n + 1) vectors, cell σ then position,
+    /// followed, when the Lagrangian has forces, by the cells' forces F^l_β
+    /// in the same layout ([`stride`](Self::stride) vectors in all), stored
+    /// when each cell's last vertex is solved.
     grads: Vec<Vec<SVector<f64, M>>>,
     next_values: Vec<F::Point<f64>>,
     next_grads: Vec<SVector<f64, M>>,
@@ -257,9 +267,8 @@ where
             .try_reserve_exact((2 * n + 1).checked_mul(size).ok_or_else(|| too_large("levels"))?)
             .map_err(|_| too_large("levels"))?;
         values.resize((2 * n + 1) * size, data[0][0]);
-        let grad_count = size
-            .checked_mul(per_vertex)
-            .ok_or_else(|| too_large("cell gradients"))?;
+        let stride = if lag.has_forces() { 2 * per_vertex } else { per_vertex };
+        let grad_count = size.checked_mul(stride).ok_or_else(|| too_large("cell gradients"))?;
         // n + 1 ring slots and the buffer the next level is solved into.
         let mut grads = Vec::with_capacity(n + 2);
         for _ in 0..n + 2 {
@@ -322,13 +331,13 @@ where
     fn fill_gradients(&mut self) {
         let n = self.torus.dimension();
         let size = self.torus.level_size();
-        let per_vertex = self.perms.len() * (n + 1);
-        let mut out = vec![SVector::zeros(); per_vertex];
+        let stride = self.stride();
+        let mut out = vec![SVector::zeros(); stride];
         for base in self.level - n as i64..self.level {
             let slot = self.grad_slot(base);
             for i in 0..size {
-                self.cell_gradients(base, i, None, &mut out);
-                self.grads[slot][i * per_vertex..(i + 1) * per_vertex].copy_from_slice(&out);
+                self.cell_terms(base, i, None, Written::default(), &mut out);
+                self.grads[slot][i * stride..(i + 1) * stride].copy_from_slice(&out);
             }
         }
     }
@@ -400,6 +409,45 @@ where
         let size = self.torus.level_size();
         let slot = self.value_slot(w);
         Some(&self.values[slot * size..(slot + 1) * size])
+    }
+
+    /// Vectors stored per base vertex: its cells' n!·(n + 1) gradients,
+    /// then as many forces when the Lagrangian has forces.
+    #[inline]
+    pub(super) fn stride(&self) -> usize {
+        let per_vertex = self.perms.len() * (self.torus.dimension() + 1);
+        if self.lag.has_forces() {
+            2 * per_vertex
+        } else {
+            per_vertex
+        }
+    }
+
+    /// The stored terms of the n! cells based at (w, i), into `out`
+    /// ([`stride`](Self::stride) vectors): their gradients at positions
+    /// 1 … n ([`cell_gradients`](Self::cell_gradients)), then their forces
+    /// at every position ([`DiscreteLagrangian::cell_forces`]; zero for a
+    /// cell outside the window), with the last vertex `top` if given; the
+    /// parts a model's solve `written` already are skipped.
+    fn cell_terms(&self, w: i64, i: usize, top: Option<F::Point<f64>>, written: Written, out: &mut [SVector<f64, M>]) {
+        let n = self.torus.dimension();
+        let (grads, forces) = out.split_at_mut(self.perms.len() * (n + 1));
+        if !written.gradients {
+            self.cell_gradients(w, i, top, grads);
+        }
+        if forces.is_empty() || written.forces {
+            return;
+        }
+        let base = self.base(w, i);
+        let mut y = [self.values[base.slot * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
+        for (sigma, f) in forces.chunks_exact_mut(n + 1).enumerate() {
+            if self.cell_active_at(&base, sigma) {
+                let cell = self.cell_values_at(&base, sigma, top, &mut y);
+                self.lag.cell_forces(&cell, &y[..=n], f);
+            } else {
+                f.fill(SVector::zeros());
+            }
+        }
     }
 
     /// In-level index of vertex l of the simplex (v, σ), v = (·, i).
@@ -502,32 +550,26 @@ where
 
     /// μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} (∂L_β/∂y_v + F^{l(v)}_β) for v = (w, i),
     /// with the size of the terms (the forces F of the discrete
-    /// Lagrange–d'Alembert principle when the Lagrangian has them).
+    /// Lagrange–d'Alembert principle when the Lagrangian has them), from the
+    /// stored gradients and forces of the cells.
     fn momentum(&self, w: i64, i: usize) -> (SVector<f64, M>, f64) {
         let n = self.torus.dimension();
         let per_vertex = self.perms.len() * (n + 1);
+        let stride = self.stride();
         let mut mu = SVector::zeros();
         let mut scale = 0.0;
-        // The cells' values, gathered only where a force acts at position j
-        // (the buffer made at the first such cell).
-        let mut buffer = None;
         for j in 1..=n {
-            let slot = self.grad_slot(w - j as i64);
+            let slot = &self.grads[self.grad_slot(w - j as i64)];
             let forced = self.lag.has_force_at(j);
             for sigma in 0..self.perms.len() {
-                let base = self.down(i, sigma, j);
-                let g = &self.grads[slot][base * per_vertex + sigma * (n + 1) + j];
+                let at = self.down(i, sigma, j) * stride + sigma * (n + 1) + j;
+                let g = &slot[at];
                 mu -= g;
                 scale += largest_abs(g);
                 if forced {
-                    let at = self.base(w - j as i64, base);
-                    if self.cell_active_at(&at, sigma) {
-                        let y = buffer.get_or_insert_with(|| [self.value(w, i); MAX_LATTICE_DIMENSION + 1]);
-                        let cell = self.cell_values_at(&at, sigma, None, y);
-                        let f = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
-                        mu -= f;
-                        scale += largest_abs(&f);
-                    }
+                    let f = &slot[at + per_vertex];
+                    mu -= f;
+                    scale += largest_abs(f);
                 }
             }
         }
@@ -535,20 +577,20 @@ where
     }
 
     /// Solves EL_v = 0 for y_{Δv}, v = (w, i); returns y_{Δv}, the solve's
-    /// outcome and whether the model's own solve already wrote the solved
-    /// cells' gradients into `grads` ([`DiscreteLagrangian::solve_last_vertex`]).
+    /// outcome and which of the solved cells' terms the model's own solve
+    /// already wrote into `terms` ([`DiscreteLagrangian::solve_last_vertex`]).
     /// Outside the window y_{Δv} = y_v (never read).
-    fn solve_vertex(&self, w: i64, i: usize, grads: &mut [SVector<f64, M>]) -> (F::Point<f64>, VertexOutcome, bool) {
+    fn solve_vertex(&self, w: i64, i: usize, terms: &mut [SVector<f64, M>]) -> (F::Point<f64>, VertexOutcome, Written) {
         let n = self.torus.dimension();
         // The base's canonical coordinates serve the window test and the star.
         let base = self.base(w, i);
         if !self.window.as_ref().is_none_or(|m| m.contains(&base.origin)) {
-            return (self.value(w, i), VertexOutcome::default(), false);
+            return (self.value(w, i), VertexOutcome::default(), Written::default());
         }
         if let Some(data) = &self.dirichlet {
             let target = self.up(i, 0, n);
             if let Some(z) = data(&self.origin(w + n as i64, target)) {
-                return (z, VertexOutcome::default(), false);
+                return (z, VertexOutcome::default(), Written::default());
             }
         }
         let (mu, mu_scale) = self.momentum(w, i);
@@ -561,9 +603,13 @@ where
         };
         if let Some(solved) = self
             .lag
-            .solve_last_vertex(&star, &mu, mu_scale, &previous, &self.options, grads)
+            .solve_last_vertex(&star, &mu, mu_scale, &previous, &self.options, terms)
         {
-            return (solved.value, solved.outcome, solved.gradients_written);
+            let written = Written {
+                gradients: solved.gradients_written,
+                forces: solved.forces_written,
+            };
+            return (solved.value, solved.outcome, written);
         }
         let z = F::extrapolate(&previous, &self.value(w, i));
         // A star of up to SMALL_STAR cells gathers its cells' known values
@@ -610,7 +656,7 @@ where
             }
             (leg, scale)
         });
-        (z, outcome, false)
+        (z, outcome, Written::default())
     }
 
     /// The vertices per parallel chunk of a level of `size` vertices, `size`
@@ -641,7 +687,7 @@ where
     pub fn step(&mut self) -> Result<LevelReport> {
         let n = self.torus.dimension();
         let size = self.torus.level_size();
-        let per_vertex = self.perms.len() * (n + 1);
+        let stride = self.stride();
         let w = self.level;
         let mut next_values = std::mem::take(&mut self.next_values);
         let mut next_grads = std::mem::take(&mut self.next_grads);
@@ -651,18 +697,18 @@ where
         let parallel = chunk < size;
         {
             let this = &*self;
-            let solve = |(i, ((value, grads), outcome)): VertexSlot<'_, F::Point<f64>, M>| {
-                let (z, o, written) = this.solve_vertex(w, i, grads);
+            let solve = |(i, ((value, terms), outcome)): VertexSlot<'_, F::Point<f64>, M>| {
+                let (z, o, written) = this.solve_vertex(w, i, terms);
                 *value = z;
                 *outcome = o;
-                if o.failure.is_none() && !written {
-                    this.cell_gradients(w, i, Some(z), grads);
+                if o.failure.is_none() {
+                    this.cell_terms(w, i, Some(z), written, terms);
                 }
             };
             if parallel {
                 next_values
                     .par_iter_mut()
-                    .zip(next_grads.par_chunks_mut(per_vertex))
+                    .zip(next_grads.par_chunks_mut(stride))
                     .zip(outcomes.par_iter_mut())
                     .with_min_len(chunk)
                     .enumerate()
@@ -671,7 +717,7 @@ where
                 // One thread, or one chunk: no hand-over to the pool at all.
                 next_values
                     .iter_mut()
-                    .zip(next_grads.chunks_mut(per_vertex))
+                    .zip(next_grads.chunks_mut(stride))
                     .zip(outcomes.iter_mut())
                     .enumerate()
                     .for_each(solve);

@@ -6,7 +6,7 @@ use nalgebra::SVector;
 use rayon::prelude::*;
 
 use super::CauchyMarcher;
-use crate::field::cell::{DiscreteLagrangian, vertex_force};
+use crate::field::cell::DiscreteLagrangian;
 use crate::field::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::field::fibre::Fibre;
 
@@ -116,7 +116,7 @@ where
     ) -> [f64; K] {
         let n = self.torus.dimension();
         let size = self.torus.level_size();
-        let per_vertex = self.perms.len() * (n + 1);
+        let stride = self.stride();
         let c = self.level;
         let mut sum = [0.0; K];
         for j in 1..=n {
@@ -124,7 +124,7 @@ where
             let slot = self.grad_slot(base_level);
             for i in 0..size {
                 for sigma in 0..self.perms.len() {
-                    let g = &self.grads[slot][i * per_vertex + sigma * (n + 1)..][..n + 1];
+                    let g = &self.grads[slot][i * stride + sigma * (n + 1)..][..n + 1];
                     for (l, gl) in g.iter().enumerate().skip(j) {
                         let y = self.value(base_level + l as i64, self.up(i, sigma, l));
                         for (s, d) in sum.iter_mut().zip(&generators(&y)) {
@@ -159,7 +159,7 @@ where
 
     /// [`level_impulse`](Self::level_impulse) along K vector fields at once
     /// (`generators` returns their values at a point): one sweep over the
-    /// level's forces for all of them.
+    /// forces stored for the level's cells for all of them.
     pub fn level_impulses<const K: usize>(
         &self,
         generators: impl Fn(&F::Point<f64>) -> [SVector<f64, M>; K],
@@ -169,23 +169,22 @@ where
             return sum;
         }
         let n = self.torus.dimension();
+        let per_vertex = self.perms.len() * (n + 1);
+        let stride = self.stride();
         let c = self.level - 1;
         for i in 0..self.torus.level_size() {
             if !self.is_active(c, i) {
                 continue;
             }
-            let here = self.value(c, i);
-            let d = generators(&here);
-            let mut y = [here; MAX_LATTICE_DIMENSION + 1];
+            let d = generators(&self.value(c, i));
             for j in (0..=n).filter(|&j| self.lag.has_force_at(j)) {
+                let slot = &self.grads[self.grad_slot(c - j as i64)];
                 for sigma in 0..self.perms.len() {
                     let base = if j == 0 { i } else { self.down(i, sigma, j) };
-                    let at = self.base(c - j as i64, base);
-                    if !self.cell_active_at(&at, sigma) {
+                    if !self.cell_active_at(&self.base(c - j as i64, base), sigma) {
                         continue;
                     }
-                    let cell = self.cell_values_at(&at, sigma, None, &mut y);
-                    let force = vertex_force::<F, L, M>(&self.lag, &cell, &y[..=n], j);
+                    let force = &slot[base * stride + per_vertex + sigma * (n + 1) + j];
                     for (s, dk) in sum.iter_mut().zip(&d) {
                         *s += force.dot(dk);
                     }

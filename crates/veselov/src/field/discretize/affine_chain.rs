@@ -565,6 +565,7 @@ where
                 value: z,
                 outcome,
                 gradients_written: false,
+                forces_written: false,
             });
         }
         for (sigma, partial) in frames.iter().enumerate().take(cells) {
@@ -582,6 +583,7 @@ where
             value: z,
             outcome,
             gradients_written: true,
+            forces_written: false,
         })
     }
 }

@@ -570,22 +570,75 @@ impl<P: RodPotential> CosseratCell<P> {
         }
         let mut f = zero;
         if l != 1 && loads.damped() {
-            // F⁰ = F² = −(A_β/2)(c_r v_d; c_R ω_d): the damping work
-            // ∫∫ −(c_r ∂_t r·δr + c_R ω·η) ds dt by the trapezoidal rule on
-            // the time edge v₀v₂ of the cell.
-            let Ok(b) = Rotations::log(&y[0].rotation, &y[2].rotation) else {
-                return SVector::from_element(D::from(f64::NAN));
-            };
-            let v = self.linear_damping(loads, &y[0].position, &y[2].position);
-            let o = b * D::from(self.damping_weight() * loads.damping_angular);
-            f += SVector::<D, 6>::new(v[0], v[1], v[2], o[0], o[1], o[2]);
+            match self.damping_force(loads, y) {
+                Some(damping) => f += damping,
+                None => return SVector::from_element(D::from(f64::NAN)),
+            }
         }
         if l == 0
-            && let Some((force, torque)) = self.end_load(loads, cell, &y[0])
+            && let Some(load) = self.end_load_force(loads, cell, &y[0])
         {
-            f += SVector::<D, 6>::new(force[0], force[1], force[2], torque[0], torque[1], torque[2]);
+            f += load;
         }
         f
+    }
+
+    /// F⁰ = F² = −(A_β/2)(c_r v_d; c_R ω_d): the damping work
+    /// ∫∫ −(c_r ∂_t r·δr + c_R ω·η) ds dt by the trapezoidal rule on the
+    /// time edge v₀v₂ of the cell; `None` where log(R₀ᵀR₂) fails.
+    fn damping_force<D: Scalar>(&self, loads: &RodLoads, y: &[Pose<D>]) -> Option<SVector<D, 6>> {
+        let b = Rotations::log(&y[0].rotation, &y[2].rotation).ok()?;
+        Some(self.damping_force_with(loads, &y[0].position, &y[2].position, &b))
+    }
+
+    /// [`damping_force`](Self::damping_force) with b = log(R₀ᵀR₂) given.
+    fn damping_force_with<D: Scalar>(
+        &self,
+        loads: &RodLoads,
+        r0: &Vector3<D>,
+        r2: &Vector3<D>,
+        b: &Vector3<D>,
+    ) -> SVector<D, 6> {
+        let v = self.linear_damping(loads, r0, r2);
+        let o = b * D::from(self.damping_weight() * loads.damping_angular);
+        SVector::<D, 6>::new(v[0], v[1], v[2], o[0], o[1], o[2])
+    }
+
+    /// (F⁰, F¹ = 0, F²) of `cell` with base value y₀, last position r₂ and
+    /// b = log(R₀ᵀR₂) (`None`: the logarithm failed, NaN at 0 and 2): the
+    /// operations of [`force`](Self::force) at each position, so the same
+    /// bits, with one logarithm for both ends of the time edge.
+    pub(super) fn forces_with(
+        &self,
+        loads: &RodLoads,
+        cell: &TopCell,
+        y0: &Pose<f64>,
+        r2: &Vector3<f64>,
+        b: Option<&Vector3<f64>>,
+    ) -> [SVector<f64, 6>; 3] {
+        let zero = SVector::zeros();
+        let (mut first, mut last) = (zero, zero);
+        if loads.damped() {
+            let Some(b) = b else {
+                let nan = SVector::from_element(f64::NAN);
+                return [nan, zero, nan];
+            };
+            let damping = self.damping_force_with(loads, &y0.position, r2, b);
+            first += damping;
+            last += damping;
+        }
+        if let Some(load) = self.end_load_force(loads, cell, y0) {
+            first += load;
+        }
+        [first, zero, last]
+    }
+
+    /// The end load's part of F⁰ as one vector ([`end_load`](Self::end_load)).
+    fn end_load_force<D: Scalar>(&self, loads: &RodLoads, cell: &TopCell, y0: &Pose<D>) -> Option<SVector<D, 6>> {
+        let (force, torque) = self.end_load(loads, cell, y0)?;
+        Some(SVector::<D, 6>::new(
+            force[0], force[1], force[2], torque[0], torque[1], torque[2],
+        ))
     }
 
     /// −A_β/(2Δt): the weight of the damping forces on the time edge.
@@ -728,6 +781,25 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
 
     fn cell_force<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>], l: usize) -> SVector<D, 6> {
         self.force(cell, y, l)
+    }
+
+    /// F⁰, F¹ = 0 and F² with one logarithm for the damping at both ends
+    /// of the time edge ([`CosseratCell::forces_with`]).
+    fn cell_forces(&self, cell: &TopCell, y: &[Pose<f64>], out: &mut [SVector<f64, 6>]) {
+        let n = y.len().min(out.len());
+        out[..n].fill(SVector::zeros());
+        let Some(loads) = &self.loads else {
+            return;
+        };
+        if y.len() != 3 || n < 3 {
+            return;
+        }
+        let b = if loads.damped() {
+            Rotations::log(&y[0].rotation, &y[2].rotation).ok()
+        } else {
+            None
+        };
+        out[..3].copy_from_slice(&self.forces_with(loads, cell, &y[0], &y[2].position, b.as_ref()));
     }
 
     /// The split step of note 003 §3.6 ([`super::cosserat_step`]) when the

@@ -211,6 +211,7 @@ pub(crate) fn split_solve<P: RodPotential>(
             value: *previous,
             outcome,
             gradients_written: false,
+            forces_written: false,
         }
     };
     let (ds, dt) = (lag.ds(), lag.dt());
@@ -346,10 +347,12 @@ pub(crate) fn split_solve<P: RodPotential>(
             return fail(Failure::CutLocus, outcome);
         };
         write_gradients(lag, cells, s0, &y0, &r2, &b, gradients);
+        let forces_written = write_forces(lag, cells, &y0, &value.position, &b, gradients);
         SolvedVertex {
             value,
             outcome,
             gradients_written: true,
+            forces_written,
         }
     };
     let equation = RotationEquation::new(constants, &arms[..count], lag.area() * damp_q / (2.0 * dt));
@@ -417,6 +420,34 @@ pub(crate) fn split_solve<P: RodPotential>(
         }
     }
     fail(Failure::IterationLimit, outcome)
+}
+
+/// The solved cells' forces (F⁰, F¹, F²) with the top (r₂, R₂),
+/// b = log(R₀ᵀR₂), after the gradients in the marcher's layout (cell σ at
+/// 6 + 3σ + l, zero for a cell outside the action), by
+/// [`CosseratCell::forces_with`]: the bits of `cell_forces` at the stored
+/// value, without its logarithm. `false` (nothing written) without loads
+/// or without room for them.
+fn write_forces<P: RodPotential>(
+    lag: &CosseratCell<P>,
+    cells: &[StarCell],
+    y0: &Pose<f64>,
+    r2: &Vector3<f64>,
+    b: &Vector3<f64>,
+    terms: &mut [SVector<f64, 6>],
+) -> bool {
+    let Some(loads) = lag.loads() else {
+        return false;
+    };
+    let Some(forces) = terms.get_mut(6..12) else {
+        return false;
+    };
+    forces.fill(SVector::zeros());
+    for c in cells {
+        let base = 3 * c.cell.shape;
+        forces[base..base + 3].copy_from_slice(&lag.forces_with(loads, &c.cell, y0, r2, Some(b)));
+    }
+    true
 }
 
 /// The solved cells' gradients at positions 1 and 2 with the top

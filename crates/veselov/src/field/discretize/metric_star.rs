@@ -126,6 +126,7 @@ where
                 value: z,
                 outcome,
                 gradients_written: false,
+                forces_written: false,
             };
         }
         let width = N + 1;
@@ -150,6 +151,7 @@ where
             value: z,
             outcome,
             gradients_written: true,
+            forces_written: false,
         }
     }
 }
