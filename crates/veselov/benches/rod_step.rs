@@ -8,7 +8,9 @@
 //! timings); and, beside criterion's mean, the least time per step over 60
 //! blocks of 200 steps (`RAYON_NUM_THREADS=1` for one thread). The steps
 //! run on a thread of the pool ([`veselov::run::on_pool`]), as the command
-//! line runs them.
+//! line runs them. A third case damps the 100-element rod and loads its end
+//! ([`RodLoads`]) and takes each level's impulse of the loads as well, the
+//! work a run of a loaded rod does per level.
 //!
 //! `cargo bench -p veselov --bench rod_step -- --quick`
 
@@ -17,10 +19,10 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::Vector3;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
-use veselov::field::discretize::{CosseratCell, CosseratDensity, RodParameters};
+use veselov::field::discretize::{CosseratCell, CosseratDensity, RodLoads, RodParameters};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
-use veselov::models::rod::{CrossSection, Material, RodLattice, Shear, largest_step, rod_parameters};
+use veselov::models::rod::{CrossSection, Material, RodLattice, Shear, largest_step, load_impulse, rod_parameters};
 use veselov::run::on_pool;
 
 const LENGTH: f64 = 3.0;
@@ -40,8 +42,16 @@ type Rod = CauchyMarcher<PositionRotation, CosseratCell, 6>;
 /// A straight rod along e₃ with a small bending and twisting perturbation
 /// that excites the short waves (a hash-like pattern in s).
 fn rod(elements: usize, dt: f64) -> (Rod, RodLattice) {
+    rod_with(elements, dt, None)
+}
+
+/// [`rod`] with `loads`, if any.
+fn rod_with(elements: usize, dt: f64, loads: Option<RodLoads>) -> (Rod, RodLattice) {
     let lattice = RodLattice::new(elements + 1, LENGTH, dt).expect("lattice");
-    let cell = CosseratCell::new(CosseratDensity::free(parameters()), lattice.ds(), dt).expect("spacings");
+    let mut cell = CosseratCell::new(CosseratDensity::free(parameters()), lattice.ds(), dt).expect("spacings");
+    if let Some(loads) = loads {
+        cell = cell.with_loads(loads).expect("valid loads");
+    }
     let data = lattice.cauchy_data(|s, t| {
         let noise = (s * 1234.567).sin() * 1e-3;
         let tilt = Vector3::new(noise, 0.5 * noise, 0.2 * noise);
@@ -157,6 +167,32 @@ fn bench(c: &mut Criterion) {
             });
         });
     }
+    let elements = 100;
+    let loads = RodLoads {
+        damping_linear: 1.0,
+        damping_angular: 0.01,
+        end_force: Vector3::new(10.0, 0.0, 0.0),
+        end_torque: Vector3::zeros(),
+        tip: elements as i64,
+        ramp: 1.0,
+        start: 0.0,
+    };
+    group.bench_function(
+        format!("{elements} elements, damped and end-loaded, with the level impulses (two levels)"),
+        |b| {
+            let (mut m, _) = rod_with(elements, 0.0705 * LENGTH / elements as f64, Some(loads));
+            b.iter_custom(|steps| {
+                on_pool(|| {
+                    let started = std::time::Instant::now();
+                    for _ in 0..2 * steps {
+                        black_box(m.step().expect("stable"));
+                        black_box(load_impulse(&m));
+                    }
+                    started.elapsed()
+                })
+            });
+        },
+    );
     group.finish();
 }
 
