@@ -135,12 +135,70 @@ pub fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), CliError
     std::fs::write(path, text + "\n").map_err(io(path))
 }
 
-/// Make `dir` ready for a run: create it, or refuse if it holds files and `force` is off.
+/// The stems of the files a run of any kind writes (with an extension of
+/// [`OUTPUT_EXTENSIONS`]): data, plots in either plot format, the
+/// animation; `field_<k>` snapshots besides ([`is_run_output`]).
+const OUTPUT_STEMS: &[&str] = &[
+    "trajectory",
+    "energy",
+    "momentum",
+    "snapshots",
+    "snapshot_times",
+    "centerline",
+    "frames",
+    "convergence",
+    "energy_error",
+    "energy_change",
+    "energy_balance",
+    "momentum_error",
+    "body_momentum",
+    "phase",
+    "orbit",
+    "final_waveform",
+    "centerline_xz",
+    "centerline_yz",
+    "spacetime",
+];
+
+/// The extensions of the files of [`OUTPUT_STEMS`].
+const OUTPUT_EXTENSIONS: &[&str] = &["csv", "npy", "svg", "png", "gif"];
+
+/// Whether `name` is a file a run writes into its output directory (every
+/// kind's data, plots, animation, `summary.json` and `checkpoint.json`):
+/// the files `--force` removes before a new run there.
+pub fn is_run_output(name: &str) -> bool {
+    if name == "summary.json" || name == "checkpoint.json" {
+        return true;
+    }
+    let Some((stem, extension)) = name.rsplit_once('.') else {
+        return false;
+    };
+    if !OUTPUT_EXTENSIONS.contains(&extension) {
+        return false;
+    }
+    OUTPUT_STEMS.contains(&stem)
+        || stem
+            .strip_prefix("field_")
+            .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Make `dir` ready for a run: create it, or refuse if it holds files and
+/// `force` is off. With `force`, the files an earlier run of any kind wrote
+/// there ([`is_run_output`]) are removed first, so that none of them is
+/// taken for an output of the new run; other files and subdirectories are
+/// kept.
 pub fn prepare_dir(dir: &Path, force: bool) -> Result<PathBuf, CliError> {
     if dir.exists() {
         let mut entries = std::fs::read_dir(dir).map_err(io(dir))?;
         if entries.next().is_some() && !force {
             return Err(CliError::OutputNotEmpty { dir: dir.to_path_buf() });
+        }
+        for entry in std::fs::read_dir(dir).map_err(io(dir))? {
+            let entry = entry.map_err(io(dir))?;
+            let earlier = entry.file_name().to_str().is_some_and(is_run_output);
+            if earlier && entry.file_type().map_err(io(dir))?.is_file() {
+                std::fs::remove_file(entry.path()).map_err(io(&entry.path()))?;
+            }
         }
     } else {
         std::fs::create_dir_all(dir).map_err(io(dir))?;
@@ -169,6 +227,34 @@ pub fn push_number(out: &mut String, x: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn run_outputs_are_recognised_and_nothing_else() {
+        for name in [
+            "summary.json",
+            "checkpoint.json",
+            "trajectory.csv",
+            "trajectory.npy",
+            "energy_error.png",
+            "centerline.gif",
+            "field_0.png",
+            "field_12.svg",
+        ] {
+            assert!(is_run_output(name), "{name}");
+        }
+        for name in [
+            "notes.txt",
+            "scenario.toml",
+            "energy.csv.bak",
+            "field_.png",
+            "field_x.png",
+            "data.json",
+            "trajectory",
+            "plot.svg",
+        ] {
+            assert!(!is_run_output(name), "{name}");
+        }
+    }
 
     #[test]
     fn npy_header_is_aligned_and_well_formed() {

@@ -404,6 +404,101 @@ fn unwritable_or_non_empty_output_directory_is_refused() {
         .success();
 }
 
+/// The file names in `dir` (not subdirectories), sorted.
+fn file_names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("output directory")
+        .map(|e| e.expect("entry"))
+        .filter(|e| e.file_type().expect("file type").is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Every kind of run writes only files `--force` knows as run outputs
+/// (`output::is_run_output`), in both plot formats: a file a run writes
+/// under a name missing from that list would survive a `--force` rerun of
+/// another kind.
+#[test]
+fn every_file_a_run_writes_is_a_known_output() {
+    let short = |file: &str, key: &str, value: &str| common::set(&common::example(file), key, value);
+    let runs = [
+        ("harmonic", short("harmonic.toml", "steps", "50")),
+        ("damped", short("damped_oscillator.toml", "t_end", "1.0")),
+        ("rigid", short("rigid_body.toml", "t_end", "1.0")),
+        ("kepler", short("kepler.toml", "t_end", "1.0")),
+        ("sine-gordon", short("sine_gordon.toml", "t_end", "1.0")),
+        ("sine-gordon-2d", short("sine_gordon_2d.toml", "t_end", "0.5")),
+        ("beam", short("beam_cantilever.toml", "t_end", "0.02")),
+        ("rod", short("rod_free_tumbling.toml", "t_end", "0.05")),
+    ];
+    let mut seen = 0;
+    for (name, text) in runs {
+        for format in ["svg", "png"] {
+            assert!(text.contains("[output]\n") && !text.contains("plot_format"), "{name}");
+            let text = text.replacen("[output]\n", &format!("[output]\nplot_format = \"{format}\"\n"), 1);
+            let (ok, stderr, out) = run(&format!("known-{name}-{format}"), &text);
+            assert!(ok, "{name} ({format}): {stderr}");
+            for file in file_names(&out) {
+                assert!(
+                    veselov_cli::output::is_run_output(&file),
+                    "{name} ({format}) wrote {file}"
+                );
+                seen += 1;
+            }
+        }
+    }
+    let dir = temp_dir("known-verify");
+    let file = scenario(&dir, &short("harmonic.toml", "steps", "50"));
+    let out = dir.join("verify");
+    succeeds(
+        veselov()
+            .args(["verify", "--quiet", "--dt", "0.1,0.05", "--out"])
+            .arg(&out)
+            .arg(&file),
+    );
+    for file in file_names(&out) {
+        assert!(veselov_cli::output::is_run_output(&file), "verify wrote {file}");
+        seen += 1;
+    }
+    assert!(seen > 100, "{seen} files");
+}
+
+/// `--force` into the directory of an earlier run of another kind leaves
+/// exactly the new run's outputs beside the user's own files: nothing of the
+/// earlier run (a rod's centreline, frames, animation) is left to be taken
+/// for the new run's.
+#[test]
+fn force_removes_the_outputs_of_an_earlier_run() {
+    let dir = temp_dir("force-kinds");
+    let rod = scenario(
+        &dir,
+        &common::set(&common::example("rod_free_tumbling.toml"), "t_end", "0.05"),
+    );
+    let out = dir.join("out");
+    succeeds(veselov().args(["run", "--quiet", "--out"]).arg(&out).arg(&rod));
+    assert!(out.join("centerline.gif").exists() && out.join("frames.npy").exists());
+    std::fs::write(out.join("notes.txt"), "mine").expect("write");
+    std::fs::create_dir(out.join("keep")).expect("subdirectory");
+    let harmonic = dir.join("harmonic.toml");
+    std::fs::write(&harmonic, common::set(&common::example("harmonic.toml"), "steps", "50")).expect("write");
+    succeeds(
+        veselov()
+            .args(["run", "--quiet", "--force", "--out"])
+            .arg(&out)
+            .arg(&harmonic),
+    );
+    let fresh = dir.join("fresh");
+    succeeds(veselov().args(["run", "--quiet", "--out"]).arg(&fresh).arg(&harmonic));
+    let mut expected = file_names(&fresh);
+    expected.push("notes.txt".into());
+    expected.sort();
+    assert_eq!(file_names(&out), expected);
+    assert!(out.join("keep").is_dir());
+    assert_eq!(std::fs::read_to_string(out.join("notes.txt")).expect("kept"), "mine");
+}
+
 #[test]
 fn failure_mid_run_keeps_partial_results() {
     // L = ½ẋ² + √(1 − x²): leaves the domain |x| < 1 after a few steps.
