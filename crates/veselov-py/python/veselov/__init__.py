@@ -236,7 +236,9 @@ def run(scenario: Scenario, out: Optional[Union[str, os.PathLike]] = None, force
     """Run a scenario (a path, TOML text or a dict with the command's schema).
 
     With ``out`` the command's files (CSV/NPY, ``summary.json``, plots) stay
-    in that directory (``force=True`` overwrites a non-empty one); without
+    in that directory (``force=True`` runs in a non-empty one, first
+    removing the outputs an earlier run wrote there and keeping other
+    files); without
     it, the run writes to a temporary directory, without plots, which is
     removed once read. A bad scenario raises :class:`ScenarioError`. Ctrl-C
     ends the run with ``status == "interrupted"`` and the rows computed so far.
