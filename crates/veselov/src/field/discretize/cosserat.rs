@@ -783,8 +783,9 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
         self.force(cell, y, l)
     }
 
-    /// F⁰, F¹ = 0 and F² with one logarithm for the damping at both ends
-    /// of the time edge ([`CosseratCell::forces_with`]).
+    /// F⁰, F¹ = 0 and F² with one logarithm, log(R₀ᵀR₂), for the damping
+    /// at both ends of the time edge; each the bits of
+    /// [`cell_force`](DiscreteLagrangian::cell_force) at its position.
     fn cell_forces(&self, cell: &TopCell, y: &[Pose<f64>], out: &mut [SVector<f64, 6>]) {
         let n = y.len().min(out.len());
         out[..n].fill(SVector::zeros());
