@@ -1,0 +1,147 @@
+//! The cell terms the Cauchy marcher stores (module documentation of
+//! [`super`]): each cell's vertex gradients and, with forces, its forces,
+//! computed once when the cell's last vertex is solved, and μ_v gathered
+//! from them.
+
+use nalgebra::SVector;
+
+use super::CauchyMarcher;
+use crate::field::cell::{DiscreteLagrangian, later_gradients, vertex_gradient};
+use crate::field::complex::MAX_LATTICE_DIMENSION;
+use crate::field::fibre::Fibre;
+use crate::solve::largest_abs;
+
+/// Which of the solved cells' stored terms a model's vertex solve wrote
+/// ([`SolvedVertex`](crate::field::cell::SolvedVertex)).
+#[derive(Clone, Copy, Default)]
+pub(super) struct Written {
+    pub(super) gradients: bool,
+    pub(super) forces: bool,
+}
+
+impl<F, L, const M: usize> CauchyMarcher<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    /// Gradients of the cells based at the n levels below `level()` (all
+    /// their vertices are known), computed from the stored values exactly as
+    /// the march computes them.
+    pub(super) fn fill_gradients(&mut self) {
+        let n = self.torus.dimension();
+        let size = self.torus.level_size();
+        let stride = self.stride();
+        let mut out = vec![SVector::zeros(); stride];
+        for base in self.level - n as i64..self.level {
+            let slot = self.grad_slot(base);
+            for i in 0..size {
+                self.cell_terms(base, i, None, Written::default(), &mut out);
+                self.grads[slot][i * stride..(i + 1) * stride].copy_from_slice(&out);
+            }
+        }
+    }
+
+    /// Vectors stored per base vertex: its cells' n!·(n + 1) gradients,
+    /// then as many forces when the Lagrangian has forces.
+    #[inline]
+    pub(super) fn stride(&self) -> usize {
+        let per_vertex = self.perms.len() * (self.torus.dimension() + 1);
+        if self.lag.has_forces() {
+            2 * per_vertex
+        } else {
+            per_vertex
+        }
+    }
+
+    /// The stored terms of the n! cells based at (w, i), into `out`
+    /// ([`stride`](Self::stride) vectors): their gradients at positions
+    /// 1 … n ([`cell_gradients`](Self::cell_gradients)), then their forces
+    /// at every position ([`DiscreteLagrangian::cell_forces`]; zero for a
+    /// cell outside the window), with the last vertex `top` if given; the
+    /// parts a model's solve `written` already are skipped.
+    pub(super) fn cell_terms(
+        &self,
+        w: i64,
+        i: usize,
+        top: Option<F::Point<f64>>,
+        written: Written,
+        out: &mut [SVector<f64, M>],
+    ) {
+        let n = self.torus.dimension();
+        let (grads, forces) = out.split_at_mut(self.perms.len() * (n + 1));
+        if !written.gradients {
+            self.cell_gradients(w, i, top, grads);
+        }
+        if forces.is_empty() || written.forces {
+            return;
+        }
+        let base = self.base(w, i);
+        let mut y = [self.values[base.slot * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
+        for (sigma, f) in forces.chunks_exact_mut(n + 1).enumerate() {
+            if self.cell_active_at(&base, sigma) {
+                let cell = self.cell_values_at(&base, sigma, top, &mut y);
+                self.lag.cell_forces(&cell, &y[..=n], f);
+            } else {
+                f.fill(SVector::zeros());
+            }
+        }
+    }
+
+    /// The vertex gradients of the n! cells based at (w, i) at positions
+    /// 1 … n, into `out` (cell σ, then position; position 0 is left zero: only
+    /// later vertices' momenta and the level momentum read the stored
+    /// gradients, always at positions ≥ 1). Cells outside the window get
+    /// zero gradients: they are not part of the action.
+    pub(super) fn cell_gradients(&self, w: i64, i: usize, top: Option<F::Point<f64>>, out: &mut [SVector<f64, M>]) {
+        let n = self.torus.dimension();
+        let base = self.base(w, i);
+        for sigma in 0..self.perms.len() {
+            out[sigma * (n + 1)] = SVector::zeros();
+            if !self.cell_active_at(&base, sigma) {
+                out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].fill(SVector::zeros());
+                continue;
+            }
+            let mut y = [self.values[base.slot * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
+            let cell = self.cell_values_at(&base, sigma, top, &mut y);
+            let mut exact = [SVector::zeros(); MAX_LATTICE_DIMENSION + 1];
+            if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n])
+                || later_gradients::<F, L, M>(&self.lag, &cell, &y[..=n], &mut exact[..=n])
+            {
+                out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].copy_from_slice(&exact[1..=n]);
+                continue;
+            }
+            for l in 1..=n {
+                out[sigma * (n + 1) + l] = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], l).1;
+            }
+        }
+    }
+
+    /// μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} (∂L_β/∂y_v + F^{l(v)}_β) for v = (w, i),
+    /// with the size of the terms (the forces F of the discrete
+    /// Lagrange–d'Alembert principle when the Lagrangian has them), from the
+    /// stored gradients and forces of the cells.
+    pub(super) fn momentum(&self, w: i64, i: usize) -> (SVector<f64, M>, f64) {
+        let n = self.torus.dimension();
+        let per_vertex = self.perms.len() * (n + 1);
+        let stride = self.stride();
+        let mut mu = SVector::zeros();
+        let mut scale = 0.0;
+        for j in 1..=n {
+            let slot = &self.grads[self.grad_slot(w - j as i64)];
+            let forced = self.lag.has_force_at(j);
+            for sigma in 0..self.perms.len() {
+                let at = self.down(i, sigma, j) * stride + sigma * (n + 1) + j;
+                let g = &slot[at];
+                mu -= g;
+                scale += largest_abs(g);
+                if forced {
+                    let f = &slot[at + per_vertex];
+                    mu -= f;
+                    scale += largest_abs(f);
+                }
+            }
+        }
+        (mu, scale)
+    }
+}
