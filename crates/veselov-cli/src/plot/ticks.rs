@@ -6,14 +6,14 @@ use super::render::TICK_LABEL_SIZE;
 /// Tick marks of one axis: labelled major ticks (with grid lines) and
 /// unlabelled minor grid lines, at display coordinates.
 #[derive(Debug, Default)]
-pub(super) struct Ticks {
-    pub(super) major: Vec<(f64, String)>,
-    pub(super) minor: Vec<f64>,
+pub(crate) struct Ticks {
+    pub(crate) major: Vec<(f64, String)>,
+    pub(crate) minor: Vec<f64>,
 }
 
 impl Ticks {
     /// The label of the major tick at `v`.
-    pub(super) fn label(&self, v: f64) -> String {
+    pub(crate) fn label(&self, v: f64) -> String {
         self.major
             .iter()
             .min_by(|a, b| (a.0 - v).abs().total_cmp(&(b.0 - v).abs()))
@@ -192,6 +192,13 @@ fn log_ticks(lo: f64, hi: f64, target: usize) -> Ticks {
     }
 }
 
+/// The ticks of a linear axis over `range`, `length` pixels long, about one
+/// labelled tick per `spacing` pixels: those of the plots' own axes, for a
+/// figure drawn by other means (the centreline animation).
+pub(crate) fn linear_axis_ticks(range: (f64, f64), length: u32, spacing: u32) -> Ticks {
+    ticks(range, Scale::Linear, length, spacing)
+}
+
 /// Ticks for an axis of `scale` over `range`, about one per `spacing` pixels
 /// of its `length`.
 pub(super) fn ticks(range: (f64, f64), scale: Scale, length: u32, spacing: u32) -> Ticks {
@@ -219,5 +226,25 @@ mod tests {
         let t = linear_ticks(0.0, 1e6, 6);
         assert!(t.major.iter().any(|m| m.1 == "2e5"), "{t:?}");
         assert_eq!(scientific(1.5e-7, 3), "1.5e-7");
+    }
+
+    /// A tick at zero reads "0…", never "-0…", whatever round-off put it
+    /// at; labels carry the decimals of the tick spacing.
+    #[test]
+    fn zero_is_never_negative_and_decimals_follow_the_spacing() {
+        for (lo, hi) in [(-0.3, 0.7), (-1e-17 - 0.25, 0.25), (-3.0, 1.0), (-0.0105, 0.0095)] {
+            let t = linear_ticks(lo, hi, 6);
+            assert!(t.major.iter().any(|m| m.0 == 0.0), "{t:?}");
+            // A label with a minus sign is a negative number, never −0.
+            assert!(
+                t.major
+                    .iter()
+                    .all(|m| !m.1.starts_with('-') || m.1.parse::<f64>().is_ok_and(|v| v < 0.0)),
+                "{t:?}"
+            );
+        }
+        let labels = |lo, hi| -> Vec<String> { linear_ticks(lo, hi, 5).major.into_iter().map(|m| m.1).collect() };
+        assert_eq!(labels(0.0, 0.5), ["0.0", "0.1", "0.2", "0.3", "0.4", "0.5"]);
+        assert_eq!(labels(0.0, 100.0), ["0", "20", "40", "60", "80", "100"]);
     }
 }
