@@ -10,6 +10,7 @@
 //! ([`AnimationEncoder::push`]). A 120-frame centreline animation took
 //! about 2 s with a per-frame neural-net quantisation of whole frames.
 
+use std::borrow::Cow;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -138,13 +139,31 @@ impl AnimationEncoder {
         self.current.clear();
         self.current
             .extend(rgb.chunks_exact(3).map(|p| self.quantizer.index(p)));
-        let mut frame = if self.previous.is_empty() {
-            Frame::from_indexed_pixels(self.size.0, self.size.1, self.current.as_slice(), None)
+        // The frame borrows its pixels (no copy per frame).
+        let frame = if self.previous.is_empty() {
+            Frame {
+                width: self.size.0,
+                height: self.size.1,
+                buffer: Cow::Borrowed(self.current.as_slice()),
+                ..Frame::default()
+            }
         } else {
-            self.changed_patch(w, h)
+            let [left, top, width, height] = self.changed_patch(w, h);
+            Frame {
+                left,
+                top,
+                width,
+                height,
+                buffer: Cow::Borrowed(self.patch.as_slice()),
+                transparent: Some(TRANSPARENT),
+                ..Frame::default()
+            }
         };
-        frame.delay = self.delay;
-        frame.dispose = DisposalMethod::Keep;
+        let frame = Frame {
+            delay: self.delay,
+            dispose: DisposalMethod::Keep,
+            ..frame
+        };
         self.encoder.write_frame(&frame).map_err(|e| e.to_string())?;
         std::mem::swap(&mut self.previous, &mut self.current);
         Ok(())
@@ -158,8 +177,10 @@ impl AnimationEncoder {
         file.flush().map_err(|e| e.to_string())
     }
 
-    /// The frame of the pixels that differ from the previous frame.
-    fn changed_patch(&mut self, w: usize, h: usize) -> Frame<'static> {
+    /// The smallest rectangle holding the pixels that differ from the
+    /// previous frame, written into `patch` (unchanged pixels transparent):
+    /// its left, top, width and height.
+    fn changed_patch(&mut self, w: usize, h: usize) -> [u16; 4] {
         let (mut left, mut right, mut top, mut bottom) = (w, 0, h, 0);
         for y in 0..h {
             let (old, new) = (&self.previous[y * w..(y + 1) * w], &self.current[y * w..(y + 1) * w]);
@@ -192,15 +213,7 @@ impl AnimationEncoder {
             );
         }
         let narrow = |v: usize| u16::try_from(v).unwrap_or(u16::MAX);
-        let mut frame = Frame::from_indexed_pixels(
-            narrow(right - left),
-            narrow(bottom - top),
-            self.patch.clone(),
-            Some(TRANSPARENT),
-        );
-        frame.left = narrow(left);
-        frame.top = narrow(top);
-        frame
+        [narrow(left), narrow(top), narrow(right - left), narrow(bottom - top)]
     }
 }
 
