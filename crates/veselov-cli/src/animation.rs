@@ -6,13 +6,11 @@
 use std::path::Path;
 
 use plotters::coord::Shift;
-use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
-use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::gif_frames::{AnimationEncoder, LINE_COLOUR};
-use crate::plot::{FONT, PlotError, Ticks, linear_axis_ticks, register_font};
+use crate::plot::{Axis, FONT, PlotError, Ticks, linear_axis_ticks, register_font};
 
 /// Frames kept (rows are subsampled evenly, first and last kept).
 pub const MAX_FRAMES: u64 = 120;
@@ -63,11 +61,6 @@ fn chart<'a, 'b>(
     ranges: [(f64, f64); 2],
     axes: &[Ticks; 2],
 ) -> Result<ChartContext<'a, BitMapBackend<'b>, Cartesian2d<Axis, Axis>>, String> {
-    let axis = |(lo, hi): (f64, f64), ticks: &Ticks| Axis {
-        linear: (lo..hi).into(),
-        major: ticks.major.iter().map(|m| m.0).collect(),
-        minor: ticks.minor.clone(),
-    };
     let [ra, rb] = ranges;
     ChartBuilder::on(root)
         .margin(MARGIN)
@@ -76,37 +69,8 @@ fn chart<'a, 'b>(
         .margin_right(SIDE_MARGIN)
         .x_label_area_size(X_LABEL_AREA)
         .y_label_area_size(Y_LABEL_AREA)
-        .build_cartesian_2d(axis(ra, &axes[0]), axis(rb, &axes[1]))
+        .build_cartesian_2d(Axis::new(ra, &axes[0]), Axis::new(rb, &axes[1]))
         .map_err(|e| e.to_string())
-}
-
-/// An axis of the animation's chart: linear, with the plots' ticks as its
-/// key points (labelled by the chart's formatters).
-struct Axis {
-    linear: RangedCoordf64,
-    major: Vec<f64>,
-    minor: Vec<f64>,
-}
-
-impl Ranged for Axis {
-    type FormatOption = DefaultFormatting;
-    type ValueType = f64;
-
-    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
-        self.linear.map(value, limit)
-    }
-
-    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
-        if hint.weight().allow_light_points() {
-            self.minor.clone()
-        } else {
-            self.major.clone()
-        }
-    }
-
-    fn range(&self) -> std::ops::Range<f64> {
-        self.linear.range()
-    }
 }
 
 /// The chart's margins and label areas (pixels).

@@ -35,6 +35,7 @@ mod ticks;
 
 pub use draw::draw;
 pub(crate) use draw::register_font;
+pub(crate) use render::Axis;
 pub(crate) use ticks::{Ticks, linear_axis_ticks};
 
 use std::path::{Path, PathBuf};

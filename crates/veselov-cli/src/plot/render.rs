@@ -68,14 +68,15 @@ fn legend_corner(data: &[Vec<(f64, f64)>], x: (f64, f64), y: (f64, f64)) -> Seri
 /// An axis with the ticks chosen here, mapped linearly in display
 /// coordinates.
 #[derive(Clone)]
-struct Axis {
+pub(crate) struct Axis {
     inner: RangedCoordf64,
     major: Vec<f64>,
     minor: Vec<f64>,
 }
 
 impl Axis {
-    fn new((lo, hi): (f64, f64), ticks: &Ticks) -> Self {
+    /// The axis over `(lo, hi)` with the major and minor ticks of `ticks`.
+    pub(crate) fn new((lo, hi): (f64, f64), ticks: &Ticks) -> Self {
         Self {
             inner: (lo..hi).into(),
             major: ticks.major.iter().map(|t| t.0).collect(),
