@@ -20,8 +20,9 @@
 //!
 //! Having a_σ, D_{a_σ}, b and D_b at hand, the solve also returns the solved
 //! cells' gradients at their later vertices
-//! (`CosseratCell::later_gradients`), which the marcher would otherwise
-//! recompute from the vertex values.
+//! (`CosseratCell::later_gradients`) and, with loads, their forces
+//! (`CosseratCell::forces_with`, b being log(R₀ᵀR₂)), which the marcher
+//! would otherwise compute from the vertex values.
 
 use nalgebra::{Matrix3, SVector, Vector3};
 
