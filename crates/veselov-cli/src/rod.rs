@@ -524,11 +524,9 @@ impl RodSetup {
             // Lattice time Δt is the run's t = 0 (see `motion`).
             start: dt,
         };
-        let any_load = loads.damped() || loads.end_force != Vector3::zeros() || loads.end_torque != Vector3::zeros();
-        if any_load
-            && !ends.end.is_free()
-            && (loads.end_force != Vector3::zeros() || loads.end_torque != Vector3::zeros())
-        {
+        let end_loaded = loads.end_force != Vector3::zeros() || loads.end_torque != Vector3::zeros();
+        let any_load = loads.damped() || end_loaded;
+        if end_loaded && !ends.end.is_free() {
             return Err(key(
                 "loads.end_force",
                 "the end load acts at the last material point, which is clamped".into(),

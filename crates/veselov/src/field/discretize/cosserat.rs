@@ -608,12 +608,7 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
         if y.len() != 3 || n < 3 {
             return;
         }
-        let b = if loads.damped() {
-            Rotations::log(&y[0].rotation, &y[2].rotation).ok()
-        } else {
-            None
-        };
-        out[..3].copy_from_slice(&self.forces_with(loads, cell, &y[0], &y[2].position, b.as_ref()));
+        out[..3].copy_from_slice(&self.load_forces(loads, cell, y));
     }
 
     /// The split step of note 003 §3.6 ([`super::cosserat_step`]) when the

@@ -13,39 +13,34 @@ use crate::field::fibre::{Fibre, Pose, Rotations};
 use crate::field::lattice::invalid;
 
 impl<P: RodPotential> CosseratCell<P> {
-    /// The force F^l_β of the loads at position `l` of `cell` (zero without loads).
+    /// The force F^l_β of the loads at position `l` of `cell` (zero without
+    /// loads): entry l of [`load_forces`](Self::load_forces), without its
+    /// logarithm at the middle vertex, where no load acts.
     pub(super) fn force<D: Scalar>(&self, cell: &TopCell, y: &[Pose<D>], l: usize) -> SVector<D, 6> {
-        let zero = SVector::from_element(D::zero());
         let Some(loads) = &self.loads else {
-            return zero;
+            return SVector::from_element(D::zero());
         };
-        if y.len() != 3 || l > 2 {
-            return zero;
+        if y.len() != 3 || l == 1 || l > 2 {
+            return SVector::from_element(D::zero());
         }
-        let mut f = zero;
-        if l != 1 && loads.damped() {
-            match self.damping_force(loads, y) {
-                Some(damping) => f += damping,
-                None => return SVector::from_element(D::from(f64::NAN)),
-            }
-        }
-        if l == 0
-            && let Some(load) = self.end_load_force(loads, cell, &y[0])
-        {
-            f += load;
-        }
-        f
+        self.load_forces(loads, cell, y)[l]
     }
 
-    /// F⁰ = F² = −(A_β/2)(c_r v_d; c_R ω_d): the damping work
-    /// ∫∫ −(c_r ∂_t r·δr + c_R ω·η) ds dt by the trapezoidal rule on the
-    /// time edge v₀v₂ of the cell; `None` where log(R₀ᵀR₂) fails.
-    fn damping_force<D: Scalar>(&self, loads: &RodLoads, y: &[Pose<D>]) -> Option<SVector<D, 6>> {
-        let b = Rotations::log(&y[0].rotation, &y[2].rotation).ok()?;
-        Some(self.damping_force_with(loads, &y[0].position, &y[2].position, &b))
+    /// (F⁰, F¹ = 0, F²) of `cell` at the values `y` (three of them): one
+    /// logarithm b = log(R₀ᵀR₂) for the damping at both ends of the time
+    /// edge ([`forces_with`](Self::forces_with)).
+    pub(super) fn load_forces<D: Scalar>(&self, loads: &RodLoads, cell: &TopCell, y: &[Pose<D>]) -> [SVector<D, 6>; 3] {
+        let b = if loads.damped() {
+            Rotations::log(&y[0].rotation, &y[2].rotation).ok()
+        } else {
+            None
+        };
+        self.forces_with(loads, cell, &y[0], &y[2].position, b.as_ref())
     }
 
-    /// [`damping_force`](Self::damping_force) with b = log(R₀ᵀR₂) given.
+    /// F⁰ = F² = −(A_β/2)(c_r v_d; c_R ω_d) with b = log(R₀ᵀR₂) given: the
+    /// damping work ∫∫ −(c_r ∂_t r·δr + c_R ω·η) ds dt by the trapezoidal
+    /// rule on the time edge v₀v₂ of the cell.
     fn damping_force_with<D: Scalar>(
         &self,
         loads: &RodLoads,
@@ -59,22 +54,23 @@ impl<P: RodPotential> CosseratCell<P> {
     }
 
     /// (F⁰, F¹ = 0, F²) of `cell` with base value y₀, last position r₂ and
-    /// b = log(R₀ᵀR₂) (`None`: the logarithm failed, NaN at 0 and 2): the
-    /// operations of [`force`](Self::force) at each position, so the same
-    /// bits, with one logarithm for both ends of the time edge.
-    pub(in crate::field::discretize) fn forces_with(
+    /// b = log(R₀ᵀR₂) (`None` when damped: the logarithm failed, NaN at 0
+    /// and 2): the damping on the time edge at both ends, the end load at
+    /// v₀. The split step calls it with the b it solved, without a
+    /// logarithm.
+    pub(in crate::field::discretize) fn forces_with<D: Scalar>(
         &self,
         loads: &RodLoads,
         cell: &TopCell,
-        y0: &Pose<f64>,
-        r2: &Vector3<f64>,
-        b: Option<&Vector3<f64>>,
-    ) -> [SVector<f64, 6>; 3] {
-        let zero = SVector::zeros();
+        y0: &Pose<D>,
+        r2: &Vector3<D>,
+        b: Option<&Vector3<D>>,
+    ) -> [SVector<D, 6>; 3] {
+        let zero = SVector::from_element(D::zero());
         let (mut first, mut last) = (zero, zero);
         if loads.damped() {
             let Some(b) = b else {
-                let nan = SVector::from_element(f64::NAN);
+                let nan = SVector::from_element(D::from(f64::NAN));
                 return [nan, zero, nan];
             };
             let damping = self.damping_force_with(loads, &y0.position, r2, b);
