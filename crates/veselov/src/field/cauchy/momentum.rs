@@ -172,23 +172,39 @@ where
         let per_vertex = self.perms.len() * (n + 1);
         let stride = self.stride();
         let c = self.level - 1;
+        // The stored terms of the cells through level c at position j: the
+        // ring slot of their base level, if they carry forces there.
+        let slots: [Option<&[SVector<f64, M>]>; MAX_LATTICE_DIMENSION + 1] = std::array::from_fn(|j| {
+            (j <= n && self.lag.has_force_at(j)).then(|| &self.grads[self.grad_slot(c - j as i64)][..])
+        });
         for i in 0..self.torus.level_size() {
-            if !self.is_active(c, i) {
+            // One unwrapped origin serves the vertex's and its cells' window
+            // tests.
+            let v = self.origin(c, i);
+            if !self.window.as_ref().is_none_or(|m| m.contains(&v)) {
                 continue;
             }
-            let d = generators(&self.value(c, i));
-            for j in (0..=n).filter(|&j| self.lag.has_force_at(j)) {
-                let slot = &self.grads[self.grad_slot(c - j as i64)];
+            // Σ_β F_β at v, then its pairing with each generator (one
+            // pairing per vertex, not one per cell).
+            let mut force = SVector::<f64, M>::zeros();
+            for (j, slot) in slots.iter().enumerate() {
+                let Some(slot) = slot else {
+                    continue;
+                };
                 for sigma in 0..self.perms.len() {
-                    let base = if j == 0 { i } else { self.down(i, sigma, j) };
-                    if !self.cell_active_at(&self.base(c - j as i64, base), sigma) {
+                    if !self
+                        .window
+                        .as_ref()
+                        .is_none_or(|m| m.contains_cell_through(&v, &self.perms[sigma], j))
+                    {
                         continue;
                     }
-                    let force = &slot[base * stride + per_vertex + sigma * (n + 1) + j];
-                    for (s, dk) in sum.iter_mut().zip(&d) {
-                        *s += force.dot(dk);
-                    }
+                    let base = if j == 0 { i } else { self.down(i, sigma, j) };
+                    force += &slot[base * stride + per_vertex + sigma * (n + 1) + j];
                 }
+            }
+            for (s, dk) in sum.iter_mut().zip(&generators(&self.value(c, i))) {
+                *s += force.dot(dk);
             }
         }
         sum
