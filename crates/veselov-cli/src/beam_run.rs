@@ -26,8 +26,9 @@ use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
 use crate::beam::{BeamSetup, BeamStart};
 use crate::error::CliError;
 use crate::output::Table;
+use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, words_error};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, after_recording, restore, words_error};
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, output_dir};
 
@@ -195,16 +196,12 @@ impl BeamObserver<'_> {
 impl<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static> Observer<Beam<R>> for BeamObserver<'_> {
     fn observe(&mut self, step: u64, state: &Beam<R>, _: &StepStats) -> Control {
         self.domain.add_band(state);
-        if step.is_multiple_of(self.every)
-            && let Err(e) = self.record(state)
-        {
-            return Control::Fail(e);
-        }
-        if self.error.is_some() {
-            Control::Stop
+        let recorded = if step.is_multiple_of(self.every) {
+            self.record(state)
         } else {
-            Control::Continue
-        }
+            Ok(())
+        };
+        after_recording(recorded, self.error.is_some())
     }
 }
 
@@ -443,31 +440,29 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         "energy_max": obs.energy_range[1],
     });
     let t_final = level as f64 * step_length;
-    crate::pipeline::finish::write_summary(
-        &dir,
-        &outcome.status,
-        outcome.last_step,
+    let ending = Ending {
+        status: outcome.status,
+        steps: outcome.last_step,
         t_final,
-        session.wall_seconds(),
-        outcome.iterations,
+        iterations: outcome.iterations,
+    };
+    close_run(
+        &session,
+        ending,
         own,
-    )?;
-    if let Some(e) = obs.error.take() {
-        return Err(e);
-    }
-    if s.output.plots {
-        draw_beam(&dir, cross, rows_out, x, &s.output.plot_format)?;
-    }
-    if !session.quiet {
-        println!(
-            "beam, {} evolution: {} levels to {x} = {t_final}, max change of the momentum map {:.1e} of its terms; outputs in {}",
-            if setup.space { "space" } else { "time" },
-            level,
-            obs.drift,
-            dir.display()
-        );
-    }
-    crate::pipeline::finish::conclude(outcome.status, &dir)
+        obs.error.take(),
+        (s.output.plots, || {
+            draw_beam(&dir, cross, rows_out, x, &s.output.plot_format)
+        }),
+        || {
+            format!(
+                "beam, {} evolution: {} levels to {x} = {t_final}, max change of the momentum map {:.1e} of its terms",
+                if setup.space { "space" } else { "time" },
+                level,
+                obs.drift,
+            )
+        },
+    )
 }
 
 /// Centreline snapshots (positions of the frames), the centreline animation

@@ -17,10 +17,11 @@ use crate::error::CliError;
 use crate::field::LoadedField;
 use crate::figures::{FieldView, draw_field};
 use crate::output::Table;
+use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::{MAX_PLOT_SNAPSHOTS, rows_for_plots, table_for_plots};
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
 use crate::pipeline::table::{Acc, Tracker};
-use crate::pipeline::{Resumable, Session, restore, words_error};
+use crate::pipeline::{Resumable, Session, after_recording, restore, words_error};
 
 /// Measures the newest level pair of a state: (energy, charge).
 type Measure<'a, S> = Box<dyn Fn(&S) -> (f64, Option<f64>) + 'a>;
@@ -99,18 +100,14 @@ impl<'a, S> FieldObserver<'a, S> {
 
 impl<S> Observer<S> for FieldObserver<'_, S> {
     fn observe(&mut self, _: u64, state: &S, _: &StepStats) -> Control {
-        if let Err(e) = self.row(state) {
-            return Control::Fail(e);
+        let recorded = self.row(state);
+        if recorded.is_ok() {
+            let level = (self.level_of)(state);
+            if self.snapshot_every > 0 && level.is_multiple_of(self.snapshot_every) {
+                self.snapshot(state, level as f64 * self.dt);
+            }
         }
-        let level = (self.level_of)(state);
-        if self.snapshot_every > 0 && level.is_multiple_of(self.snapshot_every) {
-            self.snapshot(state, level as f64 * self.dt);
-        }
-        if self.error.is_some() {
-            Control::Stop
-        } else {
-            Control::Continue
-        }
+        after_recording(recorded, self.error.is_some())
     }
 }
 
@@ -359,11 +356,13 @@ fn close<S>(
         "recentred_by": info.recentred_by,
     });
     let steps = levels.saturating_sub(1) as u64;
-    crate::pipeline::finish::write_summary(dir, &status, steps, t_final, session.wall_seconds(), iterations, own)?;
-    if let Some(e) = obs.error.take() {
-        return Err(e);
-    }
-    if s.output.plots {
+    let ending = Ending {
+        status,
+        steps,
+        t_final,
+        iterations,
+    };
+    let draw = || {
         let mut header = vec!["t".to_string(), "energy".to_string()];
         header.extend(info.charge.map(String::from));
         let energy = table_for_plots(dir, "energy", &header, obs.energy_rows)?;
@@ -373,20 +372,14 @@ fn close<S>(
             (lattice.nodes(), lattice.dx(), lattice.length()),
             (&energy, snapshot_rows),
             &s.output.plot_format,
-        )?;
-    }
-    if !session.quiet {
-        println!(
-            "{} / {}: {} levels to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
-            s.model.name,
-            s.method.scheme,
-            levels,
-            t_final,
-            energy_error_max,
-            dir.display()
-        );
-    }
-    crate::pipeline::finish::conclude(status, dir)
+        )
+    };
+    close_run(session, ending, own, obs.error.take(), (s.output.plots, draw), || {
+        format!(
+            "{} / {}: {} levels to t = {}, max |E − E₀| = {:.3e}",
+            s.model.name, s.method.scheme, levels, t_final, energy_error_max,
+        )
+    })
 }
 
 /// The figures of a 1+1 lattice run of `model` (`components` values per

@@ -36,9 +36,10 @@ use veselov::run::{Checkpoint, Control, Observer, Status, StepStats, StopWhen, W
 
 use crate::error::CliError;
 use crate::output::Table;
+use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, words_error};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, after_recording, restore, words_error};
 use crate::rod::RodSetup;
 use crate::run::RunJob;
 use crate::scenario::{OutputSpec, output_dir};
@@ -257,16 +258,12 @@ impl<L: DiscreteLagrangian<PositionRotation, 6>> Observer<Rod<L>> for RodObserve
         for (s, x) in self.impulse.iter_mut().zip(i) {
             *s += x;
         }
-        if step.is_multiple_of(self.every_levels)
-            && let Err(e) = self.record(state, run_time(state, self.setup.dt))
-        {
-            return Control::Fail(e);
-        }
-        if self.error.is_some() {
-            Control::Stop
+        let recorded = if step.is_multiple_of(self.every_levels) {
+            self.record(state, run_time(state, self.setup.dt))
         } else {
-            Control::Continue
-        }
+            Ok(())
+        };
+        after_recording(recorded, self.error.is_some())
     }
 }
 
@@ -504,38 +501,36 @@ where
         "linear_momentum_balance_error": if free { json!(obs.balance_error[0]) } else { json!(null) },
         "angular_momentum_balance_error": if free { json!(obs.balance_error[1]) } else { json!(null) },
     });
-    crate::pipeline::finish::write_summary(
-        &dir,
-        &outcome.status,
-        outcome.last_step,
+    let ending = Ending {
+        status: outcome.status,
+        steps: outcome.last_step,
         t_final,
-        session.wall_seconds(),
-        outcome.iterations,
+        iterations: outcome.iterations,
+    };
+    close_run(
+        &session,
+        ending,
         own,
-    )?;
-    if let Some(e) = obs.error.take() {
-        return Err(e);
-    }
-    if s.output.plots {
-        draw_rod(&dir, nodes, rows_out, &s.output.plot_format)?;
-    }
-    if !session.quiet {
-        let balance = if free {
+        obs.error.take(),
+        (s.output.plots, || {
+            draw_rod(&dir, nodes, rows_out, &s.output.plot_format)
+        }),
+        || {
+            let balance = if free {
+                format!(
+                    ", momentum balance error {:.1e} (linear), {:.1e} (angular)",
+                    obs.balance_error[0], obs.balance_error[1]
+                )
+            } else {
+                String::new()
+            };
             format!(
-                ", momentum balance error {:.1e} (linear), {:.1e} (angular)",
-                obs.balance_error[0], obs.balance_error[1]
+                "cosserat-rod, {nodes} nodes: {} time steps of {:e} to t = {t_final}{balance}",
+                outcome.last_step / 2,
+                setup.dt,
             )
-        } else {
-            String::new()
-        };
-        println!(
-            "cosserat-rod, {nodes} nodes: {} time steps of {:e} to t = {t_final}{balance}; outputs in {}",
-            outcome.last_step / 2,
-            setup.dt,
-            dir.display()
-        );
-    }
-    crate::pipeline::finish::conclude(outcome.status, &dir)
+        },
+    )
 }
 
 /// Centreline snapshots (x–z and y–z), the centreline animation

@@ -51,6 +51,7 @@ use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
 use crate::error::CliError;
 use crate::field::{FieldModelSpec, FieldTimeSpec};
 use crate::output::Table;
+use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, words_error};
@@ -507,40 +508,34 @@ where
             None => json!({}),
         },
     });
-    crate::pipeline::finish::write_summary(
-        &dir,
-        &outcome.status,
-        outcome.last_step,
+    let ending = Ending {
+        status: outcome.status,
+        steps: outcome.last_step,
         t_final,
-        session.wall_seconds(),
-        outcome.iterations,
-        own,
-    )?;
-    if let Some(e) = obs.error.take() {
-        return Err(e);
-    }
-    if s.output.plots {
+        iterations: outcome.iterations,
+    };
+    let draw_field = || {
         draw(
             &dir,
             (setup.nodes, setup.dx),
             components(&s.model.name),
             snapshot_rows,
             &s.output.plot_format,
-        )?;
-    }
-    if !session.quiet {
-        println!(
-            "{} on a {}×{} CFK lattice: {} time steps to t = {}, max |E − E₀| = {:.3e}; outputs in {}",
-            s.model.name,
-            setup.nodes[0],
-            setup.nodes[1],
-            k_final,
-            t_final,
-            obs.energy_error_max,
-            dir.display()
-        );
-    }
-    crate::pipeline::finish::conclude(outcome.status, &dir)
+        )
+    };
+    close_run(
+        &session,
+        ending,
+        own,
+        obs.error.take(),
+        (s.output.plots, draw_field),
+        || {
+            format!(
+                "{} on a {}×{} CFK lattice: {} time steps to t = {}, max |E − E₀| = {:.3e}",
+                s.model.name, setup.nodes[0], setup.nodes[1], k_final, t_final, obs.energy_error_max,
+            )
+        },
+    )
 }
 
 /// Values per vertex of the field of `model`: 2 for the complex

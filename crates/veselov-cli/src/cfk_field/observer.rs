@@ -1,6 +1,7 @@
 //! The observer of a CFK field run: energy, momenta, snapshots and checkpoints.
 
 use super::*;
+use crate::pipeline::after_recording;
 
 /// Writes the rows of one time step Δt (every 3 levels) and the snapshots.
 pub(super) struct CfkObserver<P, const M: usize> {
@@ -119,14 +120,8 @@ where
         if !step.is_multiple_of(3) {
             return Control::Continue;
         }
-        if let Err(e) = self.record(state, step / 3) {
-            return Control::Fail(e);
-        }
-        if self.error.is_some() {
-            Control::Stop
-        } else {
-            Control::Continue
-        }
+        let recorded = self.record(state, step / 3);
+        after_recording(recorded, self.error.is_some())
     }
 }
 

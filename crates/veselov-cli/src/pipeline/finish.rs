@@ -143,6 +143,50 @@ pub fn write_summary(
     write_json(&dir.join("summary.json"), &value)
 }
 
+/// How a lattice run ended, for [`close_run`]: its status, the steps (or
+/// levels) it took, its final time and its nonlinear iterations.
+pub struct Ending {
+    pub status: Status,
+    pub steps: u64,
+    pub t_final: f64,
+    pub iterations: u64,
+}
+
+/// The tail of a run whose observer writes its own files: the summary (the
+/// common keys, then `own`), then the observer's first I/O error if it had
+/// one (the summary still describes what was computed), the plots
+/// (`draw`, when `plots` is on), the one-line report (`report`, followed
+/// by where the outputs are) unless quiet, and the command's result.
+pub fn close_run(
+    session: &Session,
+    ending: Ending,
+    own: serde_json::Value,
+    observer_error: Option<CliError>,
+    (plots, draw): (bool, impl FnOnce() -> Result<(), CliError>),
+    report: impl FnOnce() -> String,
+) -> Result<(), CliError> {
+    let dir = &session.dir;
+    write_summary(
+        dir,
+        &ending.status,
+        ending.steps,
+        ending.t_final,
+        session.wall_seconds(),
+        ending.iterations,
+        own,
+    )?;
+    if let Some(e) = observer_error {
+        return Err(e);
+    }
+    if plots {
+        draw()?;
+    }
+    if !session.quiet {
+        println!("{}; outputs in {}", report(), dir.display());
+    }
+    conclude(ending.status, dir)
+}
+
 /// The command's result for a run that ended with `status`, its outputs in
 /// `dir`: `Ok`, or the run's failure or interruption.
 pub fn conclude(status: Status, dir: &Path) -> Result<(), CliError> {

@@ -375,6 +375,19 @@ pub trait Resumable {
     }
 }
 
+/// What a lattice run does after its observer has recorded a state
+/// (`recorded`: whether recording it succeeded): a computation that failed
+/// ends the run with that failure; a file the observer could not write
+/// (`io_failed`, its error kept for the command) stops it, with what is
+/// written kept; otherwise the run goes on.
+pub fn after_recording(recorded: Result<(), veselov::Error>, io_failed: bool) -> Control {
+    match recorded {
+        Err(e) => Control::Fail(e),
+        Ok(()) if io_failed => Control::Stop,
+        Ok(()) => Control::Continue,
+    }
+}
+
 /// Read the `n`-th group of checkpoint words or fail naming the checkpoint.
 pub fn words_error(dir: &std::path::Path, e: veselov::Error) -> CliError {
     CliError::Io {
