@@ -166,6 +166,11 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     fn potential<D: Scalar>(&self, _y: &F::Point<D>) -> D {
         D::zero()
     }
+    /// ∇Π(y) in the fibre's chart y·ρ(ε), at ε = 0 (default: one dual pass
+    /// over Π through the chart, [`chart_gradient`]).
+    fn potential_gradient<D: Scalar>(&self, y: &F::Point<D>) -> SVector<D, M> {
+        chart_gradient::<F, D, M>(|z| self.potential(z), y)
+    }
     /// Whether Π may be non-zero (default `true`; `false` lets the exact
     /// gradients skip ∇Π).
     fn has_potential(&self) -> bool {
@@ -384,18 +389,25 @@ impl<I, S> SplitLagrangian<I, S> {
         }
     }
 
-    /// ∇Π(y) in the fibre's chart y·ρ(ε) (one dual pass).
+    /// ∇Π(y) in the fibre's chart y·ρ(ε) ([`SplitDensity::potential_gradient`]).
     fn potential_gradient<F: Fibre<M>, D: Scalar, const M: usize>(&self, y: &F::Point<D>) -> SVector<D, M>
     where
         S: SplitDensity<F, M>,
     {
-        let seeded = SVector::<DualSVec<D, M>, M>::from_fn(|i, _| DualSVec::<D, M>::from_re(D::zero()).derivative(i));
-        let lifted = F::map(y, DualSVec::<D, M>::from_re);
-        self.density
-            .potential(&F::retract(&lifted, &seeded))
-            .eps
-            .unwrap_generic(Const::<M>, U1)
+        self.density.potential_gradient(y)
     }
+}
+
+/// The gradient of a function f of the fibre's points in the chart
+/// y·ρ(ε) at ε = 0, ∂f(y·ρ(ε))/∂ε, by one dual pass of M directions (over
+/// any scalar).
+pub fn chart_gradient<F: Fibre<M>, D: Scalar, const M: usize>(
+    f: impl Fn(&F::Point<DualSVec<D, M>>) -> DualSVec<D, M>,
+    y: &F::Point<D>,
+) -> SVector<D, M> {
+    let seeded = SVector::<DualSVec<D, M>, M>::from_fn(|i, _| DualSVec::<D, M>::from_re(D::zero()).derivative(i));
+    let lifted = F::map(y, DualSVec::<D, M>::from_re);
+    f(&F::retract(&lifted, &seeded)).eps.unwrap_generic(Const::<M>, U1)
 }
 
 /// ∇f(x) over any scalar by one dual pass of M directions.
