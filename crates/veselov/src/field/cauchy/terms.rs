@@ -7,7 +7,7 @@ use nalgebra::SVector;
 
 use super::CauchyMarcher;
 use crate::field::cell::{DiscreteLagrangian, later_gradients, vertex_gradient};
-use crate::field::complex::MAX_LATTICE_DIMENSION;
+use crate::field::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::field::fibre::Fibre;
 use crate::solve::largest_abs;
 
@@ -69,51 +69,53 @@ where
         out: &mut [SVector<f64, M>],
     ) {
         let n = self.torus.dimension();
-        let (grads, forces) = out.split_at_mut(self.perms.len() * (n + 1));
-        if !written.gradients {
-            self.cell_gradients(w, i, top, grads);
-        }
-        if forces.is_empty() || written.forces {
+        let width = n + 1;
+        let (grads, forces) = out.split_at_mut(self.perms.len() * width);
+        let with_forces = !forces.is_empty() && !written.forces;
+        if written.gradients && !with_forces {
             return;
         }
+        // Each cell's values are gathered once for both its terms.
         let base = self.base(w, i);
         let mut y = [self.values[base.slot * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
-        for (sigma, f) in forces.chunks_exact_mut(n + 1).enumerate() {
-            if self.cell_active_at(&base, sigma) {
-                let cell = self.cell_values_at(&base, sigma, top, &mut y);
-                self.lag.cell_forces(&cell, &y[..=n], f);
-            } else {
-                f.fill(SVector::zeros());
+        for sigma in 0..self.perms.len() {
+            let g = &mut grads[sigma * width..(sigma + 1) * width];
+            let active = self.cell_active_at(&base, sigma);
+            let cell = active.then(|| self.cell_values_at(&base, sigma, top, &mut y));
+            if !written.gradients {
+                match &cell {
+                    Some(cell) => self.cell_gradients(cell, &y[..=n], g),
+                    None => g.fill(SVector::zeros()),
+                }
+            }
+            if with_forces {
+                let f = &mut forces[sigma * width..(sigma + 1) * width];
+                match &cell {
+                    Some(cell) => self.lag.cell_forces(cell, &y[..=n], f),
+                    None => f.fill(SVector::zeros()),
+                }
             }
         }
     }
 
-    /// The vertex gradients of the n! cells based at (w, i) at positions
-    /// 1 … n, into `out` (cell σ, then position; position 0 is left zero: only
+    /// The vertex gradients of the cell with values `y` at positions
+    /// 1 … n, into `out` (n + 1 vectors; position 0 is left zero: only
     /// later vertices' momenta and the level momentum read the stored
-    /// gradients, always at positions ≥ 1). Cells outside the window get
-    /// zero gradients: they are not part of the action.
-    pub(super) fn cell_gradients(&self, w: i64, i: usize, top: Option<F::Point<f64>>, out: &mut [SVector<f64, M>]) {
-        let n = self.torus.dimension();
-        let base = self.base(w, i);
-        for sigma in 0..self.perms.len() {
-            out[sigma * (n + 1)] = SVector::zeros();
-            if !self.cell_active_at(&base, sigma) {
-                out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].fill(SVector::zeros());
-                continue;
-            }
-            let mut y = [self.values[base.slot * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
-            let cell = self.cell_values_at(&base, sigma, top, &mut y);
-            let mut exact = [SVector::zeros(); MAX_LATTICE_DIMENSION + 1];
-            if self.lag.analytic_gradients(&cell, &y[..=n], &mut exact[..=n])
-                || later_gradients::<F, L, M>(&self.lag, &cell, &y[..=n], &mut exact[..=n])
-            {
-                out[sigma * (n + 1) + 1..(sigma + 1) * (n + 1)].copy_from_slice(&exact[1..=n]);
-                continue;
-            }
-            for l in 1..=n {
-                out[sigma * (n + 1) + l] = vertex_gradient::<F, L, M>(&self.lag, &cell, &y[..=n], l).1;
-            }
+    /// gradients, always at positions ≥ 1). A cell outside the window is
+    /// not part of the action: [`cell_terms`](Self::cell_terms) stores zero
+    /// gradients for it.
+    fn cell_gradients(&self, cell: &TopCell, y: &[F::Point<f64>], out: &mut [SVector<f64, M>]) {
+        let n = y.len() - 1;
+        out[0] = SVector::zeros();
+        let mut exact = [SVector::zeros(); MAX_LATTICE_DIMENSION + 1];
+        if self.lag.analytic_gradients(cell, y, &mut exact[..=n])
+            || later_gradients::<F, L, M>(&self.lag, cell, y, &mut exact[..=n])
+        {
+            out[1..=n].copy_from_slice(&exact[1..=n]);
+            return;
+        }
+        for (l, g) in out.iter_mut().enumerate().take(n + 1).skip(1) {
+            *g = vertex_gradient::<F, L, M>(&self.lag, cell, y, l).1;
         }
     }
 

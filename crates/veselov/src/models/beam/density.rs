@@ -168,7 +168,8 @@ mod tests {
     #[test]
     fn potential_gradient_is_the_chart_derivative() {
         let properties =
-            BeamProperties::from_diagonals([5e-4, 4e-4, 9e-4, 2.5, 2.5, 2.5], [1e3, 2e3, 3e3, 1e5, 1e5, 2e5]).expect("section");
+            BeamProperties::from_diagonals([5e-4, 4e-4, 9e-4, 2.5, 2.5, 2.5], [1e3, 2e3, 3e3, 1e5, 1e5, 2e5])
+                .expect("section");
         let density = BeamDensity::new(properties).with_gravity([0.3, -9.81, 1.2]);
         let mut uniform = crate::test_support::uniform(0x9e37_79b9_7f4a_7c15);
         for _ in 0..20 {
@@ -177,13 +178,20 @@ mod tests {
             let closed = density.potential_gradient(&g);
             let dual = chart_gradient::<RigidMotions, f64, 6>(|z| density.potential(z), &g);
             let scale = closed.amax();
-            assert!((closed - dual).amax() <= 4.0 * f64::EPSILON * scale, "{closed} against {dual}");
+            assert!(
+                (closed - dual).amax() <= 4.0 * f64::EPSILON * scale,
+                "{closed} against {dual}"
+            );
             let h = 1e-6;
             for k in 0..6 {
                 let e = SVector::<f64, 6>::ith(k, h);
                 let moved = |e: SVector<f64, 6>| density.potential(&g.compose(&se3::exp(&e)));
                 let fd = (moved(e) - moved(-e)) / (2.0 * h);
-                assert!((fd - closed[k]).abs() <= 1e-8 * scale, "direction {k}: {fd} against {}", closed[k]);
+                assert!(
+                    (fd - closed[k]).abs() <= 1e-8 * scale,
+                    "direction {k}: {fd} against {}",
+                    closed[k]
+                );
             }
         }
     }
