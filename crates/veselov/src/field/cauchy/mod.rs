@@ -46,8 +46,18 @@ pub use momentum::STRADDLING_BLOCK;
 use terms::Written;
 
 /// One vertex of a level as the solve loop sees it: its index, its new
-/// value, its cells' gradients and its outcome.
-type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f64, M>]), &'a mut VertexOutcome));
+/// value, its cells' gradients and its result.
+type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f64, M>]), &'a mut VertexResult<M>));
+
+/// What the solve of one vertex v leaves beside its value and its cells'
+/// terms: the solve's outcome and, with forces, Σ_β F^{l(v)}_β over the
+/// cells through v (all known once v's own cells are), which
+/// [`CauchyMarcher::level_impulses`] pairs with the generators.
+#[derive(Clone, Copy)]
+struct VertexResult<const M: usize> {
+    outcome: VertexOutcome,
+    force: SVector<f64, M>,
+}
 
 /// The work one thread takes at least: the chunk is sized from the cost per
 /// vertex measured on the last level solved on one thread so that it holds
@@ -115,7 +125,10 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     grads: Vec<Vec<SVector<f64, M>>>,
     next_values: Vec<F::Point<f64>>,
     next_grads: Vec<SVector<f64, M>>,
-    outcomes: Vec<VertexOutcome>,
+    results: Vec<VertexResult<M>>,
+    /// The level whose vertex forces `results` hold (the last level solved
+    /// in full), if any.
+    forces_level: Option<i64>,
     /// Wall time per vertex of the last level solved on one thread (ns;
     /// `None` before the first), which sizes the parallel chunks
     /// ([`CHUNK_WORK_NS`]).
@@ -279,7 +292,14 @@ where
             grads,
             next_values: vec![data[0][0]; size],
             next_grads,
-            outcomes: vec![VertexOutcome::default(); size],
+            results: vec![
+                VertexResult {
+                    outcome: VertexOutcome::default(),
+                    force: SVector::zeros(),
+                };
+                size
+            ],
+            forces_level: None,
             vertex_ns: None,
             lag,
             torus,
@@ -569,25 +589,30 @@ where
         let w = self.level;
         let mut next_values = std::mem::take(&mut self.next_values);
         let mut next_grads = std::mem::take(&mut self.next_grads);
-        let mut outcomes = std::mem::take(&mut self.outcomes);
+        let mut results = std::mem::take(&mut self.results);
+        self.forces_level = None;
+        let with_forces = self.lag.has_forces();
         let started = std::time::Instant::now();
         let chunk = self.parallel_chunk(size);
         let parallel = chunk < size;
         {
             let this = &*self;
-            let solve = |(i, ((value, terms), outcome)): VertexSlot<'_, F::Point<f64>, M>| {
+            let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {
                 let (z, o, written) = this.solve_vertex(w, i, terms);
                 *value = z;
-                *outcome = o;
+                result.outcome = o;
                 if o.failure.is_none() {
                     this.cell_terms(w, i, Some(z), written, terms);
+                    if with_forces && this.is_active(w, i) {
+                        result.force = this.vertex_force(w, i, terms);
+                    }
                 }
             };
             if parallel {
                 next_values
                     .par_iter_mut()
                     .zip(next_grads.par_chunks_mut(stride))
-                    .zip(outcomes.par_iter_mut())
+                    .zip(results.par_iter_mut())
                     .with_min_len(chunk)
                     .enumerate()
                     .for_each(solve);
@@ -596,7 +621,7 @@ where
                 next_values
                     .iter_mut()
                     .zip(next_grads.chunks_mut(stride))
-                    .zip(outcomes.iter_mut())
+                    .zip(results.iter_mut())
                     .enumerate()
                     .for_each(solve);
             }
@@ -608,21 +633,19 @@ where
         if !parallel && vertex_ns > 0.0 {
             self.vertex_ns = Some(vertex_ns);
         }
-        let failure = outcomes
-            .iter()
-            .enumerate()
-            .find_map(|(i, o)| o.failure.map(|f| (i, f, *o)));
+        let outcomes = || results.iter().map(|r| r.outcome);
+        let failure = outcomes().enumerate().find_map(|(i, o)| o.failure.map(|f| (i, f, o)));
         let report = LevelReport {
             level: w,
-            iterations: outcomes.iter().map(|o| o.iterations).sum(),
-            jacobians: outcomes.iter().map(|o| o.jacobians).sum(),
-            max_relative_residual: outcomes.iter().map(|o| o.relative_residual).fold(0.0, f64::max),
+            iterations: outcomes().map(|o| o.iterations).sum(),
+            jacobians: outcomes().map(|o| o.jacobians).sum(),
+            max_relative_residual: outcomes().map(|o| o.relative_residual).fold(0.0, f64::max),
             parallel,
         };
         if let Some((i, f, o)) = failure {
             self.next_values = next_values;
             self.next_grads = next_grads;
-            self.outcomes = outcomes;
+            self.results = results;
             return Err(Error::VertexSolveFailure {
                 vertex: format!("vertex {i} of level {w}"),
                 residual: o.relative_residual,
@@ -642,7 +665,8 @@ where
         std::mem::swap(&mut self.grads[gslot], &mut next_grads);
         self.next_values = next_values;
         self.next_grads = next_grads;
-        self.outcomes = outcomes;
+        self.results = results;
+        self.forces_level = Some(w);
         self.level += 1;
         Ok(report)
     }
