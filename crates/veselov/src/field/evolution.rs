@@ -37,7 +37,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::cell::{DiscreteLagrangian, vertex_gradient};
+use super::cell::{DiscreteLagrangian, exact_gradient};
 use super::complex::{SpacetimeLattice, TopCell, TopCells};
 use super::fibre::Fibre;
 use super::flow::{CheckedPair, FlowMarcher};
@@ -405,7 +405,9 @@ where
     /// The currents `[J^base, J^fwd, J^cross]` (the cell's vertices on the
     /// previous level, on the current level, and its neighbour on the
     /// previous level) of cell `c` between the previous and the current
-    /// level, `J^k = X(y_k)ᵀ ∂ℒ/∂y_k` for the generators `generator(y)` = X(y).
+    /// level, `J^k = X(y_k)ᵀ ∂ℒ/∂y_k` for the generators `generator(y)` = X(y)
+    /// (∂ℒ/∂y_k in the Lagrangian's closed form where it has one,
+    /// [`exact_gradient`]).
     pub fn cell_currents<const K: usize>(
         &self,
         c: usize,
@@ -421,7 +423,7 @@ where
             Direction::Space => (2 * c, [base, cross, forward]),
         };
         let cell = lattice.cell(index);
-        let j = |l: usize| generator(&y[l]).transpose() * vertex_gradient::<F, L, M>(lag, &cell, &y, l).1;
+        let j = |l: usize| generator(&y[l]).transpose() * exact_gradient::<F, L, M>(lag, &cell, &y, l);
         [j(0), j(fwd), j(side)]
     }
 
