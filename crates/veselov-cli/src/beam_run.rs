@@ -27,10 +27,11 @@ use crate::beam::{BeamSetup, BeamStart};
 use crate::error::CliError;
 use crate::output::Table;
 use crate::pipeline::finish::{Ending, close_run};
-use crate::pipeline::stream::{CsvStream, NpyStream, Position};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, after_recording, restore, words_error};
+use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::{
+    CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run, restore, words_error,
+};
 use crate::run::RunJob;
-use crate::scenario::{OutputSpec, output_dir};
 
 type Beam<R> = Evolution000<RigidMotions, BeamLagrangian<R>, 6>;
 
@@ -326,25 +327,17 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         bytes_key: "output.every",
         unit: "levels",
     };
-    let spec = OutputSpec {
-        dir: s.output.dir.clone(),
-        ..Default::default()
-    };
-    let mut session = Session::open(
+    let (mut session, resumed) = open_lattice_run::<3>(
         &setup.path,
         &job,
-        output_dir(&setup.path, &spec, job.out.as_deref()),
+        s.output.dir.clone(),
         &plan,
-        Some(s.output.checkpoint_every),
+        s.output.checkpoint_every,
         "beam",
     )?;
+
     let dir = session.dir.clone();
-    let saved = session.resumed.clone();
-    let mut words = saved.as_ref().map(|c| Words::new(&c.observer));
-    let at = match &mut words {
-        Some(w) => Position::read_all(w).map_err(|e| words_error(&dir, e))?.map(Some),
-        None => [None; 3],
-    };
+    let at = Resumed::positions(&resumed);
     let x = if setup.space { "s" } else { "t" };
     let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
     let mut obs = BeamObserver {
@@ -383,13 +376,13 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     let mut state = evolution;
     let step_length = if setup.space { setup.ds } else { setup.dt };
     let mut stepper = EvolutionStepper::<RigidMotions, BeamLagrangian<R>, 6>::new(step_length);
-    let (first_step, start) = match (&saved, words) {
-        (Some(saved), Some(mut w)) => {
-            obs.restore(&mut w).map_err(|e| words_error(&dir, e))?;
-            restore(&dir, &mut state, &mut Words::new(&saved.state))?;
-            (saved.step, Ok(()))
+    let (first_step, start) = match &resumed {
+        Some(r) => {
+            obs.restore(&mut r.observer_words()).map_err(|e| words_error(&dir, e))?;
+            restore(&dir, &mut state, &mut Words::new(&r.saved.state))?;
+            (r.saved.step, Ok(()))
         }
-        _ => {
+        None => {
             obs.domain.add_band(&state);
             (0, obs.record(&state))
         }

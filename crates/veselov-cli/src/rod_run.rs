@@ -38,11 +38,12 @@ use crate::error::CliError;
 use crate::output::Table;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::rows_for_plots;
-use crate::pipeline::stream::{CsvStream, NpyStream, Position};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, after_recording, restore, words_error};
+use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::{
+    CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run, restore, words_error,
+};
 use crate::rod::RodSetup;
 use crate::run::RunJob;
-use crate::scenario::{OutputSpec, output_dir};
 
 type Cell = CosseratCell<Weight>;
 /// The rod with Q_sym (`[method] quadrature = "symmetric"`): the core's
@@ -395,25 +396,17 @@ where
         bytes_key: "output.every",
         unit: "levels",
     };
-    let spec = OutputSpec {
-        dir: s.output.dir.clone(),
-        ..Default::default()
-    };
-    let mut session = Session::open(
+    let (mut session, resumed) = open_lattice_run::<4>(
         &setup.path,
         &job,
-        output_dir(&setup.path, &spec, job.out.as_deref()),
+        s.output.dir.clone(),
         &plan,
-        Some(s.output.checkpoint_every.saturating_mul(2)),
+        s.output.checkpoint_every.saturating_mul(2),
         "cosserat-rod",
     )?;
+
     let dir = session.dir.clone();
-    let saved = session.resumed.clone();
-    let mut words = saved.as_ref().map(|c| Words::new(&c.observer));
-    let at = match &mut words {
-        Some(w) => Position::read_all(w).map_err(|e| words_error(&dir, e))?.map(Some),
-        None => [None; 4],
-    };
+    let at = Resumed::positions(&resumed);
     let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
     let mut obs = RodObserver {
         setup,
@@ -440,13 +433,13 @@ where
     };
     let mut state = marcher;
     let mut stepper = CauchyStepper::<PositionRotation, L, 6>::new(0.5 * setup.dt, FIRST_CUT);
-    let (first, start) = match (&saved, words) {
-        (Some(saved), Some(mut w)) => {
-            obs.restore(&mut w).map_err(|e| words_error(&dir, e))?;
-            restore(&dir, &mut state, &mut Words::new(&saved.state))?;
-            (saved.step, Ok(()))
+    let (first, start) = match &resumed {
+        Some(r) => {
+            obs.restore(&mut r.observer_words()).map_err(|e| words_error(&dir, e))?;
+            restore(&dir, &mut state, &mut Words::new(&r.saved.state))?;
+            (r.saved.step, Ok(()))
         }
-        _ => {
+        None => {
             let t = run_time(&state, setup.dt);
             (0, obs.record(&state, t))
         }

@@ -53,10 +53,10 @@ use crate::field::{FieldModelSpec, FieldTimeSpec};
 use crate::output::Table;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::rows_for_plots;
-use crate::pipeline::stream::{CsvStream, NpyStream, Position};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Session, restore, words_error};
+use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, open_lattice_run, restore, words_error};
 use crate::run::RunJob;
-use crate::scenario::{OutputSpec, check_plot_format, finite_value, key_error, output_dir, parse_toml, positive_value};
+use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, positive_value};
 
 /// Whether a field scenario asks for a CFK lattice.
 pub fn is_cfk(text: &str) -> bool {
@@ -417,16 +417,12 @@ where
         bytes_key: "output.snapshot_every",
         unit: "levels",
     };
-    let spec = OutputSpec {
-        dir: s.output.dir.clone(),
-        ..Default::default()
-    };
-    let mut session = Session::open(
+    let (mut session, resumed) = open_lattice_run::<4>(
         &setup.path,
         job,
-        output_dir(&setup.path, &spec, job.out.as_deref()),
+        s.output.dir.clone(),
         &plan,
-        Some(s.output.checkpoint_every.saturating_mul(3)),
+        s.output.checkpoint_every.saturating_mul(3),
         "cfk-field",
     )?;
     let dir = session.dir.clone();
@@ -437,12 +433,7 @@ where
     } else {
         vec![setup.nodes[0], setup.nodes[1], M]
     };
-    let saved = session.resumed.clone();
-    let mut words = saved.as_ref().map(|c| Words::new(&c.observer));
-    let at = match &mut words {
-        Some(w) => Position::read_all(w).map_err(|e| words_error(&dir, e))?.map(Some),
-        None => [None; 4],
-    };
+    let at = Resumed::positions(&resumed);
     let mut obs = CfkObserver {
         rule,
         torus,
@@ -462,13 +453,13 @@ where
     };
     let mut state = marcher;
     let mut stepper = CauchyStepper::<Euclidean<M>, Rule<P>, M>::new(setup.dt / 3.0, 3);
-    let (first, start) = match (&saved, words) {
-        (Some(saved), Some(mut w)) => {
-            obs.restore(&mut w).map_err(|e| words_error(&dir, e))?;
-            restore(&dir, &mut state, &mut Words::new(&saved.state))?;
-            (saved.step, Ok(()))
+    let (first, start) = match &resumed {
+        Some(r) => {
+            obs.restore(&mut r.observer_words()).map_err(|e| words_error(&dir, e))?;
+            restore(&dir, &mut state, &mut Words::new(&r.saved.state))?;
+            (r.saved.step, Ok(()))
         }
-        _ => (0, obs.record(&state, 0)),
+        None => (0, obs.record(&state, 0)),
     };
     let outcome = match start {
         Err(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),

@@ -388,6 +388,60 @@ pub fn after_recording(recorded: Result<(), veselov::Error>, io_failed: bool) ->
     }
 }
 
+/// A lattice run resumed from a checkpoint: what was saved, and the
+/// positions its `K` output files had, read from the front of the
+/// observer's words.
+pub struct Resumed<const K: usize> {
+    pub saved: Saved,
+    pub files: [stream::Position; K],
+}
+
+impl<const K: usize> Resumed<K> {
+    /// The observer's own words, after the files' positions.
+    pub fn observer_words(&self) -> Words<'_> {
+        Words::new(&self.saved.observer[2 * K..])
+    }
+
+    /// Where each output file is reopened: at its saved position when
+    /// resuming, fresh otherwise.
+    pub fn positions(resumed: &Option<Self>) -> [Option<stream::Position>; K] {
+        resumed.as_ref().map_or([None; K], |r| r.files.map(Some))
+    }
+}
+
+/// The session of a lattice run of `kind` from the scenario `file`, whose
+/// outputs go to the command line's `--out`, else `[output] dir`
+/// (`output_dir`), else beside the scenario, checkpointed every
+/// `checkpoint_every` steps of its stepper, with its `K` output files'
+/// positions when it resumes.
+pub fn open_lattice_run<const K: usize>(
+    file: &std::path::Path,
+    job: &RunJob,
+    output_dir: Option<PathBuf>,
+    plan: &Plan,
+    checkpoint_every: u64,
+    kind: &str,
+) -> Result<(Session, Option<Resumed<K>>), CliError> {
+    let spec = crate::scenario::OutputSpec {
+        dir: output_dir,
+        ..Default::default()
+    };
+    let dir = crate::scenario::output_dir(file, &spec, job.out.as_deref());
+    let session = Session::open(file, job, dir, plan, Some(checkpoint_every), kind)?;
+    let resumed = match &session.resumed {
+        Some(saved) => {
+            let files = stream::Position::read_all(&mut Words::new(&saved.observer))
+                .map_err(|e| words_error(&session.dir, e))?;
+            Some(Resumed {
+                saved: saved.clone(),
+                files,
+            })
+        }
+        None => None,
+    };
+    Ok((session, resumed))
+}
+
 /// Read the `n`-th group of checkpoint words or fail naming the checkpoint.
 pub fn words_error(dir: &std::path::Path, e: veselov::Error) -> CliError {
     CliError::Io {
