@@ -335,7 +335,6 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         s.output.checkpoint_every,
         "beam",
     )?;
-
     let dir = session.dir.clone();
     let at = Resumed::positions(&resumed);
     let x = if setup.space { "s" } else { "t" };

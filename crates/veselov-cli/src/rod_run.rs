@@ -404,7 +404,6 @@ where
         s.output.checkpoint_every.saturating_mul(2),
         "cosserat-rod",
     )?;
-
     let dir = session.dir.clone();
     let at = Resumed::positions(&resumed);
     let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();

@@ -146,9 +146,13 @@ pub fn write_summary(
 /// How a lattice run ended, for [`close_run`]: its status, the steps (or
 /// levels) it took, its final time and its nonlinear iterations.
 pub struct Ending {
+    /// How the run ended.
     pub status: Status,
+    /// The stepper's steps (levels) taken, resumed parts included.
     pub steps: u64,
+    /// The time (or arc length) reached.
     pub t_final: f64,
+    /// Nonlinear iterations of this part of the run.
     pub iterations: u64,
 }
 

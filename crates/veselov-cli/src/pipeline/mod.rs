@@ -392,7 +392,9 @@ pub fn after_recording(recorded: Result<(), veselov::Error>, io_failed: bool) ->
 /// positions its `K` output files had, read from the front of the
 /// observer's words.
 pub struct Resumed<const K: usize> {
+    /// The checkpoint as read.
     pub saved: Saved,
+    /// Where each output file stood when it was written.
     pub files: [stream::Position; K],
 }
 
