@@ -159,26 +159,18 @@ where
         self.level_impulses(|y| [generator(y)])[0]
     }
 
-    /// Σ_β F^{l(v)}_β over the cells β through the vertex v = (c, i) of the
-    /// body, from the stored forces: those of the cells based at v from
-    /// `own` (v's [`stride`](Self::stride) stored terms), the others from
-    /// the ring; a cell outside the window is skipped.
+    /// Σ_β F^{l(v)}_β over the cells β through the vertex v = (c, i), from
+    /// the stored forces: those of the cells based at v from `own` (v's
+    /// [`stride`](Self::stride) stored terms), the others from the ring. A
+    /// cell outside the window stores zero terms, so it adds nothing (as in
+    /// [`momentum`](Self::momentum)).
     pub(super) fn vertex_force(&self, c: i64, i: usize, own: &[SVector<f64, M>]) -> SVector<f64, M> {
         let n = self.torus.dimension();
         let per_vertex = self.perms.len() * (n + 1);
         let stride = self.stride();
-        // One unwrapped origin serves all the window tests.
-        let v = self.origin(c, i);
         let mut force = SVector::zeros();
         for j in (0..=n).filter(|&j| self.lag.has_force_at(j)) {
             for sigma in 0..self.perms.len() {
-                if !self
-                    .window
-                    .as_ref()
-                    .is_none_or(|m| m.contains_cell_through(&v, &self.perms[sigma], j))
-                {
-                    continue;
-                }
                 let at = per_vertex + sigma * (n + 1) + j;
                 force += if j == 0 {
                     &own[at]

@@ -115,20 +115,6 @@ impl MaterialWindow {
         let q = if perm[0] == 0 { p + 1 } else { p - 1 };
         p <= self.last && (0..=self.last).contains(&q)
     }
-
-    /// [`contains_cell`](Self::contains_cell) of the path simplex (u, σ)
-    /// whose vertex `j` is `v`, for `v` in the body, without computing u:
-    /// u = v − e_{σ(0)} − … − e_{σ(j−1)}, and a step along e₀ (e₁) moves the
-    /// material point by +1 (−1), so p(u) = p(v) − Σ_{l<j} (±1). With
-    /// 0 ≤ p(v) ≤ `last` and 2N ≥ last + 2, p(u) and its neighbour lie in
-    /// −2 … last + 2, where no wrap can bring a point outside the body into
-    /// it.
-    pub fn contains_cell_through(&self, v: &[i64], perm: &[usize], j: usize) -> bool {
-        let step = |axis: usize| if axis == 0 { 1 } else { -1 };
-        let p = self.material_point(v) - perm[..j].iter().map(|&axis| step(axis)).sum::<i64>();
-        let q = p + step(perm[0]);
-        (0..=self.last).contains(&p) && (0..=self.last).contains(&q)
-    }
 }
 
 #[cfg(test)]
@@ -151,42 +137,5 @@ mod tests {
         // Outside points, also across the wrap.
         assert!(!w.contains(&[0, 1]) && !w.contains(&[6, -5]) && w.contains(&[6, -4]));
         assert_eq!(w.unwrap(&[0, 2, 0, 0, 0, 0, 0, 0])[..2], [6, -4]);
-    }
-
-    /// The cell through a vertex of the body is kept exactly when the cell
-    /// based at its base is, for every vertex position, shape and material
-    /// point, across the wrap.
-    #[test]
-    fn cells_through_a_vertex_agree_with_cells_at_their_base() {
-        let torus = CfkTorus::new(2, &[6]).expect("torus");
-        for last in [2, 7, 10] {
-            let w = MaterialWindow::new(&torus, last).expect("window");
-            let mut kept = 0;
-            for v0 in -14..14_i64 {
-                for v1 in -3..3_i64 {
-                    let v = [v0, v1];
-                    if !w.contains(&v) {
-                        continue;
-                    }
-                    for shape in 0..2 {
-                        let perm = permutation(2, shape);
-                        for j in 0..=2 {
-                            let mut u = v;
-                            for &axis in &perm[..j] {
-                                u[axis] -= 1;
-                            }
-                            let through = w.contains_cell_through(&v, &perm, j);
-                            assert_eq!(
-                                through,
-                                w.contains_cell(&u, &perm),
-                                "v {v:?}, σ {shape}, j {j}, last {last}"
-                            );
-                            kept += usize::from(through);
-                        }
-                    }
-                }
-            }
-            assert!(kept > 0);
-        }
     }
 }
