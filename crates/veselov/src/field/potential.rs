@@ -8,7 +8,7 @@
 //! (`φ_tt − φ_xx + m²φ + λφ³ = 0`) and the O(2)-invariant complex
 //! Klein–Gordon field `φ ∈ ℝ²`, `N = −½m²|φ|² − ¼λ|φ|⁴`.
 
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 use num_dual::{Dual2_64, second_derivative};
 
 use crate::ad::Scalar;
@@ -17,6 +17,22 @@ use crate::ad::Scalar;
 pub trait Potential<const DIM: usize>: Send + Sync {
     /// `N(y)`.
     fn potential<D: Scalar>(&self, y: &SVector<D, DIM>) -> D;
+
+    /// ∇N(y_i) into `gradients[i]` and, if asked, ∇²N(y_i) into
+    /// `hessians[i]`, for every point of `y` at once (equal lengths), with
+    /// the bits of [`potential`](Self::potential) over a first-order dual
+    /// number per direction (gradients only) or a second-order one (with
+    /// the Hessians). `false` (the default): not provided, and nothing is
+    /// written; callers then differentiate point by point. Models whose
+    /// derivatives share transcendental calls across points override it.
+    fn batch_derivatives(
+        &self,
+        _y: &[SVector<f64, DIM>],
+        _gradients: &mut [SVector<f64, DIM>],
+        _hessians: Option<&mut [SMatrix<f64, DIM, DIM>]>,
+    ) -> bool {
+        false
+    }
 }
 
 /// A scalar potential with the values the fast lattice paths need.
@@ -54,10 +70,52 @@ pub trait ScalarPotential: Potential<1> {
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SineGordon;
 
+/// Points per group of [`SineGordon`]'s batched derivatives (the stack
+/// buffers of one group).
+const BATCH: usize = 8;
+
 impl Potential<1> for SineGordon {
     /// `cos y`; over dual numbers from its closed-form jet (`through_jet`).
     fn potential<D: Scalar>(&self, y: &SVector<D, 1>) -> D {
         through_jet(self, y[0]).unwrap_or_else(|| y[0].cos())
+    }
+    /// N′ = −sin y and N″ = −cos y from one [`sin_cos_batch`] over all the
+    /// points (the arguments reduced and the polynomials evaluated in vector
+    /// lanes). The bits are those of the dual passes through `through_jet`:
+    /// a first-order pass gives N′ itself; a second-order one, by the
+    /// product rule of its `(½N″d + N′)d`, gives N′ + ½N″·0 and 2·(½N″).
+    /// Points are taken in groups of [`BATCH`].
+    ///
+    /// [`sin_cos_batch`]: super::trig::sin_cos_batch
+    fn batch_derivatives(
+        &self,
+        y: &[SVector<f64, 1>],
+        gradients: &mut [SVector<f64, 1>],
+        mut hessians: Option<&mut [SMatrix<f64, 1, 1>]>,
+    ) -> bool {
+        if gradients.len() != y.len() || hessians.as_ref().is_some_and(|h| h.len() != y.len()) {
+            return false;
+        }
+        let (mut x, mut sin, mut cos) = ([0.0; BATCH], [0.0; BATCH], [0.0; BATCH]);
+        for (start, points) in y.chunks(BATCH).enumerate().map(|(k, p)| (k * BATCH, p)) {
+            let count = points.len();
+            for (xi, p) in x.iter_mut().zip(points) {
+                *xi = p[0];
+            }
+            super::trig::sin_cos_batch(&x[..count], &mut sin[..count], &mut cos[..count]);
+            for i in 0..count {
+                let [_, d1, d2] = [cos[i], -sin[i], -cos[i]];
+                match hessians.as_deref_mut() {
+                    Some(h) => {
+                        let half = 0.5 * d2;
+                        gradients[start + i] = SVector::from([d1 + half * 0.0]);
+                        h[start + i] = SMatrix::from([[2.0 * half]]);
+                    }
+                    None => gradients[start + i] = SVector::from([d1]),
+                }
+            }
+        }
+        true
     }
 }
 
@@ -200,6 +258,39 @@ impl<const DIM: usize, P: Potential<DIM>> super::density::Density<DIM> for Nonli
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Sine-Gordon's batched derivatives are the bits of the dual passes
+    /// the rules would otherwise make point by point (first order for the
+    /// gradients alone, second order with the Hessians), for batches of
+    /// every length up to two groups and points of both signs, signed
+    /// zeros and a NaN; the default batch provides nothing.
+    #[test]
+    fn sine_gordon_batch_derivatives_are_the_bits_of_the_dual_passes() {
+        use num_dual::{Dual2_64, Dual64};
+        let mut points = vec![0.0, -0.0, 1e-300, f64::NAN, 3.0e5, -7.25];
+        points.extend((0..60).map(|k| (k as f64 * 0.731).sin() * 9.0 + k as f64 * 0.01));
+        let bits = |v: f64| if v.is_nan() { u64::MAX } else { v.to_bits() };
+        for len in [0, 1, 2, 3, 5, 6, 8, 9, 17, points.len()] {
+            let y: Vec<SVector<f64, 1>> = points[..len].iter().map(|&v| SVector::from([v])).collect();
+            let mut g = vec![SVector::zeros(); len];
+            let mut h = vec![SMatrix::zeros(); len];
+            assert!(SineGordon.batch_derivatives(&y, &mut g, None));
+            for (p, gi) in y.iter().zip(&g) {
+                let first = SineGordon.potential(&SVector::from([Dual64::new(p[0], 1.0)]));
+                assert_eq!(bits(gi[0]), bits(first.eps), "gradient at {:e}", p[0]);
+            }
+            assert!(SineGordon.batch_derivatives(&y, &mut g, Some(&mut h)));
+            for ((p, gi), hi) in y.iter().zip(&g).zip(&h) {
+                let second = SineGordon.potential(&SVector::from([Dual2_64::new(p[0], 1.0, 0.0)]));
+                assert_eq!(bits(gi[0]), bits(second.v1), "gradient with the Hessian at {:e}", p[0]);
+                assert_eq!(bits(hi[(0, 0)]), bits(second.v2), "Hessian at {:e}", p[0]);
+            }
+        }
+        // Mismatched lengths are refused without writing.
+        let y = [SVector::from([1.0]); 3];
+        assert!(!SineGordon.batch_derivatives(&y, &mut [SVector::zeros(); 2], None));
+        assert!(!Exp.batch_derivatives(&y, &mut [SVector::zeros(); 3], None));
+    }
 
     /// `N = eˣ` through the default (AD) jet and divided difference.
     struct Exp;

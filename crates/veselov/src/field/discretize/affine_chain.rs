@@ -370,6 +370,35 @@ where
         )
     }
 
+    /// ∇_yV (and ∇²_yV if `hessians` is given) at the points (x̄_i, ȳ_i):
+    /// the density's batched derivatives
+    /// ([`SmoothDensity::jet_free_derivatives`]) where it has them, else
+    /// [`jet_free_gradient`](Self::jet_free_gradient) or
+    /// [`jet_free_hessian`](Self::jet_free_hessian) point by point; the
+    /// same bits either way.
+    pub(super) fn jet_free_batch<const M: usize>(
+        &self,
+        centres: &[SVector<f64, N>],
+        values: &[SVector<f64, M>],
+        gradients: &mut [SVector<f64, M>],
+        mut hessians: Option<&mut [SMatrix<f64, M, M>]>,
+    ) where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        if self
+            .density
+            .jet_free_derivatives(centres, values, gradients, hessians.as_deref_mut())
+        {
+            return;
+        }
+        for (i, (centre, value)) in centres.iter().zip(values).enumerate() {
+            match hessians.as_deref_mut() {
+                Some(h) => (gradients[i], h[i]) = self.jet_free_hessian(centre, value),
+                None => gradients[i] = self.jet_free_gradient(centre, value),
+            }
+        }
+    }
+
     /// ∂L_β/∂y_l by one pass with the M directions D_{lk}.
     pub(super) fn chain_gradient<const M: usize>(
         &self,

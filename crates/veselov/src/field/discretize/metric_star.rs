@@ -13,7 +13,9 @@
 //! ∂²L_β/∂y₀∂z = vol_β·(b_β I + ∇²V(ȳ_β(z))/(N + 1)²),  b_β = Σ_a η_a c_{0a} c_{Na}.
 //!
 //! An evaluation of the equation is one evaluation of V per cell (over
-//! M-direction dual numbers; second order for the Jacobian) and the jet
+//! M-direction dual numbers; second order for the Jacobian; all the star's
+//! cells at once where the density batches them,
+//! [`SmoothDensity::jet_free_derivatives`], with the same bits) and the jet
 //! term from the partial frame, with the weights η_a c_{0a} and b_β formed
 //! once per vertex. The residual is computed by the operations of the
 //! rule's own gradients ([`metric_gradient_from`]), so Newton zeroes the
@@ -91,30 +93,45 @@ where
                 *term = StarTerm::new(partial, eta);
             }
         }
-        // ∇V of each cell at the last residual-only evaluation, at `written`.
+        // The cells in the action (indices into `frames`) and their
+        // centres: an evaluation differentiates V at all of them at once.
+        let (mut active, mut count) = ([0; MAX_STAR], 0);
+        let mut centres = [SVector::<f64, N>::zeros(); MAX_STAR];
+        for (c, partial) in frames.iter().enumerate() {
+            if let Some(partial) = partial {
+                (active[count], centres[count]) = (c, partial.centre);
+                count += 1;
+            }
+        }
+        let (active, centres) = (&active[..count], &centres[..count]);
+        let mut values = [SVector::<f64, M>::zeros(); MAX_STAR];
+        let mut hessians = [SMatrix::<f64, M, M>::zeros(); MAX_STAR];
+        // ∇V of each active cell at the last residual-only evaluation, at
+        // `written`.
         let mut potential_gradients = [SVector::<f64, M>::zeros(); MAX_STAR];
         let mut written: Option<SVector<f64, M>> = None;
         let (z, outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |z, mut jacobian| {
             let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
+            for (value, &c) in values.iter_mut().zip(active) {
+                if let Some(partial) = &frames[c] {
+                    *value = partial.value(z);
+                }
+            }
+            let dvs = &mut potential_gradients[..count];
+            let asked = jacobian.is_some().then_some(&mut hessians[..count]);
+            self.jet_free_batch(centres, &values[..count], dvs, asked);
             if let Some(j) = jacobian.as_deref_mut() {
                 j.fill(0.0);
             }
-            for (c, (partial, term)) in frames.iter().zip(&terms).enumerate() {
-                let Some(partial) = partial else { continue };
-                let value = partial.value(z);
-                let dv = match jacobian.as_deref_mut() {
-                    Some(j) => {
-                        let (dv, hessian) = self.jet_free_hessian(&partial.centre, &value);
-                        *j += SMatrix::<f64, M, M>::identity() * term.slope + hessian * (w * w * partial.volume);
-                        dv
-                    }
-                    None => {
-                        let dv = self.jet_free_gradient(&partial.centre, &value);
-                        potential_gradients[c] = dv;
-                        dv
-                    }
+            for (k, &c) in active.iter().enumerate() {
+                let (Some(partial), term) = (&frames[c], &terms[c]) else {
+                    continue;
                 };
-                let g = metric_gradient_from(|k, a| partial.jet_entry(z, k, a), &term.weights, &dv, partial.volume);
+                if let Some(j) = jacobian.as_deref_mut() {
+                    *j += SMatrix::<f64, M, M>::identity() * term.slope + hessians[k] * (w * w * partial.volume);
+                }
+                let dv = &potential_gradients[k];
+                let g = metric_gradient_from(|k, a| partial.jet_entry(z, k, a), &term.weights, dv, partial.volume);
                 leg += g;
                 scale += g.amax();
             }
@@ -129,22 +146,22 @@ where
                 forces_written: false,
             };
         }
+        if written != Some(z) {
+            for (value, &c) in values.iter_mut().zip(active) {
+                if let Some(partial) = &frames[c] {
+                    *value = partial.value(&z);
+                }
+            }
+            self.jet_free_batch(centres, &values[..count], &mut potential_gradients[..count], None);
+        }
         let width = N + 1;
-        for (c, partial) in frames.iter().enumerate() {
+        gradients.fill(SVector::zeros());
+        for (k, &c) in active.iter().enumerate() {
+            let Some(partial) = &frames[c] else { continue };
             let out = &mut gradients[c * width..(c + 1) * width];
-            out[0] = SVector::zeros();
-            let Some(partial) = partial else {
-                out.fill(SVector::zeros());
-                continue;
-            };
             let frame = partial.complete(&z);
-            let dv = if written == Some(z) {
-                potential_gradients[c]
-            } else {
-                self.jet_free_gradient(&frame.centre, &frame.value)
-            };
             for (l, g) in out.iter_mut().enumerate().skip(1) {
-                *g = metric_gradient(&frame, eta, &dv, l);
+                *g = metric_gradient(&frame, eta, &potential_gradients[k], l);
             }
         }
         SolvedVertex {

@@ -39,6 +39,25 @@ pub trait SmoothDensity<F: Fibre<M>, const M: usize, const N: usize>: Send + Syn
     fn jet_free_part<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>) -> D {
         self.density(x, y, &SMatrix::from_element(D::zero()))
     }
+
+    /// ∇_yV and, if asked, ∇²_yV of V(x, y) = 𝓛(x, y, 0) at the points
+    /// (x_i, y_i) of `x` and `y` (equal lengths; x only read where 𝓛
+    /// depends on it), into `gradients` and `hessians`, with the bits of
+    /// [`jet_free_part`](Self::jet_free_part) over one first-order dual
+    /// number per direction (gradients only) or a second-order one.
+    /// `false` (the default): not provided, nothing written; rules then
+    /// differentiate point by point. A density overrides it where its
+    /// points share work (the sine-Gordon potential's trigonometry runs in
+    /// vector lanes, [`Potential::batch_derivatives`]).
+    fn jet_free_derivatives(
+        &self,
+        _x: &[SVector<f64, N>],
+        _y: &[F::Point<f64>],
+        _gradients: &mut [SVector<f64, M>],
+        _hessians: Option<&mut [SMatrix<f64, M, M>]>,
+    ) -> bool {
+        false
+    }
 }
 
 impl<T: SmoothDensity<F, M, N> + ?Sized, F: Fibre<M>, const M: usize, const N: usize> SmoothDensity<F, M, N> for &T {
@@ -53,6 +72,15 @@ impl<T: SmoothDensity<F, M, N> + ?Sized, F: Fibre<M>, const M: usize, const N: u
     }
     fn jet_free_part<D: Scalar>(&self, x: &SVector<f64, N>, y: &F::Point<D>) -> D {
         (**self).jet_free_part(x, y)
+    }
+    fn jet_free_derivatives(
+        &self,
+        x: &[SVector<f64, N>],
+        y: &[F::Point<f64>],
+        gradients: &mut [SVector<f64, M>],
+        hessians: Option<&mut [SMatrix<f64, M, M>]>,
+    ) -> bool {
+        (**self).jet_free_derivatives(x, y, gradients, hessians)
     }
 }
 
@@ -86,6 +114,16 @@ impl<P: Potential<DIM> + Send + Sync, const DIM: usize, const N: usize> SmoothDe
     /// The potential N(y).
     fn jet_free_part<D: Scalar>(&self, _x: &SVector<f64, N>, y: &SVector<D, DIM>) -> D {
         self.0.potential(y)
+    }
+    /// The potential's batched derivatives ([`Potential::batch_derivatives`]).
+    fn jet_free_derivatives(
+        &self,
+        _x: &[SVector<f64, N>],
+        y: &[SVector<f64, DIM>],
+        gradients: &mut [SVector<f64, DIM>],
+        hessians: Option<&mut [SMatrix<f64, DIM, DIM>]>,
+    ) -> bool {
+        self.0.batch_derivatives(y, gradients, hessians)
     }
     fn density<D: Scalar>(&self, _x: &SVector<f64, N>, y: &SVector<D, DIM>, jet: &SMatrix<D, DIM, N>) -> D {
         let mut kin = D::zero();
