@@ -70,8 +70,7 @@ pub trait ScalarPotential: Potential<1> {
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SineGordon;
 
-/// Points per group of [`SineGordon`]'s batched derivatives (the stack
-/// buffers of one group).
+/// Points per group of [`SineGordon`]'s batched derivatives.
 const BATCH: usize = 8;
 
 impl Potential<1> for SineGordon {
@@ -84,7 +83,7 @@ impl Potential<1> for SineGordon {
     /// lanes). The bits are those of the dual passes through `through_jet`:
     /// a first-order pass gives N′ itself; a second-order one, by the
     /// product rule of its `(½N″d + N′)d`, gives N′ + ½N″·0 and 2·(½N″).
-    /// Points are taken in groups of [`BATCH`].
+    /// Points are taken in groups of eight (the stack buffers of a group).
     ///
     /// [`sin_cos_batch`]: super::trig::sin_cos_batch
     fn batch_derivatives(
