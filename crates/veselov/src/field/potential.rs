@@ -96,21 +96,27 @@ impl Potential<1> for SineGordon {
             return false;
         }
         let (mut x, mut sin, mut cos) = ([0.0; BATCH], [0.0; BATCH], [0.0; BATCH]);
-        for (start, points) in y.chunks(BATCH).enumerate().map(|(k, p)| (k * BATCH, p)) {
-            let count = points.len();
+        for (k, points) in y.chunks(BATCH).enumerate() {
+            let (at, count) = (k * BATCH, points.len());
             for (xi, p) in x.iter_mut().zip(points) {
                 *xi = p[0];
             }
             super::trig::sin_cos_batch(&x[..count], &mut sin[..count], &mut cos[..count]);
-            for i in 0..count {
-                let [_, d1, d2] = [cos[i], -sin[i], -cos[i]];
-                match hessians.as_deref_mut() {
-                    Some(h) => {
-                        let half = 0.5 * d2;
-                        gradients[start + i] = SVector::from([d1 + half * 0.0]);
-                        h[start + i] = SMatrix::from([[2.0 * half]]);
+            let waves = sin.iter().zip(&cos);
+            let gradients = &mut gradients[at..at + count];
+            match hessians.as_deref_mut() {
+                Some(h) => {
+                    for ((g, h), (s, c)) in gradients.iter_mut().zip(&mut h[at..at + count]).zip(waves) {
+                        // N′ = −sin, ½N″ = −½cos.
+                        let half = 0.5 * -c;
+                        g[0] = -s + half * 0.0;
+                        h[(0, 0)] = 2.0 * half;
                     }
-                    None => gradients[start + i] = SVector::from([d1]),
+                }
+                None => {
+                    for (g, (s, _)) in gradients.iter_mut().zip(waves) {
+                        g[0] = -s;
+                    }
                 }
             }
         }
