@@ -381,18 +381,22 @@ impl<P: ScalarPotential> FastMarcher<P> {
             fill_ghosts(&mut self.next, n, jump);
             let y = &self.levels[0];
             let mut change: f64 = 0.0;
-            // Jacobi sweep: every centroid at the previous iterate.
+            // Jacobi sweep: every centroid at the previous iterate (the
+            // ghost next[N+1] holds the old next[1]), the potential's jets
+            // at all of them at once, then the update.
             for p in 1..=n {
-                let c = (y[p] + self.next[p] + self.next[p + 1]) * (1.0 / 3.0);
-                let [v, d1, d2] = self.potential.jet(c);
-                self.at[p] = c;
-                self.cur_v[p] = v;
-                self.cur_a[p] = d1;
-                self.cur_d2[p] = d2;
-                let new = self.base[p] + h3 * d1;
+                self.at[p] = (y[p] + self.next[p] + self.next[p + 1]) * (1.0 / 3.0);
+            }
+            let level = 1..n + 1;
+            self.potential.jets(
+                &self.at[level.clone()],
+                &mut self.cur_v[level.clone()],
+                &mut self.cur_a[level.clone()],
+                &mut self.cur_d2[level],
+            );
+            for p in 1..=n {
+                let new = self.base[p] + h3 * self.cur_a[p];
                 change = change.max((new - self.next[p]).abs());
-                // In place is still Jacobi: centroid p reads next[p+1] before
-                // its update, and the ghost next[N+1] holds the old next[1].
                 self.next[p] = new;
             }
             if self.stop(it, change, lip, tol)? {
@@ -422,9 +426,16 @@ impl<P: ScalarPotential> FastMarcher<P> {
         let (h, k) = (self.lattice.dt(), self.lattice.dx());
         let r2 = (h / k) * (h / k);
         let (y, ym) = (&self.levels[0], &self.levels[1]);
+        let level = 1..n + 1;
+        self.potential.jets(
+            &y[level.clone()],
+            &mut self.cur_v[level.clone()],
+            &mut self.cur_a[level.clone()],
+            &mut self.cur_d2[level],
+        );
         let mut e = 0.0;
         for p in 1..=n {
-            let [v, d1, _] = self.potential.jet(y[p]);
+            let (v, d1) = (self.cur_v[p], self.cur_a[p]);
             let new = 2.0 * y[p] - ym[p] + r2 * (y[p + 1] - 2.0 * y[p] + y[p - 1]) + h * h * d1;
             self.next[p] = new;
             let vt = (new - y[p]) / h;
@@ -513,13 +524,15 @@ impl<P: ScalarPotential> FastMarcher<P> {
                 }
             } else {
                 for p in 1..=n {
-                    let c = 0.25 * (y[p] + self.next[p] + self.next[p + 1] + y[p + 1]);
-                    let [v, d1, d2] = self.potential.jet(c);
-                    self.at[p] = c;
-                    self.cur_v[p] = v;
-                    self.cur_a[p] = d1;
-                    self.cur_d2[p] = d2;
+                    self.at[p] = 0.25 * (y[p] + self.next[p] + self.next[p + 1] + y[p + 1]);
                 }
+                let level = 1..n + 1;
+                self.potential.jets(
+                    &self.at[level.clone()],
+                    &mut self.cur_v[level.clone()],
+                    &mut self.cur_a[level.clone()],
+                    &mut self.cur_d2[level],
+                );
                 self.cur_a[0] = self.cur_a[n];
                 for p in 1..=n {
                     let nbar = 0.25 * (self.cur_a[p] + self.cur_a[p - 1] + self.prev_a[p] + self.prev_a[p - 1]);

@@ -44,6 +44,22 @@ pub trait ScalarPotential: Potential<1> {
         let (v, d1, d2) = second_derivative(|x: Dual2_64| self.potential(&SVector::from([x])), y);
         [v, d1, d2]
     }
+    /// [`jet`](Self::jet) at every point of `y` into `values`, `first`
+    /// and `second` (equal lengths), with its bits. The default calls
+    /// `jet` point by point; sine-Gordon reduces and evaluates its
+    /// arguments in vector lanes ([`super::trig::sin_cos_batch`]).
+    ///
+    /// # Panics
+    /// If the slices differ in length (a caller's bug).
+    fn jets(&self, y: &[f64], values: &mut [f64], first: &mut [f64], second: &mut [f64]) {
+        assert!(
+            y.len() == values.len() && y.len() == first.len() && y.len() == second.len(),
+            "jets: lengths differ"
+        );
+        for (i, &x) in y.iter().enumerate() {
+            [values[i], first[i], second[i]] = self.jet(x);
+        }
+    }
     /// A bound on `sup |N″|` if one exists (used for a posteriori stopping
     /// of fixed-point iterations: contraction constants).
     fn curvature_bound(&self) -> Option<f64> {
@@ -154,6 +170,16 @@ impl ScalarPotential for SineGordon {
     fn jet(&self, y: f64) -> [f64; 3] {
         let (s, c) = super::trig::sin_cos(y);
         [c, -s, -c]
+    }
+    /// (cos y, −sin y, −cos y) from one [`super::trig::sin_cos_batch`].
+    fn jets(&self, y: &[f64], values: &mut [f64], first: &mut [f64], second: &mut [f64]) {
+        assert!(y.len() == values.len(), "jets: lengths differ");
+        super::trig::sin_cos_batch(y, first, second);
+        for ((v, d1), d2) in values.iter_mut().zip(first.iter_mut()).zip(second.iter_mut()) {
+            *v = *d2;
+            *d1 = -*d1;
+            *d2 = -*d2;
+        }
     }
     fn curvature_bound(&self) -> Option<f64> {
         Some(1.0)
@@ -291,6 +317,17 @@ mod tests {
                 assert_eq!(bits(hi[(0, 0)]), bits(second.v2), "Hessian at {:e}", p[0]);
             }
         }
+        // The jets of a whole lattice level: the bits of `jet`, point by
+        // point, for the batched sine-Gordon and the default alike.
+        let n = points.len();
+        let (mut v, mut d1, mut d2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        SineGordon.jets(&points, &mut v, &mut d1, &mut d2);
+        for (i, &p) in points.iter().enumerate() {
+            let want = SineGordon.jet(p).map(bits);
+            assert_eq!([bits(v[i]), bits(d1[i]), bits(d2[i])], want, "jets at {p:e}");
+        }
+        Exp.jets(&points[6..], &mut v[6..], &mut d1[6..], &mut d2[6..]);
+        assert_eq!(bits(d2[9]), bits(Exp.jet(points[9])[2]));
         // Mismatched lengths are refused without writing.
         let y = [SVector::from([1.0]); 3];
         assert!(!SineGordon.batch_derivatives(&y, &mut [SVector::zeros(); 2], None));
