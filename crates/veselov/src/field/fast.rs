@@ -95,6 +95,26 @@ const BINOM: [[f64; 9]; 9] = [
     [9.0, -36.0, 84.0, -126.0, 126.0, -84.0, 36.0, -9.0, 1.0],
 ];
 
+/// The potential's jets at the points `points[1..=n]` of a level into
+/// `values`, `first` and `second` at the same indices, all at once
+/// ([`ScalarPotential::jets`]).
+fn level_jets<P: ScalarPotential>(
+    potential: &P,
+    points: &[f64],
+    n: usize,
+    values: &mut [f64],
+    first: &mut [f64],
+    second: &mut [f64],
+) {
+    let level = 1..n + 1;
+    potential.jets(
+        &points[level.clone()],
+        &mut values[level.clone()],
+        &mut first[level.clone()],
+        &mut second[level],
+    );
+}
+
 fn fill_ghosts(y: &mut [f64], n: usize, jump: f64) {
     y[0] = y[n] - jump;
     y[n + 1] = y[1] + jump;
@@ -387,12 +407,13 @@ impl<P: ScalarPotential> FastMarcher<P> {
             for p in 1..=n {
                 self.at[p] = (y[p] + self.next[p] + self.next[p + 1]) * (1.0 / 3.0);
             }
-            let level = 1..n + 1;
-            self.potential.jets(
-                &self.at[level.clone()],
-                &mut self.cur_v[level.clone()],
-                &mut self.cur_a[level.clone()],
-                &mut self.cur_d2[level],
+            level_jets(
+                &self.potential,
+                &self.at,
+                n,
+                &mut self.cur_v,
+                &mut self.cur_a,
+                &mut self.cur_d2,
             );
             for p in 1..=n {
                 let new = self.base[p] + h3 * self.cur_a[p];
@@ -426,12 +447,13 @@ impl<P: ScalarPotential> FastMarcher<P> {
         let (h, k) = (self.lattice.dt(), self.lattice.dx());
         let r2 = (h / k) * (h / k);
         let (y, ym) = (&self.levels[0], &self.levels[1]);
-        let level = 1..n + 1;
-        self.potential.jets(
-            &y[level.clone()],
-            &mut self.cur_v[level.clone()],
-            &mut self.cur_a[level.clone()],
-            &mut self.cur_d2[level],
+        level_jets(
+            &self.potential,
+            y,
+            n,
+            &mut self.cur_v,
+            &mut self.cur_a,
+            &mut self.cur_d2,
         );
         let mut e = 0.0;
         for p in 1..=n {
@@ -526,12 +548,13 @@ impl<P: ScalarPotential> FastMarcher<P> {
                 for p in 1..=n {
                     self.at[p] = 0.25 * (y[p] + self.next[p] + self.next[p + 1] + y[p + 1]);
                 }
-                let level = 1..n + 1;
-                self.potential.jets(
-                    &self.at[level.clone()],
-                    &mut self.cur_v[level.clone()],
-                    &mut self.cur_a[level.clone()],
-                    &mut self.cur_d2[level],
+                level_jets(
+                    &self.potential,
+                    &self.at,
+                    n,
+                    &mut self.cur_v,
+                    &mut self.cur_a,
+                    &mut self.cur_d2,
                 );
                 self.cur_a[0] = self.cur_a[n];
                 for p in 1..=n {
