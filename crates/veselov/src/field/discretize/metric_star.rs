@@ -106,8 +106,9 @@ where
         let (active, centres) = (&active[..count], &centres[..count]);
         let mut values = [SVector::<f64, M>::zeros(); MAX_STAR];
         let mut hessians = [SMatrix::<f64, M, M>::zeros(); MAX_STAR];
-        // ∇V of each active cell at the last residual-only evaluation, at
-        // `written`.
+        // ∇V of each active cell at the last evaluation; `written` is its z
+        // when that was a residual-only one (a Jacobian evaluation takes ∇V
+        // from its second-order pass, which the stored gradients do not use).
         let mut potential_gradients = [SVector::<f64, M>::zeros(); MAX_STAR];
         let mut written: Option<SVector<f64, M>> = None;
         let (z, outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |z, mut jacobian| {
