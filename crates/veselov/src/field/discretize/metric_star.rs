@@ -95,15 +95,13 @@ where
         }
         // The cells in the action (indices into `frames`) and their
         // centres: an evaluation differentiates V at all of them at once.
-        let (mut active, mut count) = ([0; MAX_STAR], 0);
+        let active = || frames.iter().enumerate().filter_map(|(c, p)| Some((c, p.as_ref()?)));
+        let count = active().count();
         let mut centres = [SVector::<f64, N>::zeros(); MAX_STAR];
-        for (c, partial) in frames.iter().enumerate() {
-            if let Some(partial) = partial {
-                (active[count], centres[count]) = (c, partial.centre);
-                count += 1;
-            }
+        for (centre, (_, partial)) in centres.iter_mut().zip(active()) {
+            *centre = partial.centre;
         }
-        let (active, centres) = (&active[..count], &centres[..count]);
+        let centres = &centres[..count];
         let mut values = [SVector::<f64, M>::zeros(); MAX_STAR];
         let mut hessians = [SMatrix::<f64, M, M>::zeros(); MAX_STAR];
         // ∇V of each active cell at the last evaluation; `written` is its z
@@ -113,10 +111,8 @@ where
         let mut written: Option<SVector<f64, M>> = None;
         let (z, outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |z, mut jacobian| {
             let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
-            for (value, &c) in values.iter_mut().zip(active) {
-                if let Some(partial) = &frames[c] {
-                    *value = partial.value(z);
-                }
+            for (value, (_, partial)) in values.iter_mut().zip(active()) {
+                *value = partial.value(z);
             }
             let dvs = &mut potential_gradients[..count];
             let asked = jacobian.is_some().then_some(&mut hessians[..count]);
@@ -124,10 +120,8 @@ where
             if let Some(j) = jacobian.as_deref_mut() {
                 j.fill(0.0);
             }
-            for (k, &c) in active.iter().enumerate() {
-                let (Some(partial), term) = (&frames[c], &terms[c]) else {
-                    continue;
-                };
+            for (k, (c, partial)) in active().enumerate() {
+                let term = &terms[c];
                 if let Some(j) = jacobian.as_deref_mut() {
                     *j += SMatrix::<f64, M, M>::identity() * term.slope + hessians[k] * (w * w * partial.volume);
                 }
@@ -148,17 +142,14 @@ where
             };
         }
         if written != Some(z) {
-            for (value, &c) in values.iter_mut().zip(active) {
-                if let Some(partial) = &frames[c] {
-                    *value = partial.value(&z);
-                }
+            for (value, (_, partial)) in values.iter_mut().zip(active()) {
+                *value = partial.value(&z);
             }
             self.jet_free_batch(centres, &values[..count], &mut potential_gradients[..count], None);
         }
         let width = N + 1;
         gradients.fill(SVector::zeros());
-        for (k, &c) in active.iter().enumerate() {
-            let Some(partial) = &frames[c] else { continue };
+        for (k, (c, partial)) in active().enumerate() {
             let out = &mut gradients[c * width..(c + 1) * width];
             let frame = partial.complete(&z);
             for (l, g) in out.iter_mut().enumerate().skip(1) {
