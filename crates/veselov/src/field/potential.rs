@@ -94,9 +94,10 @@ impl Potential<1> for SineGordon {
     fn potential<D: Scalar>(&self, y: &SVector<D, 1>) -> D {
         through_jet(self, y[0]).unwrap_or_else(|| y[0].cos())
     }
-    /// N′ = −sin y and N″ = −cos y from one [`sin_cos_batch`] over all the
-    /// points (the arguments reduced and the polynomials evaluated in vector
-    /// lanes). The bits are those of the dual passes through `through_jet`:
+    /// N′ and N″ from the batched jets ([`ScalarPotential::jets`]: one
+    /// [`sin_cos_batch`] over the points, the arguments reduced and the
+    /// polynomials evaluated in vector lanes). The bits are those of the
+    /// dual passes through `through_jet`:
     /// a first-order pass gives N′ itself; a second-order one, by the
     /// product rule of its `(½N″d + N′)d`, gives N′ + ½N″·0 and 2·(½N″).
     /// Points are taken in groups of eight (the stack buffers of a group).
@@ -111,27 +112,31 @@ impl Potential<1> for SineGordon {
         if gradients.len() != y.len() || hessians.as_ref().is_some_and(|h| h.len() != y.len()) {
             return false;
         }
-        let (mut x, mut sin, mut cos) = ([0.0; BATCH], [0.0; BATCH], [0.0; BATCH]);
+        let (mut x, mut values, mut first, mut second) = ([0.0; BATCH], [0.0; BATCH], [0.0; BATCH], [0.0; BATCH]);
         for (k, points) in y.chunks(BATCH).enumerate() {
             let (at, count) = (k * BATCH, points.len());
             for (xi, p) in x.iter_mut().zip(points) {
                 *xi = p[0];
             }
-            super::trig::sin_cos_batch(&x[..count], &mut sin[..count], &mut cos[..count]);
-            let waves = sin.iter().zip(&cos);
+            self.jets(
+                &x[..count],
+                &mut values[..count],
+                &mut first[..count],
+                &mut second[..count],
+            );
+            let jets = first.iter().zip(&second);
             let gradients = &mut gradients[at..at + count];
             match hessians.as_deref_mut() {
                 Some(h) => {
-                    for ((g, h), (s, c)) in gradients.iter_mut().zip(&mut h[at..at + count]).zip(waves) {
-                        // N′ = −sin, ½N″ = −½cos.
-                        let half = 0.5 * -c;
-                        g[0] = -s + half * 0.0;
+                    for ((g, h), (d1, d2)) in gradients.iter_mut().zip(&mut h[at..at + count]).zip(jets) {
+                        let half = 0.5 * d2;
+                        g[0] = d1 + half * 0.0;
                         h[(0, 0)] = 2.0 * half;
                     }
                 }
                 None => {
-                    for (g, (s, _)) in gradients.iter_mut().zip(waves) {
-                        g[0] = -s;
+                    for (g, (d1, _)) in gradients.iter_mut().zip(jets) {
+                        g[0] = *d1;
                     }
                 }
             }
