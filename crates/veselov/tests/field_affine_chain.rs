@@ -14,6 +14,10 @@ use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
 use veselov::field::fibre::Euclidean;
 use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
 
+#[path = "support/threads.rs"]
+mod threads;
+use threads::on_threads;
+
 /// A density that reads the base point, so that the rule takes its per-cell
 /// geometry: 𝓛 = ½(1 + 0.3x₀)|φ_t|² − ½Σ_a|φ_a|² + (1 + 0.1x₁)Σ_k cos(y_k) + 0.2 y₀φ_{0,0}.
 struct Inhomogeneous;
@@ -35,6 +39,7 @@ impl<const M: usize, const N: usize> SmoothDensity<Euclidean<M>, M, N> for Inhom
 /// A density that declares an anisotropic diagonal jet metric and reads the
 /// base point in its jet-free part: 𝓛 = ½ Σ_{k,a} η_a φ_{ka}² + (1 + 0.2x₀) Σ_k cos y_k
 /// + 0.1 x₁ y₀², η = (0.7, −1.3, 2.1, …).
+#[derive(Clone)]
 struct Anisotropic;
 
 impl Anisotropic {
@@ -465,4 +470,63 @@ fn a_flow_marcher_refuses_a_wrong_metric_declaration() {
         message.contains("cell Lagrangian") && message.contains("diagonal_jet_metric"),
         "{message}"
     );
+}
+
+/// A level's vertices solved together in lanes (the rule's metric solve,
+/// [`DiscreteLagrangian::vertex_lanes`]) get the bits they get one at a
+/// time: on a lattice whose levels do not fill the last group of lanes,
+/// for a density with a shared geometry per shape (sine-Gordon), one that
+/// reads the base point (each cell its own geometry) and a two-component
+/// field, on one and two threads.
+#[test]
+fn vertices_solved_in_lanes_have_the_bits_of_one_at_a_time() {
+    let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
+    lanes_match_one_at_a_time(MidpointRule::new(NonlinearWave(SineGordon), nodes), |x| {
+        SVector::from([1.2 * (1.1 * x[0] - 0.4 * x[2]).sin() * (0.9 * x[1]).cos()])
+    });
+    lanes_match_one_at_a_time(MidpointRule::new(Anisotropic, nodes), |x| {
+        SVector::from([0.8 * (0.7 * x[0] + 0.3 * x[2]).sin() + 0.2 * x[1].cos()])
+    });
+    lanes_match_one_at_a_time(
+        MidpointRule::new(NonlinearWave(ComplexKleinGordon { m2: 1.0, lambda: 0.8 }), nodes),
+        |x| Vector2::new((0.9 * x[0] - 0.5 * x[2]).sin(), 0.4 * (0.8 * x[1] + 0.3 * x[2]).cos()),
+    );
+}
+
+/// 25 levels of a 5 × 3 lattice (15 vertices a level: three groups of four
+/// and one of three) in lanes and one vertex at a time.
+fn lanes_match_one_at_a_time<L, const M: usize>(
+    rule: MidpointRule<L, CfkNodes<3>, 3>,
+    f: impl Fn(&SVector<f64, 3>) -> SVector<f64, M>,
+) where
+    L: SmoothDensity<Euclidean<M>, M, 3> + Clone,
+{
+    assert!(rule.vertex_lanes() > 1, "the metric solve takes lanes");
+    let torus = CfkTorus::new(3, &[5, 3]).expect("torus");
+    let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
+    let data = cauchy_data(&torus, &nodes, f);
+    let march = |lanes: usize, threads: usize| {
+        on_threads(threads, || {
+            let mut m = CauchyMarcher::new(rule.clone(), torus.clone(), 0, &data, CauchyOptions::default())
+                .expect("marcher")
+                .with_vertex_lanes(lanes);
+            let mut iterations = 0;
+            for _ in 0..25 {
+                iterations += m.step().expect("level").iterations;
+            }
+            let bits: Vec<u64> = (m.level()..=m.top_level())
+                .flat_map(|w| m.level_values(w).expect("level").to_vec())
+                .flat_map(|y| y.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+                .collect();
+            (bits, iterations)
+        })
+    };
+    let alone = march(1, 1);
+    assert!(alone.1 > 0, "the vertices iterate");
+    for threads in [1, 2] {
+        assert!(
+            march(8, threads) == alone,
+            "lanes on {threads} threads differ from one at a time"
+        );
+    }
 }

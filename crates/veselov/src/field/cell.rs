@@ -150,6 +150,37 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         None
     }
 
+    /// The number of vertex equations of one Cauchy level a model solves
+    /// together ([`solve_last_vertices`](Self::solve_last_vertices)): 1
+    /// (default) for one at a time.
+    fn vertex_lanes(&self) -> usize {
+        1
+    }
+
+    /// A model's own solve of the vertex equations of several vertices of
+    /// one level at once, `lanes.len()` ≤ [`vertex_lanes`](Self::vertex_lanes)
+    /// of them: lane l is the equation of
+    /// [`solve_last_vertex`](Self::solve_last_vertex) with the star
+    /// `star(l, σ, out)`, the momentum `lanes[l]` and its cells' gradients
+    /// written to `gradients[l·stride..]`, its result to `solved[l]`. Every
+    /// lane must get the bits it would get alone, whatever the other lanes
+    /// (the marcher's results must not depend on how a level is split).
+    /// Returns `false` (default) to have the vertices solved one at a time.
+    fn solve_last_vertices<S>(
+        &self,
+        _star: &S,
+        _lanes: &[VertexLane<F::Point<f64>, M>],
+        _options: &CauchyOptions,
+        _gradients: &mut [SVector<f64, M>],
+        _stride: usize,
+        _solved: &mut [SolvedVertex<F::Point<f64>>],
+    ) -> bool
+    where
+        S: Fn(usize, usize, &mut [F::Point<f64>]) -> Option<TopCell>,
+    {
+        false
+    }
+
     /// A model's own solve of a flow step (v, Δv) of the flow marcher
     /// ([`FlowMarcher`](super::flow::FlowMarcher)) when Δv lies in exactly
     /// one top cell of v's star, `cell`, as its vertex `position` ≥ 1, with
@@ -177,6 +208,19 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     ) -> Option<(F::Point<f64>, VertexOutcome)> {
         None
     }
+}
+
+/// One vertex equation of [`DiscreteLagrangian::solve_last_vertices`]:
+/// its momentum μ_v, the size of μ_v's terms and the value one flow step
+/// back, y_{v−Δ}.
+#[derive(Clone, Copy, Debug)]
+pub struct VertexLane<P, const M: usize> {
+    /// μ_v.
+    pub mu: SVector<f64, M>,
+    /// The size of μ_v's terms.
+    pub mu_scale: f64,
+    /// y_{v−Δ}.
+    pub previous: P,
 }
 
 /// A vertex solved by [`DiscreteLagrangian::solve_last_vertex`].

@@ -130,88 +130,173 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
 pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     mu: &SVector<f64, M>,
     mu_scale: f64,
-    mut z: F::Point<f64>,
+    z: F::Point<f64>,
     options: &CauchyOptions,
     kept: &mut Option<SmallLu<M>>,
     mut legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
-    let mut outcome = VertexOutcome::default();
-    let mut previous = f64::INFINITY;
-    // The factors of the Jacobian in use, in `kept` itself (`None` until one
-    // is evaluated, or after a singular one), factored once where it is
-    // evaluated; dropped on failure. Factors are finite wherever they come
-    // from ([`SmallLu::refactor`], [`SmallLu::restore_factors`]).
-    let factors = kept;
-    let mut have_jacobian = factors.is_some();
-    let mut fresh = false;
-    let mut point_scale = factors
-        .as_ref()
-        .map_or(0.0, |f| f.largest() * (1.0 + coordinate_size::<F, M>(&z)));
-    let mut last_step = f64::INFINITY;
+    let mut newton = LegendreNewton::<F, M>::new(*mu, mu_scale, z, *options, kept.take());
     // Where an evaluation writes a fresh Jacobian (no copy moves it).
     let mut jacobian = SMatrix::<f64, M, M>::zeros();
-    for it in 0..=options.max_iterations {
-        let mut evaluated = !have_jacobian;
-        let (mut leg, mut leg_scale) = legendre(&z, evaluated.then_some(&mut jacobian));
-        let mut residual = leg - mu;
-        let mut r = max_abs(&residual);
-        // Whether Newton stops at z: converged, or stalled at round-off (the
-        // residual stops halving) by either test of the documentation.
-        let stops = |r: f64, scale: f64, point_scale: f64| {
-            let stalled = r > 0.5 * previous
-                && (r <= 100.0 * options.tolerance * (scale + point_scale) || last_step <= resolution::<F, M>(&z));
-            (r <= options.tolerance * scale || stalled, stalled)
-        };
-        // Poor contraction with an old Jacobian: refresh it at this iterate,
-        // unless the iterate is accepted as it is (a fresh Jacobian cannot
-        // improve on round-off).
-        if have_jacobian
-            && !fresh
-            && r > 0.25 * previous
-            && r.is_finite()
-            && !stops(r, leg_scale + mu_scale, point_scale).0
-        {
-            (leg, leg_scale) = legendre(&z, Some(&mut jacobian));
-            evaluated = true;
-            residual = leg - mu;
-            r = max_abs(&residual);
+    while let Some((z, with_jacobian)) = newton.request() {
+        let (leg, scale) = legendre(&z, with_jacobian.then_some(&mut jacobian));
+        newton.feed(&leg, scale, &jacobian);
+    }
+    let (z, outcome, factors) = newton.finish();
+    *kept = factors;
+    (z, outcome)
+}
+
+/// The Newton of [`solve_legendre_from`] as a state machine that asks for
+/// its evaluations ([`request`](Self::request)) and is handed their results
+/// ([`feed`](Self::feed)), so that a caller may evaluate the equations of
+/// many vertices together (all their cells' potentials at once, say) while
+/// each vertex iterates, stops and fails exactly as it would alone: the
+/// same evaluations at the same points, the same bits.
+#[derive(Clone, Copy)]
+pub struct LegendreNewton<F: Fibre<M>, const M: usize> {
+    mu: SVector<f64, M>,
+    mu_scale: f64,
+    options: CauchyOptions,
+    /// The factors of the Jacobian in use (`None` until one is evaluated,
+    /// or after a singular one), factored once where it is evaluated;
+    /// dropped on failure. Factors are finite wherever they come from
+    /// ([`SmallLu::refactor`], [`SmallLu::restore_factors`]).
+    factors: Option<SmallLu<M>>,
+    z: F::Point<f64>,
+    outcome: VertexOutcome,
+    /// The residual of the last iteration.
+    previous: f64,
+    have_jacobian: bool,
+    /// Whether the factors in use were evaluated at this iteration's point.
+    fresh: bool,
+    point_scale: f64,
+    last_step: f64,
+    /// The iteration under way.
+    iteration: usize,
+    /// Whether the evaluation asked for refreshes the Jacobian after a poor
+    /// contraction (the iteration's second evaluation, at the same point).
+    refreshing: bool,
+    done: bool,
+}
+
+impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
+    /// Newton for Leg(z) = μ from `z`, with the factors `kept` from an
+    /// earlier solve if any (see [`solve_legendre_from`]).
+    #[inline]
+    pub fn new(
+        mu: SVector<f64, M>,
+        mu_scale: f64,
+        z: F::Point<f64>,
+        options: CauchyOptions,
+        kept: Option<SmallLu<M>>,
+    ) -> Self {
+        let point_scale = kept
+            .as_ref()
+            .map_or(0.0, |f| f.largest() * (1.0 + coordinate_size::<F, M>(&z)));
+        Self {
+            mu,
+            mu_scale,
+            options,
+            have_jacobian: kept.is_some(),
+            factors: kept,
+            z,
+            outcome: VertexOutcome::default(),
+            previous: f64::INFINITY,
+            fresh: false,
+            point_scale,
+            last_step: f64::INFINITY,
+            iteration: 0,
+            refreshing: false,
+            done: false,
         }
-        if evaluated {
-            point_scale = jacobian.amax() * (1.0 + coordinate_size::<F, M>(&z));
-            let lu = factors.get_or_insert_with(SmallLu::zeros);
-            if lu.refactor(&jacobian).is_none() {
-                *factors = None;
-            }
-            have_jacobian = true;
-            fresh = true;
-            outcome.jacobians += 1;
+    }
+
+    /// The point at which Leg (and, if the flag is set, its Jacobian
+    /// ∂Leg/∂ζ) is wanted next; `None` once the solve has ended.
+    #[inline]
+    pub fn request(&self) -> Option<(F::Point<f64>, bool)> {
+        (!self.done).then_some((self.z, self.refreshing || !self.have_jacobian))
+    }
+
+    /// Whether Newton stops at the current point with residual `r`:
+    /// converged, or stalled at round-off (the residual stops halving) by
+    /// either test of [`solve_legendre`]'s documentation.
+    #[inline]
+    fn stops(&self, r: f64, scale: f64, point_scale: f64) -> (bool, bool) {
+        let stalled = r > 0.5 * self.previous
+            && (r <= 100.0 * self.options.tolerance * (scale + point_scale)
+                || self.last_step <= resolution::<F, M>(&self.z));
+        (r <= self.options.tolerance * scale || stalled, stalled)
+    }
+
+    /// Hands over Leg and the size of its terms at the point
+    /// [`request`](Self::request) gave, with the Jacobian there when it was
+    /// asked for (`jacobian` is read only then), and advances.
+    #[inline(always)]
+    pub fn feed(&mut self, leg: &SVector<f64, M>, leg_scale: f64, jacobian: &SMatrix<f64, M, M>) {
+        if self.done {
+            return;
+        }
+        let residual = leg - self.mu;
+        let r = max_abs(&residual);
+        let evaluated = if self.refreshing {
+            self.refreshing = false;
+            true
         } else {
-            fresh = false;
+            // Poor contraction with an old Jacobian: refresh it at this
+            // iterate, unless the iterate is accepted as it is (a fresh
+            // Jacobian cannot improve on round-off).
+            if self.have_jacobian
+                && !self.fresh
+                && r > 0.25 * self.previous
+                && r.is_finite()
+                && !self.stops(r, leg_scale + self.mu_scale, self.point_scale).0
+            {
+                self.refreshing = true;
+                return;
+            }
+            !self.have_jacobian
+        };
+        if evaluated {
+            self.point_scale = jacobian.amax() * (1.0 + coordinate_size::<F, M>(&self.z));
+            let lu = self.factors.get_or_insert_with(SmallLu::zeros);
+            if lu.refactor(jacobian).is_none() {
+                self.factors = None;
+            }
+            self.have_jacobian = true;
+            self.fresh = true;
+            self.outcome.jacobians += 1;
+        } else {
+            self.fresh = false;
         }
-        let scale = leg_scale + mu_scale;
-        outcome.iterations = it;
-        outcome.relative_residual = r / scale.max(f64::MIN_POSITIVE);
+        let scale = leg_scale + self.mu_scale;
+        let it = self.iteration;
+        self.outcome.iterations = it;
+        self.outcome.relative_residual = r / scale.max(f64::MIN_POSITIVE);
         if !r.is_finite() {
-            outcome.failure = Some(Failure::NonFinite);
-            *factors = None;
-            return (z, outcome);
+            return self.fail(Failure::NonFinite);
         }
-        let (accepted, stalled) = stops(r, scale, point_scale);
-        if stalled && r > options.tolerance * scale {
+        let (accepted, stalled) = self.stops(r, scale, self.point_scale);
+        if stalled && r > self.options.tolerance * scale {
             // Accepted at round-off: report the residual relative to the
             // scale that accepted it.
-            outcome.relative_residual = r / (scale + point_scale).max(f64::MIN_POSITIVE);
+            self.outcome.relative_residual = r / (scale + self.point_scale).max(f64::MIN_POSITIVE);
         }
         if accepted {
-            return (F::renormalize(&z), outcome);
+            self.z = F::renormalize(&self.z);
+            self.done = true;
+            return;
         }
-        previous = r;
-        if it == options.max_iterations {
-            break;
+        self.previous = r;
+        if it == self.options.max_iterations {
+            return self.fail(Failure::IterationLimit);
         }
-        let Some(lu) = factors.as_mut() else {
-            outcome.failure = Some(Failure::Singular);
-            return (z, outcome);
+        let fresh = self.fresh;
+        let Some(lu) = self.factors.as_mut() else {
+            self.outcome.failure = Some(Failure::Singular);
+            self.done = true;
+            return;
         };
         // Factors solving their second right-hand side will likely solve
         // more: from then on a solve is one product with A⁻¹.
@@ -219,25 +304,38 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
             lu.keep_inverse();
         }
         let delta = lu.solve(&(-residual));
-        last_step = delta.amax();
-        let next = F::retract(&z, &delta);
+        self.last_step = delta.amax();
+        let next = F::retract(&self.z, &delta);
         if !F::is_finite(&next) {
-            outcome.failure = Some(Failure::NonFinite);
-            *factors = None;
-            return (z, outcome);
+            return self.fail(Failure::NonFinite);
         }
         // A step with every coordinate below 1 rotates by at most √3 < π
         // minus the margin: only a larger one can reach the cut locus.
-        if delta.amax() >= 1.0 && F::log(&z, &next).is_err() {
-            outcome.failure = Some(Failure::CutLocus);
-            *factors = None;
-            return (z, outcome);
+        if delta.amax() >= 1.0 && F::log(&self.z, &next).is_err() {
+            return self.fail(Failure::CutLocus);
         }
-        z = next;
+        self.z = next;
+        self.iteration = it + 1;
     }
-    *factors = None;
-    outcome.failure = Some(Failure::IterationLimit);
-    (z, outcome)
+
+    /// Ends the solve with `failure`, dropping the factors.
+    #[inline]
+    fn fail(&mut self, failure: Failure) {
+        self.outcome.failure = Some(failure);
+        self.factors = None;
+        self.done = true;
+    }
+
+    /// The last point evaluated ([`Fibre::renormalize`]d when accepted),
+    /// the outcome (a failure if the solve has not ended), and the factors
+    /// in use at the end (`None` after a failure).
+    #[inline]
+    pub fn finish(mut self) -> (F::Point<f64>, VertexOutcome, Option<SmallLu<M>>) {
+        if !self.done {
+            self.fail(Failure::IterationLimit);
+        }
+        (self.z, self.outcome, self.factors)
+    }
 }
 
 /// The largest coordinate of y in absolute value.

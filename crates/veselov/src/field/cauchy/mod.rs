@@ -32,7 +32,9 @@ use std::sync::Arc;
 use nalgebra::SVector;
 use rayon::prelude::*;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, check_closed_form};
+use super::cell::{
+    DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexLane, add_vertex_terms, check_closed_form,
+};
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell, permutation};
 use super::fibre::Fibre;
 pub use super::legendre::{CauchyOptions, LevelReport};
@@ -48,6 +50,17 @@ use terms::Written;
 /// One vertex of a level as the solve loop sees it: its index, its new
 /// value, its cells' gradients and its result.
 type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f64, M>]), &'a mut VertexResult<M>));
+
+/// Consecutive vertices of a level solved together: the group's index,
+/// their new values, their cells' gradients and their results.
+type LaneSlot<'a, P, const M: usize> = (
+    usize,
+    ((&'a mut [P], &'a mut [SVector<f64, M>]), &'a mut [VertexResult<M>]),
+);
+
+/// The most vertices a model solves together
+/// ([`DiscreteLagrangian::vertex_lanes`]).
+const MAX_VERTEX_LANES: usize = 8;
 
 /// What the solve of one vertex v leaves beside its value and its cells'
 /// terms: the solve's outcome and, with forces, Σ_β F^{l(v)}_β over the
@@ -144,6 +157,8 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     window: Option<MaterialWindow>,
     /// Prescribed values (Dirichlet data), by the canonical coordinates of the vertex.
     dirichlet: Option<Dirichlet<F::Point<f64>>>,
+    /// The most vertices solved together ([`with_vertex_lanes`](Self::with_vertex_lanes)).
+    lanes_cap: usize,
 }
 
 /// Dirichlet data of a march: the prescribed value at the vertex with the
@@ -307,6 +322,7 @@ where
             level: first_level + n as i64,
             window,
             dirichlet: None,
+            lanes_cap: MAX_VERTEX_LANES,
         };
         for (l, level) in data.iter().enumerate() {
             let slot = marcher.value_slot(first_level + l as i64);
@@ -346,6 +362,16 @@ where
     #[must_use]
     pub fn with_dirichlet(mut self, data: Dirichlet<F::Point<f64>>) -> Self {
         self.dirichlet = Some(data);
+        self
+    }
+
+    /// Caps the number of vertices of a level the model solves together
+    /// ([`DiscreteLagrangian::vertex_lanes`]; 1: one at a time). The
+    /// results do not depend on it, bit for bit; the default takes the
+    /// model's number (at most 8).
+    #[must_use]
+    pub fn with_vertex_lanes(mut self, lanes: usize) -> Self {
+        self.lanes_cap = lanes.clamp(1, MAX_VERTEX_LANES);
         self
     }
 
@@ -557,6 +583,78 @@ where
         (z, outcome, Written::default())
     }
 
+    /// The vertices of a level solved together: the model's
+    /// [`DiscreteLagrangian::vertex_lanes`] (at most [`MAX_VERTEX_LANES`]),
+    /// 1 with a window or Dirichlet data (whose vertices differ from one
+    /// another).
+    fn vertex_lanes(&self) -> usize {
+        if self.window.is_some() || self.dirichlet.is_some() {
+            return 1;
+        }
+        self.lag.vertex_lanes().clamp(1, self.lanes_cap)
+    }
+
+    /// Solves the vertices `first …` of level `w` (as many as `values`)
+    /// together by the model's [`DiscreteLagrangian::solve_last_vertices`]
+    /// and hands each to `store`; `false` (nothing solved) when the model
+    /// declines.
+    fn solve_lanes(
+        &self,
+        w: i64,
+        first: usize,
+        values: &mut [F::Point<f64>],
+        terms: &mut [SVector<f64, M>],
+        results: &mut [VertexResult<M>],
+        store: &impl Fn(usize, F::Point<f64>, VertexOutcome, Written, &mut [SVector<f64, M>], &mut VertexResult<M>),
+    ) -> bool {
+        let n = self.torus.dimension();
+        let stride = self.stride();
+        let count = values.len().min(MAX_VERTEX_LANES);
+        let origin = self.base(w, first);
+        let mut bases = [origin; MAX_VERTEX_LANES];
+        let placeholder = self.value(w, first);
+        let mut lanes = [VertexLane {
+            mu: SVector::zeros(),
+            mu_scale: 0.0,
+            previous: placeholder,
+        }; MAX_VERTEX_LANES];
+        for (l, (base, lane)) in bases.iter_mut().zip(lanes.iter_mut()).enumerate().take(count) {
+            let i = first + l;
+            *base = self.base(w, i);
+            (lane.mu, lane.mu_scale) = self.momentum(w, i);
+            lane.previous = self.value(w - n as i64, self.down(i, 0, n));
+        }
+        let star = |l: usize, sigma: usize, out: &mut [F::Point<f64>]| {
+            (sigma < self.perms.len()).then(|| self.cell_values_at(&bases[l], sigma, None, out))
+        };
+        let mut solved = [SolvedVertex {
+            value: placeholder,
+            outcome: VertexOutcome::default(),
+            gradients_written: false,
+            forces_written: false,
+        }; MAX_VERTEX_LANES];
+        if !self.lag.solve_last_vertices(
+            &star,
+            &lanes[..count],
+            &self.options,
+            terms,
+            stride,
+            &mut solved[..count],
+        ) {
+            return false;
+        }
+        for (l, ((value, terms), result)) in values.iter_mut().zip(terms.chunks_mut(stride)).zip(results).enumerate() {
+            let s = &solved[l];
+            let written = Written {
+                gradients: s.gradients_written,
+                forces: s.forces_written,
+            };
+            *value = s.value;
+            store(first + l, s.value, s.outcome, written, terms, result);
+        }
+        true
+    }
+
     /// The vertices per parallel chunk of a level of `size` vertices, `size`
     /// for a level solved on the calling thread alone: one thread in the
     /// pool, no level measured yet, or a level too cheap to split from where
@@ -597,9 +695,12 @@ where
         let parallel = chunk < size;
         {
             let this = &*self;
-            let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {
-                let (z, o, written) = this.solve_vertex(w, i, terms);
-                *value = z;
+            let store = |i: usize,
+                         z: F::Point<f64>,
+                         o: VertexOutcome,
+                         written: Written,
+                         terms: &mut [SVector<f64, M>],
+                         result: &mut VertexResult<M>| {
                 result.outcome = o;
                 if o.failure.is_none() {
                     this.cell_terms(w, i, Some(z), written, terms);
@@ -608,7 +709,43 @@ where
                     }
                 }
             };
-            if parallel {
+            let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {
+                let (z, o, written) = this.solve_vertex(w, i, terms);
+                *value = z;
+                store(i, z, o, written, terms, result);
+            };
+            let lanes = self.vertex_lanes();
+            if lanes > 1 {
+                let solve_lanes = |(g, ((values, terms), results)): LaneSlot<'_, F::Point<f64>, M>| {
+                    let first = g * lanes;
+                    if !this.solve_lanes(w, first, values, terms, results, &store) {
+                        for (l, ((value, terms), result)) in values
+                            .iter_mut()
+                            .zip(terms.chunks_mut(stride))
+                            .zip(results.iter_mut())
+                            .enumerate()
+                        {
+                            solve((first + l, ((value, terms), result)));
+                        }
+                    }
+                };
+                if parallel {
+                    next_values
+                        .par_chunks_mut(lanes)
+                        .zip(next_grads.par_chunks_mut(stride * lanes))
+                        .zip(results.par_chunks_mut(lanes))
+                        .with_min_len(chunk.div_ceil(lanes))
+                        .enumerate()
+                        .for_each(solve_lanes);
+                } else {
+                    next_values
+                        .chunks_mut(lanes)
+                        .zip(next_grads.chunks_mut(stride * lanes))
+                        .zip(results.chunks_mut(lanes))
+                        .enumerate()
+                        .for_each(solve_lanes);
+                }
+            } else if parallel {
                 next_values
                     .par_iter_mut()
                     .zip(next_grads.par_chunks_mut(stride))

@@ -11,7 +11,7 @@ use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
 use super::smooth::{SmoothDensity, energy_momentum_density};
 use super::suitability::CellCheck;
 use crate::ad::Scalar;
-use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexStar};
+use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexLane, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::Euclidean;
 use crate::field::legendre::CauchyOptions;
@@ -114,7 +114,13 @@ impl<L, X: NodeMap<N>, const N: usize> MidpointRule<L, X, N> {
 
     /// The cached (T^X)⁻¹ and vol_β of the cell's shape, if any.
     pub(super) fn cached_geometry(&self, cell: &TopCell) -> Option<(SMatrix<f64, N, N>, f64)> {
-        *self.geometry.get(cell.shape)?
+        self.shape_geometry(cell.shape).copied()
+    }
+
+    /// The cached (T^X)⁻¹ and vol_β of a shape, if any, in place.
+    #[inline]
+    pub(super) fn shape_geometry(&self, shape: usize) -> Option<&(SMatrix<f64, N, N>, f64)> {
+        self.geometry.get(shape)?.as_ref()
     }
 
     /// The affine jet from the cached geometry of the cell's shape, if any
@@ -272,6 +278,34 @@ where
     ) -> Option<SolvedVertex<SVector<f64, M>>> {
         self.chain_rule
             .then(|| self.solve_star(star, mu, mu_scale, previous, options, gradients))?
+    }
+
+    /// 4 for a density with a diagonal jet metric (with the chain rule),
+    /// else 1.
+    fn vertex_lanes(&self) -> usize {
+        if self.chain_rule && self.has_metric_lanes::<M>() {
+            super::metric_star::METRIC_LANES
+        } else {
+            1
+        }
+    }
+
+    /// The metric stars of several vertices at once (their cells'
+    /// potentials differentiated in one batch per Newton round, their sums
+    /// side by side), each with the bits of its own solve.
+    fn solve_last_vertices<S>(
+        &self,
+        star: &S,
+        lanes: &[VertexLane<SVector<f64, M>, M>],
+        options: &CauchyOptions,
+        gradients: &mut [SVector<f64, M>],
+        stride: usize,
+        solved: &mut [SolvedVertex<SVector<f64, M>>],
+    ) -> bool
+    where
+        S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
+    {
+        self.chain_rule && self.solve_stars(star, lanes, options, gradients, stride, solved)
     }
 }
 

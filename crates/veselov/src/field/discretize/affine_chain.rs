@@ -40,11 +40,12 @@ use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec, DualSVec64};
 
 use super::affine::MidpointRule;
+use super::metric_star::{CellWeights, LaneFrames, LaneOutput, METRIC_LANES, MetricStar, StarGeometry};
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, invert_nodes};
 use super::smooth::SmoothDensity;
 use crate::ad::Scalar;
-use crate::field::cell::{MAX_CELL_VERTICES, SolvedVertex, VertexStar};
+use crate::field::cell::{MAX_CELL_VERTICES, SolvedVertex, VertexLane, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::{CauchyOptions, solve_legendre};
@@ -102,6 +103,17 @@ pub(super) struct PartialFrame<const M: usize, const N: usize> {
 }
 
 impl<const M: usize, const N: usize> PartialFrame<M, N> {
+    /// y₀ + … + y_{N−1} and Σ_{c < N−1} (y_{c+1} − y₀)_k (T^X)⁻¹_{ca} of
+    /// the values `y[..N]`.
+    #[inline]
+    pub(super) fn sums(inverse: &SMatrix<f64, N, N>, y: &[SVector<f64, M>]) -> (SVector<f64, M>, SMatrix<f64, M, N>) {
+        let jet = SMatrix::<f64, M, N>::from_fn(|k, a| {
+            (0..N - 1).fold(0.0, |acc, c| acc + (y[c + 1][k] - y[0][k]) * inverse[(c, a)])
+        });
+        let sum = y[..N].iter().fold(SVector::<f64, M>::zeros(), |acc, b| acc + b);
+        (sum, jet)
+    }
+
     /// The frame with the last vertex value `z`.
     #[inline]
     pub(super) fn complete(&self, z: &SVector<f64, M>) -> AffineFrame<M, N> {
@@ -217,14 +229,8 @@ where
         if N == 0 || y.len() < N {
             return None;
         }
-        let (inverse, volume, centre) = match self.cached_geometry(cell) {
-            Some((inv, volume)) if !self.density.depends_on_position() => (inv, volume, SVector::zeros()),
-            _ => self.node_geometry(cell)?,
-        };
-        let jet = SMatrix::<f64, M, N>::from_fn(|k, a| {
-            (0..N - 1).fold(0.0, |acc, c| acc + (y[c + 1][k] - y[0][k]) * inverse[(c, a)])
-        });
-        let sum = y[..N].iter().fold(SVector::<f64, M>::zeros(), |acc, b| acc + b);
+        let (inverse, volume, centre) = self.cell_geometry(cell)?;
+        let (sum, jet) = PartialFrame::<M, N>::sums(&inverse, y);
         Some(PartialFrame {
             inverse,
             volume,
@@ -235,10 +241,27 @@ where
         })
     }
 
+    /// (T^X)⁻¹, vol_β and x̄ of a cell: its shape's cached geometry (x̄ = 0,
+    /// not read) unless the density depends on position, else from its
+    /// nodes.
+    #[inline]
+    pub(super) fn cell_geometry<const M: usize>(
+        &self,
+        cell: &TopCell,
+    ) -> Option<(SMatrix<f64, N, N>, f64, SVector<f64, N>)>
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        match self.cached_geometry(cell) {
+            Some((inv, volume)) if !self.density.depends_on_position() => Some((inv, volume, SVector::zeros())),
+            _ => self.node_geometry(cell),
+        }
+    }
+
     /// (T^X)⁻¹, vol_β and x̄ of a cell from its nodes (kept out of line: the
     /// cached shapes' path, inlined into the vertex solve, stays small).
     #[inline(never)]
-    fn node_geometry(&self, cell: &TopCell) -> Option<(SMatrix<f64, N, N>, f64, SVector<f64, N>)> {
+    pub(super) fn node_geometry(&self, cell: &TopCell) -> Option<(SMatrix<f64, N, N>, f64, SVector<f64, N>)> {
         let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
         if cell_nodes(&self.nodes, cell, &mut x) != N + 1 {
             return None;
@@ -544,6 +567,24 @@ where
         {
             return None;
         }
+        if let Some(eta) = metric {
+            let lanes = [VertexLane {
+                mu: *mu,
+                mu_scale,
+                previous: *previous,
+            }];
+            let mut solved = [SolvedVertex {
+                value: *previous,
+                outcome: Default::default(),
+                gradients_written: false,
+                forces_written: false,
+            }];
+            let stride = gradients.len();
+            let star = |_: usize, sigma: usize, out: &mut [SVector<f64, M>]| star(sigma, out);
+            return self
+                .solve_metric_lanes(&eta, &star, &lanes, options, gradients, stride, &mut solved)
+                .then_some(solved[0]);
+        }
         let mut frames: [Option<PartialFrame<M, N>>; MAX_STAR] = [None; MAX_STAR];
         let mut y = [SVector::<f64, M>::zeros(); MAX_CELL_VERTICES];
         let mut base = None;
@@ -554,10 +595,6 @@ where
             }
         }
         let start = Euclidean::<M>::extrapolate(previous, &base?);
-        if let Some(eta) = metric {
-            let frames = &frames[..cells];
-            return Some(self.solve_metric_star(&eta, frames, mu, mu_scale, start, options, gradients));
-        }
         // The point whose cell gradients `gradients` holds.
         let mut written: Option<SVector<f64, M>> = None;
         let (z, outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |z, mut jacobian| {
@@ -614,5 +651,195 @@ where
             gradients_written: true,
             forces_written: false,
         })
+    }
+
+    /// The rule's own solve of several vertex equations at once
+    /// ([`crate::field::cell::DiscreteLagrangian::solve_last_vertices`]):
+    /// for a density with a diagonal jet metric, the stars of up to
+    /// [`METRIC_LANES`] vertices by [`solve_metric_stars`](Self::solve_metric_stars),
+    /// each lane with the bits of [`solve_star`](Self::solve_star) alone.
+    /// `false` (one vertex at a time) where `solve_star` would not take the
+    /// metric solve, or for more lanes.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn solve_stars<const M: usize, S>(
+        &self,
+        star: &S,
+        lanes: &[VertexLane<SVector<f64, M>, M>],
+        options: &CauchyOptions,
+        gradients: &mut [SVector<f64, M>],
+        stride: usize,
+        solved: &mut [SolvedVertex<SVector<f64, M>>],
+    ) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+        S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
+    {
+        let Some(eta) = self.density.diagonal_jet_metric() else {
+            return false;
+        };
+        let per_vertex = factorial(N) * (N + 1);
+        if N == 0
+            || lanes.len() > METRIC_LANES
+            || solved.len() < lanes.len()
+            || stride < per_vertex
+            || gradients.len() < stride * lanes.len()
+        {
+            return false;
+        }
+        self.solve_metric_lanes(&eta, star, lanes, options, gradients, stride, solved)
+    }
+
+    /// Whether [`solve_stars`](Self::solve_stars) solves several vertices
+    /// at once.
+    pub(super) fn has_metric_lanes<const M: usize>(&self) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        N > 0 && self.density.diagonal_jet_metric().is_some() && matches!(factorial(N), 1 | 2 | 6 | 24)
+    }
+
+    /// The lanes' stars from `star(l, σ, out)` (their cells' partial frames
+    /// and first guesses), solved by
+    /// [`solve_metric_stars`](Self::solve_metric_stars) with the star size
+    /// N! as a constant; `false` (nothing solved) for a failed frame, a
+    /// lane none of whose cells is in the action or a star of another size.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_metric_lanes<const M: usize, S>(
+        &self,
+        eta: &SVector<f64, N>,
+        star: &S,
+        lanes: &[VertexLane<SVector<f64, M>, M>],
+        options: &CauchyOptions,
+        gradients: &mut [SVector<f64, M>],
+        stride: usize,
+        solved: &mut [SolvedVertex<SVector<f64, M>>],
+    ) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+        S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
+    {
+        match factorial(N) {
+            1 => self.metric_lanes_of::<M, 1, S>(eta, star, lanes, options, gradients, stride, solved),
+            2 => self.metric_lanes_of::<M, 2, S>(eta, star, lanes, options, gradients, stride, solved),
+            6 => self.metric_lanes_of::<M, 6, S>(eta, star, lanes, options, gradients, stride, solved),
+            24 => self.metric_lanes_of::<M, 24, S>(eta, star, lanes, options, gradients, stride, solved),
+            _ => false,
+        }
+    }
+
+    /// [`solve_metric_lanes`](Self::solve_metric_lanes) for stars of C cells.
+    #[allow(clippy::too_many_arguments)]
+    fn metric_lanes_of<const M: usize, const C: usize, S>(
+        &self,
+        eta: &SVector<f64, N>,
+        star: &S,
+        lanes: &[VertexLane<SVector<f64, M>, M>],
+        options: &CauchyOptions,
+        gradients: &mut [SVector<f64, M>],
+        stride: usize,
+        solved: &mut [SolvedVertex<SVector<f64, M>>],
+    ) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+        S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
+    {
+        let width = N + 1;
+        let blank = MetricStar {
+            mu: SVector::zeros(),
+            mu_scale: 0.0,
+            start: SVector::zeros(),
+        };
+        let mut stars = [blank; METRIC_LANES];
+        // The cells' values and their geometry: each position's shape once
+        // while every lane's cell there has its shape's cached geometry,
+        // else (a second pass) each cell's own.
+        let mut y = [SVector::<f64, M>::zeros(); MAX_CELL_VERTICES];
+        let mut frames = LaneFrames::<M, N, C> {
+            active: [[false; METRIC_LANES]; C],
+            full: false,
+            first: [SVector::zeros(); METRIC_LANES],
+            sum: [[SVector::zeros(); METRIC_LANES]; C],
+            jet: [[[SVector::zeros(); METRIC_LANES]; N]; C],
+        };
+        let mut shapes: [Option<(usize, CellWeights<N>)>; C] = [None; C];
+        let position = self.density.depends_on_position();
+        let mut uniform = !position;
+        for (l, (lane, s)) in lanes.iter().zip(stars.iter_mut()).enumerate() {
+            let mut base = None;
+            for c in 0..C {
+                let Some(cell) = star(l, c, &mut y[..width]) else {
+                    continue;
+                };
+                base.get_or_insert(y[0]);
+                // The shape's cached geometry in place (its cell's own only
+                // where the density depends on position or none is cached).
+                let cached = if position {
+                    None
+                } else {
+                    self.shape_geometry(cell.shape)
+                };
+                let (sum, jet) = match cached {
+                    Some((inverse, volume)) => {
+                        if uniform {
+                            match shapes[c] {
+                                None => {
+                                    shapes[c] =
+                                        Some((cell.shape, CellWeights::new(*inverse, *volume, SVector::zeros(), eta)));
+                                }
+                                Some((shape, _)) if shape == cell.shape => {}
+                                Some(_) => uniform = false,
+                            }
+                        }
+                        PartialFrame::<M, N>::sums(inverse, &y[..width])
+                    }
+                    None => {
+                        uniform = false;
+                        let Some((inverse, _, _)) = self.node_geometry(&cell) else {
+                            return false;
+                        };
+                        PartialFrame::<M, N>::sums(&inverse, &y[..width])
+                    }
+                };
+                frames.active[c][l] = true;
+                frames.first[l] = y[0];
+                frames.sum[c][l] = sum;
+                for a in 0..N {
+                    frames.jet[c][a][l] = jet.column(a).into_owned();
+                }
+            }
+            let Some(base) = base else {
+                return false;
+            };
+            s.mu = lane.mu;
+            s.mu_scale = lane.mu_scale;
+            s.start = Euclidean::<M>::extrapolate(&lane.previous, &base);
+        }
+        let count = lanes.len().min(METRIC_LANES);
+        frames.seal(count);
+        let out = LaneOutput {
+            gradients,
+            stride,
+            solved,
+        };
+        let blank = CellWeights::new(SMatrix::zeros(), 0.0, SVector::zeros(), eta);
+        if uniform {
+            let table: [CellWeights<N>; C] = std::array::from_fn(|c| shapes[c].map_or(blank, |(_, g)| g));
+            let geometry = StarGeometry::Shapes(&table);
+            self.solve_metric_stars(eta, &frames, geometry, &stars[..count], options, out);
+            return true;
+        }
+        let mut cells = [[blank; METRIC_LANES]; C];
+        for l in 0..count {
+            for (c, row) in cells.iter_mut().enumerate() {
+                if let Some(cell) = star(l, c, &mut y[..width]) {
+                    let Some((inverse, volume, centre)) = self.cell_geometry::<M>(&cell) else {
+                        return false;
+                    };
+                    row[l] = CellWeights::new(inverse, volume, centre, eta);
+                }
+            }
+        }
+        self.solve_metric_stars(eta, &frames, StarGeometry::Cells(&cells), &stars[..count], options, out);
+        true
     }
 }

@@ -30,137 +30,356 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
-use super::affine_chain::{
-    AffineFrame, MAX_STAR, PartialFrame, metric_coefficients, metric_gradient, metric_gradient_from, metric_product,
-};
+use super::affine_chain::{AffineFrame, PartialFrame, metric_coefficients, metric_gradient, metric_product};
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;
 use crate::field::cell::SolvedVertex;
 use crate::field::fibre::Euclidean;
-use crate::field::legendre::{CauchyOptions, solve_legendre};
+use crate::field::legendre::{CauchyOptions, LegendreNewton};
 
-/// One star cell's constants in the unknown z.
+/// Vertex equations [`MidpointRule`]'s metric solve treats together: their
+/// cells' potentials are differentiated in one batch per Newton round, and
+/// the sums over the cells run over the lanes side by side.
+pub(super) const METRIC_LANES: usize = 4;
+
+/// One vertex equation of [`MidpointRule::solve_metric_stars`]: μ_v, the
+/// size of μ_v's terms and the first guess.
 #[derive(Clone, Copy)]
-struct StarTerm<const N: usize> {
+pub(super) struct MetricStar<const M: usize> {
+    pub(super) mu: SVector<f64, M>,
+    pub(super) mu_scale: f64,
+    pub(super) start: SVector<f64, M>,
+}
+
+/// A star cell's geometry ((T^X)⁻¹, vol_β, x̄) and its weights of the
+/// unknown last vertex: η_a c_{0a} and vol_β Σ_a η_a c_{0a} c_{Na}.
+#[derive(Clone, Copy)]
+pub(super) struct CellWeights<const N: usize> {
+    inverse: SMatrix<f64, N, N>,
+    volume: f64,
+    centre: SVector<f64, N>,
+    /// c_{Na} = (T^X)⁻¹_{N−1,a}.
+    last_row: SVector<f64, N>,
     /// η_a c_{0a}.
     weights: SVector<f64, N>,
-    /// vol_β b_β = vol_β Σ_a η_a c_{0a} c_{Na}.
+    /// vol_β Σ_a η_a c_{0a} c_{Na}.
     slope: f64,
 }
 
-impl<const N: usize> StarTerm<N> {
-    fn new<const M: usize>(partial: &PartialFrame<M, N>, eta: &SVector<f64, N>) -> Self {
-        let weights = metric_coefficients(&partial.inverse, eta, 0);
-        let slope = metric_product(&partial.inverse, &weights, N);
+impl<const N: usize> CellWeights<N> {
+    pub(super) fn new(
+        inverse: SMatrix<f64, N, N>,
+        volume: f64,
+        centre: SVector<f64, N>,
+        eta: &SVector<f64, N>,
+    ) -> Self {
+        let weights = metric_coefficients(&inverse, eta, 0);
         Self {
+            inverse,
+            volume,
+            centre,
+            last_row: SVector::from_fn(|a, _| inverse[(N - 1, a)]),
             weights,
-            slope: slope * partial.volume,
+            slope: metric_product(&inverse, &weights, N) * volume,
         }
     }
+}
+
+/// The cells' geometry of a group of stars: one per cell position when
+/// every lane's cell there has its shape's cached geometry (a translation
+/// invariant lattice), else one per cell and lane.
+#[derive(Clone, Copy)]
+pub(super) enum StarGeometry<'a, const N: usize, const C: usize> {
+    Shapes(&'a [CellWeights<N>; C]),
+    Cells(&'a [[CellWeights<N>; METRIC_LANES]; C]),
+}
+
+impl<const N: usize, const C: usize> StarGeometry<'_, N, C> {
+    /// The geometry of cell c of lane l.
+    #[inline]
+    fn at(&self, c: usize, l: usize) -> &CellWeights<N> {
+        match self {
+            StarGeometry::Shapes(shapes) => &shapes[c],
+            StarGeometry::Cells(cells) => &cells[c][l],
+        }
+    }
+}
+
+/// Where [`MidpointRule::solve_metric_stars`] writes: lane l's cells'
+/// gradients at `gradients[l·stride..]`, its result at `solved[l]`.
+pub(super) struct LaneOutput<'a, const M: usize> {
+    pub(super) gradients: &'a mut [SVector<f64, M>],
+    pub(super) stride: usize,
+    pub(super) solved: &'a mut [SolvedVertex<SVector<f64, M>>],
+}
+
+/// The known vertices' sums of the star cells of up to [`METRIC_LANES`]
+/// vertices, cell by cell, then lane by lane (the lanes' numbers side by
+/// side for the Newton rounds' sums).
+pub(super) struct LaneFrames<const M: usize, const N: usize, const C: usize> {
+    /// Whether cell c of lane l is in the action.
+    pub(super) active: [[bool; METRIC_LANES]; C],
+    /// Whether every cell of every lane is.
+    pub(super) full: bool,
+    /// y₀, the base vertex's value (each cell's first vertex).
+    pub(super) first: [SVector<f64, M>; METRIC_LANES],
+    /// y₀ + … + y_{N−1}.
+    pub(super) sum: [[SVector<f64, M>; METRIC_LANES]; C],
+    /// The known part of φ_{·a}, column a.
+    pub(super) jet: [[[SVector<f64, M>; METRIC_LANES]; N]; C],
+}
+
+impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
+    /// Records whether all `lanes` lanes have all their cells in the action.
+    pub(super) fn seal(&mut self, lanes: usize) {
+        self.full = lanes == METRIC_LANES && self.active.iter().flatten().all(|&a| a);
+    }
+
+    /// Cell c of lane l with the last vertex value `z`.
+    fn complete(&self, g: &CellWeights<N>, c: usize, l: usize, z: &SVector<f64, M>) -> AffineFrame<M, N> {
+        PartialFrame {
+            inverse: g.inverse,
+            volume: g.volume,
+            centre: g.centre,
+            sum: self.sum[c][l],
+            jet: SMatrix::from_fn(|k, a| self.jet[c][a][l][k]),
+            first: self.first[l],
+        }
+        .complete(z)
+    }
+
+    /// Σ_cells vol_β(Σ_a η_a φ_{·a}(z) c_{0a} + ∇V/(N + 1)) of every lane
+    /// and its size (the operations of `metric_gradient_from` with the jet
+    /// entries of `PartialFrame::jet_entry`), lanes side by side, with the
+    /// cells' geometry `weights(c, l)`.
+    #[inline(always)]
+    fn residuals<'g>(
+        &self,
+        z: &[SVector<f64, M>; METRIC_LANES],
+        dv: &[[SVector<f64, M>; METRIC_LANES]; C],
+        weights: impl Fn(usize, usize) -> &'g CellWeights<N>,
+    ) -> ([SVector<f64, M>; METRIC_LANES], [f64; METRIC_LANES]) {
+        let w = AffineFrame::<M, N>::mean_weight();
+        let mut leg = [SVector::<f64, M>::zeros(); METRIC_LANES];
+        let mut scale = [0.0; METRIC_LANES];
+        let d: [SVector<f64, M>; METRIC_LANES] = std::array::from_fn(|l| z[l] - self.first[l]);
+        for c in 0..C {
+            for l in 0..METRIC_LANES {
+                let t = weights(c, l);
+                let g = SVector::<f64, M>::from_fn(|k, _| {
+                    let kinetic = (0..N).fold(0.0, |acc, a| {
+                        acc + (self.jet[c][a][l][k] + d[l][k] * t.last_row[a]) * t.weights[a]
+                    });
+                    (kinetic + dv[c][l][k] * w) * t.volume
+                });
+                if self.active[c][l] {
+                    leg[l] += g;
+                    scale[l] += g.amax();
+                }
+            }
+        }
+        (leg, scale)
+    }
+}
+
+/// ∇V (and ∇²V) at every active cell of the lanes, by cell then lane, and
+/// the points they are taken at.
+struct Potentials<const M: usize, const N: usize, const C: usize> {
+    gradient: [[SVector<f64, M>; METRIC_LANES]; C],
+    hessian: [[SMatrix<f64, M, M>; METRIC_LANES]; C],
+    centres: [[SVector<f64, N>; METRIC_LANES]; C],
+    values: [[SVector<f64, M>; METRIC_LANES]; C],
+    packed_gradient: [[SVector<f64, M>; METRIC_LANES]; C],
+    packed_hessian: [[SMatrix<f64, M, M>; METRIC_LANES]; C],
 }
 
 impl<L, X, const N: usize> MidpointRule<L, X, N>
 where
     X: NodeMap<N>,
 {
-    /// Solves Leg_v(z) = μ_v by the generic Newton
-    /// ([`solve_legendre`]) from `start` over the star's cells `frames`
-    /// (`None`: not in the action) and writes their gradients at the solved
-    /// z into `gradients` (the marcher's layout, N + 1 per cell, zero at the
-    /// base vertex and for absent cells).
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn solve_metric_star<const M: usize>(
+    /// ∇V, with ∇²V when `second`, at ȳ_β(z_l) of every active cell of the
+    /// lanes l with `wanted[l] == Some(second)`, in one batch
+    /// ([`jet_free_batch`](Self::jet_free_batch)): straight into `out` when
+    /// every cell of every lane is wanted, else packed and unpacked.
+    fn lane_potentials<const M: usize, const C: usize>(
         &self,
-        eta: &SVector<f64, N>,
-        frames: &[Option<PartialFrame<M, N>>],
-        mu: &SVector<f64, M>,
-        mu_scale: f64,
-        start: SVector<f64, M>,
-        options: &CauchyOptions,
-        gradients: &mut [SVector<f64, M>],
-    ) -> SolvedVertex<SVector<f64, M>>
-    where
+        frames: &LaneFrames<M, N, C>,
+        geometry: StarGeometry<'_, N, C>,
+        z: &[SVector<f64, M>; METRIC_LANES],
+        wanted: &[Option<bool>; METRIC_LANES],
+        second: bool,
+        out: &mut Potentials<M, N, C>,
+    ) where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
         let w = AffineFrame::<M, N>::mean_weight();
-        let blank = StarTerm {
-            weights: SVector::zeros(),
-            slope: 0.0,
-        };
-        let mut terms = [blank; MAX_STAR];
-        for (term, partial) in terms.iter_mut().zip(frames) {
-            if let Some(partial) = partial {
-                *term = StarTerm::new(partial, eta);
-            }
+        if !wanted.contains(&Some(second)) {
+            return;
         }
-        // The cells in the action (indices into `frames`) and their
-        // centres: an evaluation differentiates V at all of them at once.
-        let active = || frames.iter().enumerate().filter_map(|(c, p)| Some((c, p.as_ref()?)));
-        let count = active().count();
-        let mut centres = [SVector::<f64, N>::zeros(); MAX_STAR];
-        for (centre, (_, partial)) in centres.iter_mut().zip(active()) {
-            *centre = partial.centre;
-        }
-        let centres = &centres[..count];
-        let mut values = [SVector::<f64, M>::zeros(); MAX_STAR];
-        let mut hessians = [SMatrix::<f64, M, M>::zeros(); MAX_STAR];
-        // ∇V of each active cell at the last evaluation; `written` is its z
-        // when that was a residual-only one (a Jacobian evaluation takes ∇V
-        // from its second-order pass, which the stored gradients do not use).
-        let mut potential_gradients = [SVector::<f64, M>::zeros(); MAX_STAR];
-        let mut written: Option<SVector<f64, M>> = None;
-        let (z, outcome) = solve_legendre::<Euclidean<M>, M>(mu, mu_scale, start, options, |z, mut jacobian| {
-            let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
-            for (value, (_, partial)) in values.iter_mut().zip(active()) {
-                *value = partial.value(z);
-            }
-            let dvs = &mut potential_gradients[..count];
-            let asked = jacobian.is_some().then_some(&mut hessians[..count]);
-            self.jet_free_batch(centres, &values[..count], dvs, asked);
-            if let Some(j) = jacobian.as_deref_mut() {
-                j.fill(0.0);
-            }
-            for (k, (c, partial)) in active().enumerate() {
-                let term = &terms[c];
-                if let Some(j) = jacobian.as_deref_mut() {
-                    *j += SMatrix::<f64, M, M>::identity() * term.slope + hessians[k] * (w * w * partial.volume);
+        if frames.full && wanted.iter().all(|&x| x == Some(second)) {
+            for c in 0..C {
+                for l in 0..METRIC_LANES {
+                    out.values[c][l] = (frames.sum[c][l] + z[l]) * w;
                 }
-                let dv = &potential_gradients[k];
-                let g = metric_gradient_from(|k, a| partial.jet_entry(z, k, a), &term.weights, dv, partial.volume);
-                leg += g;
-                scale += g.amax();
             }
-            written = if jacobian.is_none() { Some(*z) } else { None };
-            (leg, scale)
-        });
-        if outcome.failure.is_some() {
-            return SolvedVertex {
-                value: z,
+            let hessians = second.then_some(out.hessian.as_flattened_mut());
+            for c in 0..C {
+                for l in 0..METRIC_LANES {
+                    out.centres[c][l] = geometry.at(c, l).centre;
+                }
+            }
+            self.jet_free_batch(
+                out.centres.as_flattened(),
+                out.values.as_flattened(),
+                out.gradient.as_flattened_mut(),
+                hessians,
+            );
+            return;
+        }
+        let mut count = 0;
+        {
+            let (centres, values) = (out.centres.as_flattened_mut(), out.values.as_flattened_mut());
+            for c in 0..C {
+                for l in 0..METRIC_LANES {
+                    if frames.active[c][l] && wanted[l] == Some(second) {
+                        centres[count] = geometry.at(c, l).centre;
+                        values[count] = (frames.sum[c][l] + z[l]) * w;
+                        count += 1;
+                    }
+                }
+            }
+        }
+        let asked = second.then_some(&mut out.packed_hessian.as_flattened_mut()[..count]);
+        self.jet_free_batch(
+            &out.centres.as_flattened()[..count],
+            &out.values.as_flattened()[..count],
+            &mut out.packed_gradient.as_flattened_mut()[..count],
+            asked,
+        );
+        let (gradients, hessians) = (out.packed_gradient.as_flattened(), out.packed_hessian.as_flattened());
+        let mut k = 0;
+        for c in 0..C {
+            for l in 0..METRIC_LANES {
+                if frames.active[c][l] && wanted[l] == Some(second) {
+                    out.gradient[c][l] = gradients[k];
+                    out.hessian[c][l] = hessians[k];
+                    k += 1;
+                }
+            }
+        }
+    }
+
+    /// Solves the vertex equations Leg_v(z) = μ_v of up to
+    /// [`METRIC_LANES`] stars at once (`frames`, lane l the equation of
+    /// `stars[l]`), each by the generic Newton ([`LegendreNewton`]) from
+    /// its start, and writes each solved star's gradients at its z into
+    /// `gradients[l·stride..]` (the marcher's layout, N + 1 per cell, zero
+    /// at the base vertex and for absent cells). Each Newton round
+    /// differentiates V at the cells of every lane still iterating in one
+    /// batch; a lane's evaluations are the ones it would make alone, with
+    /// the same bits.
+    pub(super) fn solve_metric_stars<const M: usize, const C: usize>(
+        &self,
+        eta: &SVector<f64, N>,
+        frames: &LaneFrames<M, N, C>,
+        geometry: StarGeometry<'_, N, C>,
+        stars: &[MetricStar<M>],
+        options: &CauchyOptions,
+        out: LaneOutput<'_, M>,
+    ) where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        let LaneOutput {
+            gradients,
+            stride,
+            solved,
+        } = out;
+        let lanes = stars.len().min(METRIC_LANES);
+        let w = AffineFrame::<M, N>::mean_weight();
+        let mut newton: [Option<LegendreNewton<Euclidean<M>, M>>; METRIC_LANES] = std::array::from_fn(|_| None);
+        for (slot, star) in newton.iter_mut().zip(&stars[..lanes]) {
+            *slot = Some(LegendreNewton::new(star.mu, star.mu_scale, star.start, *options, None));
+        }
+        let mut potentials = Potentials {
+            gradient: [[SVector::zeros(); METRIC_LANES]; C],
+            hessian: [[SMatrix::zeros(); METRIC_LANES]; C],
+            centres: [[SVector::zeros(); METRIC_LANES]; C],
+            values: [[SVector::zeros(); METRIC_LANES]; C],
+            packed_gradient: [[SVector::zeros(); METRIC_LANES]; C],
+            packed_hessian: [[SMatrix::zeros(); METRIC_LANES]; C],
+        };
+        // The point of each lane's last evaluation when it was a
+        // residual-only one (∇V from a Jacobian evaluation's second-order
+        // pass is not what the stored gradients use).
+        let mut written: [Option<SVector<f64, M>>; METRIC_LANES] = [None; METRIC_LANES];
+        let mut z = [SVector::<f64, M>::zeros(); METRIC_LANES];
+        loop {
+            let mut wanted = [None; METRIC_LANES];
+            for l in 0..lanes {
+                if let Some((point, jacobian)) = newton[l].as_ref().and_then(LegendreNewton::request) {
+                    z[l] = point;
+                    wanted[l] = Some(jacobian);
+                }
+            }
+            if wanted.iter().all(Option::is_none) {
+                break;
+            }
+            self.lane_potentials(frames, geometry, &z, &wanted, true, &mut potentials);
+            self.lane_potentials(frames, geometry, &z, &wanted, false, &mut potentials);
+            let (leg, scale) = match geometry {
+                StarGeometry::Shapes(shapes) => frames.residuals(&z, &potentials.gradient, |c, _| &shapes[c]),
+                StarGeometry::Cells(cells) => frames.residuals(&z, &potentials.gradient, |c, l| &cells[c][l]),
+            };
+            let mut jacobian = [SMatrix::<f64, M, M>::zeros(); METRIC_LANES];
+            if wanted.contains(&Some(true)) {
+                for c in 0..C {
+                    for l in 0..METRIC_LANES {
+                        if frames.active[c][l] && wanted[l] == Some(true) {
+                            let t = geometry.at(c, l);
+                            jacobian[l] += SMatrix::<f64, M, M>::identity() * t.slope
+                                + potentials.hessian[c][l] * (w * w * t.volume);
+                        }
+                    }
+                }
+            }
+            for l in 0..lanes {
+                if let (Some(jac), Some(n)) = (wanted[l], newton[l].as_mut()) {
+                    n.feed(&leg[l], scale[l], &jacobian[l]);
+                    written[l] = (!jac).then_some(z[l]);
+                }
+            }
+        }
+        // The solved lanes whose last evaluation was not a residual-only
+        // one at their z: ∇V there, in one batch.
+        let mut again = [None; METRIC_LANES];
+        for l in 0..lanes {
+            let Some(n) = newton[l].take() else { continue };
+            let (point, outcome, _) = n.finish();
+            z[l] = point;
+            solved[l] = SolvedVertex {
+                value: point,
                 outcome,
-                gradients_written: false,
+                gradients_written: outcome.failure.is_none(),
                 forces_written: false,
             };
-        }
-        if written != Some(z) {
-            for (value, (_, partial)) in values.iter_mut().zip(active()) {
-                *value = partial.value(&z);
+            if outcome.failure.is_none() && written[l] != Some(point) {
+                again[l] = Some(false);
             }
-            self.jet_free_batch(centres, &values[..count], &mut potential_gradients[..count], None);
         }
+        self.lane_potentials(frames, geometry, &z, &again, false, &mut potentials);
         let width = N + 1;
-        gradients.fill(SVector::zeros());
-        for (k, (c, partial)) in active().enumerate() {
-            let out = &mut gradients[c * width..(c + 1) * width];
-            let frame = partial.complete(&z);
-            for (l, g) in out.iter_mut().enumerate().skip(1) {
-                *g = metric_gradient(&frame, eta, &potential_gradients[k], l);
+        for l in 0..lanes {
+            if !solved[l].gradients_written {
+                continue;
             }
-        }
-        SolvedVertex {
-            value: z,
-            outcome,
-            gradients_written: true,
-            forces_written: false,
+            let out = &mut gradients[l * stride..l * stride + C * width];
+            out.fill(SVector::zeros());
+            for c in (0..C).filter(|&c| frames.active[c][l]) {
+                let frame = frames.complete(geometry.at(c, l), c, l, &z[l]);
+                for (k, g) in out[c * width..(c + 1) * width].iter_mut().enumerate().skip(1) {
+                    *g = metric_gradient(&frame, eta, &potentials.gradient[c][l], k);
+                }
+            }
         }
     }
 }
