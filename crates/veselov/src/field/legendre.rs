@@ -138,8 +138,8 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     let mut newton = LegendreNewton::<F, M>::new(*mu, mu_scale, z, *options, kept.take());
     // Where an evaluation writes a fresh Jacobian (no copy moves it).
     let mut jacobian = SMatrix::<f64, M, M>::zeros();
-    while let Some((z, with_jacobian)) = newton.request() {
-        let (leg, scale) = legendre(&z, with_jacobian.then_some(&mut jacobian));
+    while let Some(with_jacobian) = newton.wants_jacobian() {
+        let (leg, scale) = legendre(newton.point(), with_jacobian.then_some(&mut jacobian));
         newton.feed(&leg, scale, &jacobian);
     }
     let (z, outcome, factors) = newton.finish();
@@ -148,7 +148,8 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
 }
 
 /// The Newton of [`solve_legendre_from`] as a state machine that asks for
-/// its evaluations ([`request`](Self::request)) and is handed their results
+/// its evaluations ([`wants_jacobian`](Self::wants_jacobian) at
+/// [`point`](Self::point)) and is handed their results
 /// ([`feed`](Self::feed)), so that a caller may evaluate the equations of
 /// many vertices together (all their cells' potentials at once, say) while
 /// each vertex iterates, stops and fails exactly as it would alone: the
@@ -212,11 +213,19 @@ impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
         }
     }
 
-    /// The point at which Leg (and, if the flag is set, its Jacobian
-    /// ∂Leg/∂ζ) is wanted next; `None` once the solve has ended.
+    /// Whether Leg at [`point`](Self::point) is wanted with its Jacobian
+    /// ∂Leg/∂ζ (`Some(true)`) or alone (`Some(false)`); `None` once the
+    /// solve has ended.
     #[inline]
-    pub fn request(&self) -> Option<(F::Point<f64>, bool)> {
-        (!self.done).then_some((self.z, self.refreshing || !self.have_jacobian))
+    pub fn wants_jacobian(&self) -> Option<bool> {
+        (!self.done).then_some(self.refreshing || !self.have_jacobian)
+    }
+
+    /// The point of the evaluation wanted next (the last one evaluated once
+    /// the solve has ended).
+    #[inline]
+    pub fn point(&self) -> &F::Point<f64> {
+        &self.z
     }
 
     /// Whether Newton stops at the current point with residual `r`:
@@ -231,7 +240,7 @@ impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
     }
 
     /// Hands over Leg and the size of its terms at the point
-    /// [`request`](Self::request) gave, with the Jacobian there when it was
+    /// [`point`](Self::point) gave, with the Jacobian there when it was
     /// asked for (`jacobian` is read only then), and advances.
     #[inline(always)]
     pub fn feed(&mut self, leg: &SVector<f64, M>, leg_scale: f64, jacobian: &SMatrix<f64, M, M>) {

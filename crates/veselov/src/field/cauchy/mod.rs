@@ -535,7 +535,26 @@ where
             };
             return (solved.value, solved.outcome, written);
         }
-        let z = F::extrapolate(&previous, &self.value(w, i));
+        let (z, outcome) = self.solve_vertex_generic(&base, &mu, mu_scale, &previous);
+        (z, outcome, Written::default())
+    }
+
+    /// The marcher's own Newton for EL_v = 0 at the vertex `base` over its
+    /// cells' exact derivatives ([`add_vertex_terms`]), for a model without
+    /// a solve of its own. Kept out of line: the derivative passes' dual
+    /// numbers take a large stack frame, which the models' own solves
+    /// should not pay for.
+    #[inline(never)]
+    fn solve_vertex_generic(
+        &self,
+        base: &Base,
+        mu: &SVector<f64, M>,
+        mu_scale: f64,
+        previous: &F::Point<f64>,
+    ) -> (F::Point<f64>, VertexOutcome) {
+        let n = self.torus.dimension();
+        let base = *base;
+        let z = F::extrapolate(previous, &self.values[base.slot * self.torus.level_size() + base.index]);
         // A star of up to SMALL_STAR cells gathers its cells' known values
         // once: an iterate only replaces the top vertex. Larger stars gather
         // a cell's values at every evaluation.
@@ -549,7 +568,7 @@ where
                 }
             }
         }
-        let (z, outcome) = solve_legendre::<F, M>(&mu, mu_scale, z, &self.options, |z, mut jac| {
+        solve_legendre::<F, M>(mu, mu_scale, z, &self.options, |z, mut jac| {
             let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
             if let Some(j) = jac.as_deref_mut() {
                 j.fill(0.0);
@@ -579,8 +598,7 @@ where
                 );
             }
             (leg, scale)
-        });
-        (z, outcome, Written::default())
+        })
     }
 
     /// The vertices of a level solved together: the model's
@@ -594,10 +612,31 @@ where
         self.lag.vertex_lanes().clamp(1, self.lanes_cap)
     }
 
+    /// The solve of vertex (w, i) (y_{Δv}, its outcome and which of its
+    /// cells' terms the solve wrote) into its result, with its cells' terms
+    /// and, with forces, Σ_β F^{l(v)}_β.
+    #[inline]
+    fn store_vertex(
+        &self,
+        w: i64,
+        i: usize,
+        (z, outcome, written): (F::Point<f64>, VertexOutcome, Written),
+        terms: &mut [SVector<f64, M>],
+        result: &mut VertexResult<M>,
+    ) {
+        result.outcome = outcome;
+        if outcome.failure.is_none() {
+            self.cell_terms(w, i, Some(z), written, terms);
+            if self.lag.has_forces() && self.is_active(w, i) {
+                result.force = self.vertex_force(w, i, terms);
+            }
+        }
+    }
+
     /// Solves the vertices `first …` of level `w` (as many as `values`)
     /// together by the model's [`DiscreteLagrangian::solve_last_vertices`]
-    /// and hands each to `store`; `false` (nothing solved) when the model
-    /// declines.
+    /// and stores each ([`store_vertex`](Self::store_vertex)); `false`
+    /// (nothing solved) when the model declines.
     fn solve_lanes(
         &self,
         w: i64,
@@ -605,7 +644,6 @@ where
         values: &mut [F::Point<f64>],
         terms: &mut [SVector<f64, M>],
         results: &mut [VertexResult<M>],
-        store: &impl Fn(usize, F::Point<f64>, VertexOutcome, Written, &mut [SVector<f64, M>], &mut VertexResult<M>),
     ) -> bool {
         let n = self.torus.dimension();
         let stride = self.stride();
@@ -650,7 +688,7 @@ where
                 forces: s.forces_written,
             };
             *value = s.value;
-            store(first + l, s.value, s.outcome, written, terms, result);
+            self.store_vertex(w, first + l, (s.value, s.outcome, written), terms, result);
         }
         true
     }
@@ -689,36 +727,21 @@ where
         let mut next_grads = std::mem::take(&mut self.next_grads);
         let mut results = std::mem::take(&mut self.results);
         self.forces_level = None;
-        let with_forces = self.lag.has_forces();
         let started = std::time::Instant::now();
         let chunk = self.parallel_chunk(size);
         let parallel = chunk < size;
         {
             let this = &*self;
-            let store = |i: usize,
-                         z: F::Point<f64>,
-                         o: VertexOutcome,
-                         written: Written,
-                         terms: &mut [SVector<f64, M>],
-                         result: &mut VertexResult<M>| {
-                result.outcome = o;
-                if o.failure.is_none() {
-                    this.cell_terms(w, i, Some(z), written, terms);
-                    if with_forces && this.is_active(w, i) {
-                        result.force = this.vertex_force(w, i, terms);
-                    }
-                }
-            };
             let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {
                 let (z, o, written) = this.solve_vertex(w, i, terms);
                 *value = z;
-                store(i, z, o, written, terms, result);
+                this.store_vertex(w, i, (z, o, written), terms, result);
             };
             let lanes = self.vertex_lanes();
             if lanes > 1 {
                 let solve_lanes = |(g, ((values, terms), results)): LaneSlot<'_, F::Point<f64>, M>| {
                     let first = g * lanes;
-                    if !this.solve_lanes(w, first, values, terms, results, &store) {
+                    if !this.solve_lanes(w, first, values, terms, results) {
                         for (l, ((value, terms), result)) in values
                             .iter_mut()
                             .zip(terms.chunks_mut(stride))

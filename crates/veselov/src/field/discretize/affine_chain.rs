@@ -695,14 +695,14 @@ where
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
-        N > 0 && self.density.diagonal_jet_metric().is_some() && matches!(factorial(N), 1 | 2 | 6 | 24)
+        (1..=4).contains(&N) && self.density.diagonal_jet_metric().is_some()
     }
 
     /// The lanes' stars from `star(l, σ, out)` (their cells' partial frames
     /// and first guesses), solved by
     /// [`solve_metric_stars`](Self::solve_metric_stars) with the star size
-    /// N! as a constant; `false` (nothing solved) for a failed frame, a
-    /// lane none of whose cells is in the action or a star of another size.
+    /// N! as a constant (N ≤ 4); `false` (nothing solved) for a failed
+    /// frame, a lane none of whose cells is in the action or N > 4.
     #[allow(clippy::too_many_arguments)]
     fn solve_metric_lanes<const M: usize, S>(
         &self,
@@ -718,11 +718,13 @@ where
         L: SmoothDensity<Euclidean<M>, M, N>,
         S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
     {
-        match factorial(N) {
+        // N is a constant of the monomorphised rule: only its own arm (C = N!)
+        // is compiled in.
+        match N {
             1 => self.metric_lanes_of::<M, 1, S>(eta, star, lanes, options, gradients, stride, solved),
             2 => self.metric_lanes_of::<M, 2, S>(eta, star, lanes, options, gradients, stride, solved),
-            6 => self.metric_lanes_of::<M, 6, S>(eta, star, lanes, options, gradients, stride, solved),
-            24 => self.metric_lanes_of::<M, 24, S>(eta, star, lanes, options, gradients, stride, solved),
+            3 => self.metric_lanes_of::<M, 6, S>(eta, star, lanes, options, gradients, stride, solved),
+            4 => self.metric_lanes_of::<M, 24, S>(eta, star, lanes, options, gradients, stride, solved),
             _ => false,
         }
     }

@@ -316,9 +316,9 @@ where
         loop {
             let mut wanted = [None; METRIC_LANES];
             for l in 0..lanes {
-                if let Some((point, jacobian)) = newton[l].as_ref().and_then(LegendreNewton::request) {
-                    z[l] = point;
-                    wanted[l] = Some(jacobian);
+                if let Some(n) = &newton[l] {
+                    wanted[l] = n.wants_jacobian();
+                    z[l] = *n.point();
                 }
             }
             if wanted.iter().all(Option::is_none) {
