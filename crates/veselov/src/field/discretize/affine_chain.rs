@@ -40,7 +40,9 @@ use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec, DualSVec64};
 
 use super::affine::MidpointRule;
-use super::metric_star::{CellWeights, LaneFrames, LaneOutput, METRIC_LANES, MetricStar, StarGeometry};
+use super::metric_star::{
+    CellWeights, LaneFrames, LaneOutput, METRIC_CELL_VERTICES, METRIC_LANES, MetricStar, StarGeometry,
+};
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, invert_nodes};
 use super::smooth::SmoothDensity;
@@ -754,8 +756,16 @@ where
         let mut stars = [blank; METRIC_LANES];
         // The cells' values and their geometry: each position's shape once
         // while every lane's cell there has its shape's cached geometry,
-        // else (a second pass) each cell's own.
-        let mut y = [SVector::<f64, M>::zeros(); MAX_CELL_VERTICES];
+        // else (a second pass) each cell's own. All the stars' values are
+        // gathered before any is read (a value read back right after its
+        // store would wait for it).
+        let mut y = [[[SVector::<f64, M>::zeros(); METRIC_CELL_VERTICES]; C]; METRIC_LANES];
+        let mut cells: [[Option<TopCell>; C]; METRIC_LANES] = [[None; C]; METRIC_LANES];
+        for (l, (lane_cells, lane_values)) in cells.iter_mut().zip(y.iter_mut()).enumerate().take(lanes.len()) {
+            for (c, (cell, values)) in lane_cells.iter_mut().zip(lane_values.iter_mut()).enumerate() {
+                *cell = star(l, c, &mut values[..width]);
+            }
+        }
         let mut frames = LaneFrames::<M, N, C> {
             active: [[false; METRIC_LANES]; C],
             full: false,
@@ -769,9 +779,10 @@ where
         for (l, (lane, s)) in lanes.iter().zip(stars.iter_mut()).enumerate() {
             let mut base = None;
             for c in 0..C {
-                let Some(cell) = star(l, c, &mut y[..width]) else {
+                let Some(cell) = &cells[l][c] else {
                     continue;
                 };
+                let y = &y[l][c];
                 base.get_or_insert(y[0]);
                 // The shape's cached geometry in place (its cell's own only
                 // where the density depends on position or none is cached).
@@ -796,7 +807,7 @@ where
                     }
                     None => {
                         uniform = false;
-                        let Some((inverse, _, _)) = self.node_geometry(&cell) else {
+                        let Some((inverse, _, _)) = self.node_geometry(cell) else {
                             return false;
                         };
                         PartialFrame::<M, N>::sums(&inverse, &y[..width])
@@ -827,21 +838,21 @@ where
         if uniform {
             let table: [CellWeights<N>; C] = std::array::from_fn(|c| shapes[c].map_or(blank, |(_, g)| g));
             let geometry = StarGeometry::Shapes(&table);
-            self.solve_metric_stars(eta, &frames, geometry, &stars[..count], options, out);
+            self.solve_metric_stars(&frames, geometry, &stars[..count], options, out);
             return true;
         }
-        let mut cells = [[blank; METRIC_LANES]; C];
-        for l in 0..count {
-            for (c, row) in cells.iter_mut().enumerate() {
-                if let Some(cell) = star(l, c, &mut y[..width]) {
-                    let Some((inverse, volume, centre)) = self.cell_geometry::<M>(&cell) else {
+        let mut geometry = [[blank; METRIC_LANES]; C];
+        for (l, lane_cells) in cells.iter().enumerate().take(count) {
+            for (row, cell) in geometry.iter_mut().zip(lane_cells) {
+                if let Some(cell) = cell {
+                    let Some((inverse, volume, centre)) = self.cell_geometry::<M>(cell) else {
                         return false;
                     };
                     row[l] = CellWeights::new(inverse, volume, centre, eta);
                 }
             }
         }
-        self.solve_metric_stars(eta, &frames, StarGeometry::Cells(&cells), &stars[..count], options, out);
+        self.solve_metric_stars(&frames, StarGeometry::Cells(&geometry), &stars[..count], options, out);
         true
     }
 }

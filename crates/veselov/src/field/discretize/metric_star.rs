@@ -30,7 +30,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
-use super::affine_chain::{AffineFrame, PartialFrame, metric_coefficients, metric_gradient, metric_product};
+use super::affine_chain::{AffineFrame, PartialFrame, metric_coefficients, metric_gradient_from, metric_product};
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;
 use crate::field::cell::SolvedVertex;
@@ -41,6 +41,9 @@ use crate::field::legendre::{CauchyOptions, LegendreNewton};
 /// cells' potentials are differentiated in one batch per Newton round, and
 /// the sums over the cells run over the lanes side by side.
 pub(super) const METRIC_LANES: usize = 4;
+
+/// Vertices of a star cell of the metric lanes (N + 1 for N ≤ 4).
+pub(super) const METRIC_CELL_VERTICES: usize = 5;
 
 /// One vertex equation of [`MidpointRule::solve_metric_stars`]: μ_v, the
 /// size of μ_v's terms and the first guess.
@@ -64,6 +67,9 @@ pub(super) struct CellWeights<const N: usize> {
     weights: SVector<f64, N>,
     /// vol_β Σ_a η_a c_{0a} c_{Na}.
     slope: f64,
+    /// η_a c_{la} for the later vertices l = 1 … N (index l), the weights
+    /// of the solved cell's gradients.
+    later: [SVector<f64, N>; METRIC_CELL_VERTICES],
 }
 
 impl<const N: usize> CellWeights<N> {
@@ -81,6 +87,13 @@ impl<const N: usize> CellWeights<N> {
             last_row: SVector::from_fn(|a, _| inverse[(N - 1, a)]),
             weights,
             slope: metric_product(&inverse, &weights, N) * volume,
+            later: std::array::from_fn(|l| {
+                if (1..=N).contains(&l) {
+                    metric_coefficients(&inverse, eta, l)
+                } else {
+                    SVector::zeros()
+                }
+            }),
         }
     }
 }
@@ -280,7 +293,6 @@ where
     /// the same bits.
     pub(super) fn solve_metric_stars<const M: usize, const C: usize>(
         &self,
-        eta: &SVector<f64, N>,
         frames: &LaneFrames<M, N, C>,
         geometry: StarGeometry<'_, N, C>,
         stars: &[MetricStar<M>],
@@ -375,9 +387,12 @@ where
             let out = &mut gradients[l * stride..l * stride + C * width];
             out.fill(SVector::zeros());
             for c in (0..C).filter(|&c| frames.active[c][l]) {
-                let frame = frames.complete(geometry.at(c, l), c, l, &z[l]);
+                // `metric_gradient` with the cell's weights formed once.
+                let t = geometry.at(c, l);
+                let frame = frames.complete(t, c, l, &z[l]);
+                let dv = &potentials.gradient[c][l];
                 for (k, g) in out[c * width..(c + 1) * width].iter_mut().enumerate().skip(1) {
-                    *g = metric_gradient(&frame, eta, &potentials.gradient[c][l], k);
+                    *g = metric_gradient_from(|i, a| frame.jet[(i, a)], &t.later[k], dv, frame.volume);
                 }
             }
         }
