@@ -569,7 +569,7 @@ where
         {
             return None;
         }
-        if let Some(eta) = metric {
+        if metric.is_some() {
             let lanes = [VertexLane {
                 mu: *mu,
                 mu_scale,
@@ -584,7 +584,7 @@ where
             let stride = gradients.len();
             let star = |_: usize, sigma: usize, out: &mut [SVector<f64, M>]| star(sigma, out);
             return self
-                .solve_metric_lanes(&eta, &star, &lanes, options, gradients, stride, &mut solved)
+                .solve_stars(&star, &lanes, options, gradients, stride, &mut solved)
                 .then_some(solved[0]);
         }
         let mut frames: [Option<PartialFrame<M, N>>; MAX_STAR] = [None; MAX_STAR];
@@ -659,9 +659,9 @@ where
     /// ([`crate::field::cell::DiscreteLagrangian::solve_last_vertices`]):
     /// for a density with a diagonal jet metric, the stars of up to
     /// [`METRIC_LANES`] vertices by [`solve_metric_stars`](Self::solve_metric_stars),
-    /// each lane with the bits of [`solve_star`](Self::solve_star) alone.
-    /// `false` (one vertex at a time) where `solve_star` would not take the
-    /// metric solve, or for more lanes.
+    /// each lane with the bits it gets alone; [`solve_star`](Self::solve_star)
+    /// solves a single vertex of such a density so. `false` (one vertex at
+    /// a time) without a diagonal jet metric, for N > 4 or more lanes.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn solve_stars<const M: usize, S>(
         &self,
@@ -680,15 +680,27 @@ where
             return false;
         };
         let per_vertex = factorial(N) * (N + 1);
-        if N == 0
-            || lanes.len() > METRIC_LANES
+        if lanes.len() > METRIC_LANES
             || solved.len() < lanes.len()
             || stride < per_vertex
             || gradients.len() < stride * lanes.len()
         {
             return false;
         }
-        self.solve_metric_lanes(&eta, star, lanes, options, gradients, stride, solved)
+        let out = LaneOutput {
+            gradients,
+            stride,
+            solved,
+        };
+        // N is a constant of the monomorphised rule: only its own arm (the
+        // star size C = N!) is compiled in.
+        match N {
+            1 => self.metric_lanes_of::<M, 1, S>(&eta, star, lanes, options, out),
+            2 => self.metric_lanes_of::<M, 2, S>(&eta, star, lanes, options, out),
+            3 => self.metric_lanes_of::<M, 6, S>(&eta, star, lanes, options, out),
+            4 => self.metric_lanes_of::<M, 24, S>(&eta, star, lanes, options, out),
+            _ => false,
+        }
     }
 
     /// Whether [`solve_stars`](Self::solve_stars) solves several vertices
@@ -700,48 +712,18 @@ where
         (1..=4).contains(&N) && self.density.diagonal_jet_metric().is_some()
     }
 
-    /// The lanes' stars from `star(l, σ, out)` (their cells' partial frames
-    /// and first guesses), solved by
-    /// [`solve_metric_stars`](Self::solve_metric_stars) with the star size
-    /// N! as a constant (N ≤ 4); `false` (nothing solved) for a failed
-    /// frame, a lane none of whose cells is in the action or N > 4.
-    #[allow(clippy::too_many_arguments)]
-    fn solve_metric_lanes<const M: usize, S>(
-        &self,
-        eta: &SVector<f64, N>,
-        star: &S,
-        lanes: &[VertexLane<SVector<f64, M>, M>],
-        options: &CauchyOptions,
-        gradients: &mut [SVector<f64, M>],
-        stride: usize,
-        solved: &mut [SolvedVertex<SVector<f64, M>>],
-    ) -> bool
-    where
-        L: SmoothDensity<Euclidean<M>, M, N>,
-        S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
-    {
-        // N is a constant of the monomorphised rule: only its own arm (C = N!)
-        // is compiled in.
-        match N {
-            1 => self.metric_lanes_of::<M, 1, S>(eta, star, lanes, options, gradients, stride, solved),
-            2 => self.metric_lanes_of::<M, 2, S>(eta, star, lanes, options, gradients, stride, solved),
-            3 => self.metric_lanes_of::<M, 6, S>(eta, star, lanes, options, gradients, stride, solved),
-            4 => self.metric_lanes_of::<M, 24, S>(eta, star, lanes, options, gradients, stride, solved),
-            _ => false,
-        }
-    }
-
-    /// [`solve_metric_lanes`](Self::solve_metric_lanes) for stars of C cells.
-    #[allow(clippy::too_many_arguments)]
+    /// The lanes' stars of C = N! cells from `star(l, σ, out)` (their
+    /// cells' sums over the known vertices, their geometry and first
+    /// guesses), solved by [`solve_metric_stars`](Self::solve_metric_stars);
+    /// `false` (nothing solved) for a failed frame or a lane none of whose
+    /// cells is in the action.
     fn metric_lanes_of<const M: usize, const C: usize, S>(
         &self,
         eta: &SVector<f64, N>,
         star: &S,
         lanes: &[VertexLane<SVector<f64, M>, M>],
         options: &CauchyOptions,
-        gradients: &mut [SVector<f64, M>],
-        stride: usize,
-        solved: &mut [SolvedVertex<SVector<f64, M>>],
+        out: LaneOutput<'_, M>,
     ) -> bool
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
@@ -829,11 +811,6 @@ where
         }
         let count = lanes.len().min(METRIC_LANES);
         frames.seal(count);
-        let out = LaneOutput {
-            gradients,
-            stride,
-            solved,
-        };
         let blank = CellWeights::new(SMatrix::zeros(), 0.0, SVector::zeros(), eta);
         if uniform {
             let table: [CellWeights<N>; C] = std::array::from_fn(|c| shapes[c].map_or(blank, |(_, g)| g));
