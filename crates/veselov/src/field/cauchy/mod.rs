@@ -16,8 +16,10 @@
 //! Each cell's vertex gradients are computed once, when its last vertex is
 //! solved, and kept in a ring of n + 1 base levels; μ_v gathers them in a
 //! fixed order. The vertices of one level are solved in parallel (rayon, in
-//! chunks sized from the previous level's cost per vertex) and every
-//! vertex's arithmetic is independent of the partition, so results are
+//! chunks sized from the previous level's cost per vertex), in fixed groups
+//! of consecutive vertices where the model solves several at once
+//! ([`DiscreteLagrangian::vertex_lanes`]), and every vertex's arithmetic is
+//! independent of the partition and of the grouping, so results are
 //! bit-identical for every thread count. Storage is allocated once: 2n + 1
 //! levels of values and n + 1 levels of cell gradients; nothing is allocated
 //! inside a level.

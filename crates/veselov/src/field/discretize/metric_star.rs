@@ -17,7 +17,11 @@
 //! cells at once where the density batches them,
 //! [`SmoothDensity::jet_free_derivatives`], with the same bits) and the jet
 //! term from the partial frame, with the weights η_a c_{0a} and b_β formed
-//! once per vertex. The residual is computed by the operations of the
+//! once per cell geometry. Up to [`METRIC_LANES`] vertices of a level are
+//! solved together, each by its own [`LegendreNewton`]: every Newton round
+//! differentiates V at the star cells of all the lanes still iterating in
+//! one batch, and the sums over the cells run with the lanes side by side;
+//! a lane's evaluations and bits are those it has alone. The residual is computed by the operations of the
 //! rule's own gradients ([`metric_gradient_from`]), so Newton zeroes the
 //! equation the marcher's momenta are made of (a residual of another
 //! rounding, affine in z, let the translation momenta of a free field drift
