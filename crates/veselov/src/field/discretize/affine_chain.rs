@@ -796,7 +796,6 @@ where
                     }
                 };
                 frames.active[c][l] = true;
-                frames.first[l] = y[0];
                 frames.sum[c][l] = sum;
                 for a in 0..N {
                     frames.jet[c][a][l] = jet.column(a).into_owned();
@@ -805,6 +804,7 @@ where
             let Some(base) = base else {
                 return false;
             };
+            frames.first[l] = base;
             s.mu = lane.mu;
             s.mu_scale = lane.mu_scale;
             s.start = Euclidean::<M>::extrapolate(&lane.previous, &base);

@@ -58,8 +58,8 @@ pub(super) struct MetricStar<const M: usize> {
     pub(super) start: SVector<f64, M>,
 }
 
-/// A star cell's geometry ((T^X)⁻¹, vol_β, x̄) and its weights of the
-/// unknown last vertex: η_a c_{0a} and vol_β Σ_a η_a c_{0a} c_{Na}.
+/// A star cell's geometry ((T^X)⁻¹, vol_β, x̄) and its weights: η_a c_{la}
+/// of each vertex and vol_β Σ_a η_a c_{0a} c_{Na}.
 #[derive(Clone, Copy)]
 pub(super) struct CellWeights<const N: usize> {
     inverse: SMatrix<f64, N, N>,
@@ -67,13 +67,11 @@ pub(super) struct CellWeights<const N: usize> {
     centre: SVector<f64, N>,
     /// c_{Na} = (T^X)⁻¹_{N−1,a}.
     last_row: SVector<f64, N>,
-    /// η_a c_{0a}.
-    weights: SVector<f64, N>,
+    /// η_a c_{la} for every vertex l = 0 … N (index l): row 0 weighs the
+    /// unknown's equation, rows 1 … N the solved cell's later gradients.
+    coefficients: [SVector<f64, N>; METRIC_CELL_VERTICES],
     /// vol_β Σ_a η_a c_{0a} c_{Na}.
     slope: f64,
-    /// η_a c_{la} for the later vertices l = 1 … N (index l), the weights
-    /// of the solved cell's gradients.
-    later: [SVector<f64, N>; METRIC_CELL_VERTICES],
 }
 
 impl<const N: usize> CellWeights<N> {
@@ -83,21 +81,20 @@ impl<const N: usize> CellWeights<N> {
         centre: SVector<f64, N>,
         eta: &SVector<f64, N>,
     ) -> Self {
-        let weights = metric_coefficients(&inverse, eta, 0);
+        let coefficients = std::array::from_fn(|l| {
+            if l <= N {
+                metric_coefficients(&inverse, eta, l)
+            } else {
+                SVector::zeros()
+            }
+        });
         Self {
             inverse,
             volume,
             centre,
             last_row: SVector::from_fn(|a, _| inverse[(N - 1, a)]),
-            weights,
-            slope: metric_product(&inverse, &weights, N) * volume,
-            later: std::array::from_fn(|l| {
-                if (1..=N).contains(&l) {
-                    metric_coefficients(&inverse, eta, l)
-                } else {
-                    SVector::zeros()
-                }
-            }),
+            slope: metric_product(&inverse, &coefficients[0], N) * volume,
+            coefficients,
         }
     }
 }
@@ -185,7 +182,7 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
                 let t = weights(c, l);
                 let g = SVector::<f64, M>::from_fn(|k, _| {
                     let kinetic = (0..N).fold(0.0, |acc, a| {
-                        acc + (self.jet[c][a][l][k] + d[l][k] * t.last_row[a]) * t.weights[a]
+                        acc + (self.jet[c][a][l][k] + d[l][k] * t.last_row[a]) * t.coefficients[0][a]
                     });
                     (kinetic + dv[c][l][k] * w) * t.volume
                 });
@@ -396,7 +393,7 @@ where
                 let frame = frames.complete(t, c, l, &z[l]);
                 let dv = &potentials.gradient[c][l];
                 for (k, g) in out[c * width..(c + 1) * width].iter_mut().enumerate().skip(1) {
-                    *g = metric_gradient_from(|i, a| frame.jet[(i, a)], &t.later[k], dv, frame.volume);
+                    *g = metric_gradient_from(|i, a| frame.jet[(i, a)], &t.coefficients[k], dv, frame.volume);
                 }
             }
         }
