@@ -13,6 +13,10 @@ use crate::field::fibre::Fibre;
 /// Vertices per block of [`CauchyMarcher::sum_straddling_cells`].
 pub const STRADDLING_BLOCK: usize = 512;
 
+/// Cells of a vertex star gathered before the first is visited (the star
+/// of a CFK vertex in 2+1 dimensions has six).
+const GATHERED_CELLS: usize = 8;
+
 impl<F, L, const M: usize> CauchyMarcher<F, L, M>
 where
     F: Fibre<M>,
@@ -32,8 +36,11 @@ where
     }
 
     /// Calls `f` on the straddling cells based at level `level() − j` on
-    /// the vertices `vertices`, in index order (each vertex's base and
-    /// values gathered once for its cells).
+    /// the vertices `vertices`, in index order. A vertex's cells are
+    /// gathered [`GATHERED_CELLS`] at a time before `f` reads any of them:
+    /// a value read right after its store (for a scalar field, two
+    /// neighbouring values loaded as one vector) stalls on store-to-load
+    /// forwarding.
     fn visit_straddling(
         &self,
         j: usize,
@@ -41,15 +48,24 @@ where
         mut f: impl FnMut(&TopCell, &[F::Point<f64>]),
     ) {
         let n = self.torus.dimension();
-        let size = self.torus.level_size();
         let w = self.level - j as i64;
+        let cells = self.perms.len();
+        let mut values = [[self.values[0]; MAX_LATTICE_DIMENSION + 1]; GATHERED_CELLS];
+        let mut gathered: [Option<TopCell>; GATHERED_CELLS] = [None; GATHERED_CELLS];
         for i in vertices {
             let at = self.base(w, i);
-            let mut y = [self.values[at.slot * size + i]; MAX_LATTICE_DIMENSION + 1];
-            for sigma in 0..self.perms.len() {
-                if self.cell_active_at(&at, sigma) {
-                    let cell = self.cell_values_at(&at, sigma, None, &mut y);
-                    f(&cell, &y[..=n]);
+            for first in (0..cells).step_by(GATHERED_CELLS) {
+                let count = GATHERED_CELLS.min(cells - first);
+                for (k, (y, cell)) in values.iter_mut().zip(&mut gathered).take(count).enumerate() {
+                    let sigma = first + k;
+                    *cell = self
+                        .cell_active_at(&at, sigma)
+                        .then(|| self.cell_values_at(&at, sigma, None, &mut y[..=n]));
+                }
+                for (y, cell) in values.iter().zip(&gathered).take(count) {
+                    if let Some(cell) = cell {
+                        f(cell, &y[..=n]);
+                    }
                 }
             }
         }
