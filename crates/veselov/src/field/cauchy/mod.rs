@@ -451,8 +451,11 @@ where
     /// representative whose material point lies in 0 ≤ p < 2N.
     #[inline]
     fn origin(&self, w: i64, i: usize) -> [i64; MAX_LATTICE_DIMENSION] {
-        let mut v = self.origins[i];
-        v[self.torus.dimension() - 1] += w;
+        // Built whole rather than stored into a copy: an element stored
+        // and then read back within a vector load stalls on store-to-load
+        // forwarding.
+        let (o, last) = (&self.origins[i], self.torus.dimension() - 1);
+        let v = std::array::from_fn(|k| if k == last { o[k] + w } else { o[k] });
         match &self.window {
             Some(m) => m.unwrap(&v),
             None => v,
