@@ -449,13 +449,14 @@ where
 
     /// Canonical coordinates of the vertex (w, i); with a window, the
     /// representative whose material point lies in 0 ≤ p < 2N.
-    #[inline]
+    #[inline(always)]
     fn origin(&self, w: i64, i: usize) -> [i64; MAX_LATTICE_DIMENSION] {
-        // Built whole rather than stored into a copy: an element stored
-        // and then read back within a vector load stalls on store-to-load
-        // forwarding.
+        // Added whole (in vector lanes) rather than one element stored into
+        // a copy: an element stored and then read back within a vector
+        // load stalls on store-to-load forwarding.
         let (o, last) = (&self.origins[i], self.torus.dimension() - 1);
-        let v = std::array::from_fn(|k| if k == last { o[k] + w } else { o[k] });
+        let shift: [i64; MAX_LATTICE_DIMENSION] = std::array::from_fn(|k| if k == last { w } else { 0 });
+        let v = std::array::from_fn(|k| o[k] + shift[k]);
         match &self.window {
             Some(m) => m.unwrap(&v),
             None => v,
