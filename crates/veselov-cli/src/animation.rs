@@ -225,8 +225,7 @@ mod tests {
 
     #[test]
     fn writes_an_animated_gif() {
-        let dir = std::env::temp_dir().join(format!("veselov-gif-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("dir");
+        let dir = crate::test_scratch::Scratch::new("gif");
         let path = dir.join("centerline.gif");
         let frames: Vec<Vec<[f64; 3]>> = (0..4)
             .map(|k| {
@@ -238,6 +237,5 @@ mod tests {
         draw_centerline_animation(&path, &frames, &[0.0, 0.1, 0.2, 0.3], "t").expect("drawn");
         let bytes = std::fs::read(&path).expect("gif");
         assert!(bytes.starts_with(b"GIF89a"), "a GIF file");
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -320,8 +320,7 @@ mod tests {
 
     fn patches_rebuild_every_frame_of_width(w: usize) {
         let h = 30usize;
-        let dir = std::env::temp_dir().join(format!("veselov-gif-frames-{}-{w}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("dir");
+        let dir = crate::test_scratch::Scratch::new(&format!("gif-frames-{w}"));
         let path = dir.join("frames.gif");
         let q = Quantizer::new();
         let frames: Vec<Vec<u8>> = (0..5)
@@ -369,6 +368,5 @@ mod tests {
         assert_eq!(sizes[0], (w as u16, h as u16), "the first frame whole");
         assert_eq!(sizes[1], (9, 5), "the block's old and new columns, its rows");
         assert_eq!(sizes[5], (1, 1), "nothing changed");
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

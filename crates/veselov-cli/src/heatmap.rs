@@ -190,8 +190,7 @@ mod tests {
 
     #[test]
     fn draws_svg_and_png() {
-        let dir = std::env::temp_dir().join(format!("veselov-heatmap-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("dir");
+        let dir = crate::test_scratch::Scratch::new("heatmap");
         let values: Vec<Vec<f64>> = (0..50)
             .map(|r| (0..40).map(|c| ((r * c) as f64).sin()).collect())
             .collect();

@@ -28,4 +28,6 @@ pub mod route;
 pub mod run;
 pub mod scenario;
 pub mod systems;
+#[cfg(test)]
+mod test_scratch;
 pub mod verify;

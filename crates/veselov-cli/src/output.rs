@@ -270,8 +270,7 @@ mod tests {
 
     #[test]
     fn csv_round_trips_exactly() {
-        let dir = std::env::temp_dir().join(format!("veselov-csv-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
+        let dir = crate::test_scratch::Scratch::new("csv");
         let t = Table {
             header: vec!["t".into(), "x".into()],
             rows: vec![vec![0.1, 1.0 / 3.0], vec![1e-300, -2.5e17]],
@@ -282,7 +281,6 @@ mod tests {
         // Extreme values are short and exact, not hundreds of digits.
         let text = std::fs::read_to_string(&p).expect("text");
         assert!(text.contains("1e-300,-2.5e17"), "{text}");
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     /// Every number is written in its shortest round-trip form, with an

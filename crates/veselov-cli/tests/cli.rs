@@ -1448,7 +1448,7 @@ fn verify_works_on_every_shipped_mechanics_example() {
             .and_then(|s| s.to_str())
             .unwrap_or("example")
             .to_string();
-        let out = temp_dir(&format!("verify-all-{name}")).join("v");
+        let out = temp_dir(&format!("verify-all-{name}")).at("v");
         succeeds(
             veselov()
                 .args(["verify", "--quiet", "--dt", &format!("{dt},{}", dt / 2.0), "--out"])

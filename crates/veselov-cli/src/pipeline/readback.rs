@@ -114,8 +114,7 @@ mod tests {
 
     #[test]
     fn npy_shape_reads_back_what_the_header_says() {
-        let dir = std::env::temp_dir().join(format!("veselov-npy-shape-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("dir");
+        let dir = crate::test_scratch::Scratch::new("npy-shape");
         let path = dir.join("a.npy");
         for shape in [vec![7usize], vec![3, 4], vec![5, 6, 12]] {
             let mut bytes = crate::output::npy_header_shape(&shape);

@@ -266,8 +266,7 @@ mod tests {
 
     #[test]
     fn streamed_files_equal_whole_writes_and_resume_after_truncation() {
-        let dir = std::env::temp_dir().join(format!("veselov-stream-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
+        let dir = crate::test_scratch::Scratch::new("stream");
         let table = Table {
             header: vec!["t".into(), "x".into()],
             rows: (0..7).map(|k| vec![k as f64 * 0.1, 1.0 / (k as f64 + 3.0)]).collect(),
@@ -295,7 +294,6 @@ mod tests {
             let part = std::fs::read(dir.join(format!("part.{ext}"))).expect("read");
             assert_eq!(whole, part, "{ext}");
         }
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]

@@ -79,17 +79,11 @@ mod tests {
     use crate::plot::data::{axis_range, equalise, extent, prepare, to_axis};
     use crate::plot::ticks::ticks;
     use crate::plot::{MAX_POINTS, Scale, Series};
-    use std::path::PathBuf;
+    use crate::test_scratch::Scratch;
 
     /// A fresh directory for this test's files.
-    fn out_dir(test: &str) -> PathBuf {
-        let nanos = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0);
-        let dir = std::env::temp_dir().join(format!("veselov-plot-{test}-{}-{nanos}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("create the temporary directory");
-        dir
+    fn out_dir(test: &str) -> Scratch {
+        Scratch::new(&format!("plot-{test}"))
     }
 
     fn figure<'a>(series: Vec<Series<'a>>, x_scale: Scale, y_scale: Scale) -> Figure<'a> {
@@ -153,7 +147,6 @@ mod tests {
         fig.markers = false;
         let svg = draw_both(&dir, "linear-lines", &fig);
         assert!(!svg.contains("<circle"), "no markers");
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
@@ -183,7 +176,6 @@ mod tests {
         assert!(svg.contains("1e-12"), "scientific tick labels");
         let (points, _) = prepare(&fig.series[0], Scale::Log, Scale::Log);
         assert_eq!(points.len(), 4, "zero and NaN skipped");
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
@@ -204,7 +196,6 @@ mod tests {
         assert!(svg.contains("no data to show"), "note");
         let fig = figure(Vec::new(), Scale::Log, Scale::Log);
         draw_both(&dir, "no-series", &fig);
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
@@ -227,7 +218,6 @@ mod tests {
             assert!(ticks.major.len() >= 2, "{name}: {ticks:?}");
             assert!(svg.contains(&ticks.major[0].1), "{name}: tick labels");
         }
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
@@ -260,7 +250,6 @@ mod tests {
         let (sx, sy) = ((ex.1 - ex.0) / 600.0, (ey.1 - ey.0) / 450.0);
         assert!((sx - sy).abs() <= 1e-12 * sx, "{sx} vs {sy}");
         assert!(ey.0 < yr.0 && ey.1 > yr.1, "the shorter range is padded");
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
@@ -288,7 +277,6 @@ mod tests {
         draw_both(&dir, "large", &fig);
         let size = std::fs::metadata(dir.join("large.svg")).expect("SVG written").len();
         assert!(size < 1_000_000, "SVG of {size} bytes");
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
@@ -314,7 +302,6 @@ mod tests {
         let e = draw(&dir.join("plot"), &fig).expect_err("no extension");
         assert!(e.message.contains("no extension"), "{e}");
         assert_eq!(PlotFormat::from_path(Path::new("a.SVG")), Some(PlotFormat::Svg));
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
@@ -335,7 +322,6 @@ mod tests {
             let e = draw(&path, &fig).expect_err("no such directory");
             assert!(e.to_string().starts_with("cannot draw "), "{e}");
         }
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
@@ -353,6 +339,5 @@ mod tests {
             Scale::Log,
         );
         draw_both(&dir, "extreme", &fig);
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

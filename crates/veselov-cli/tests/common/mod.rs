@@ -6,17 +6,18 @@ use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 
+#[path = "../../src/test_scratch.rs"]
+mod test_scratch;
+pub use test_scratch::Scratch;
+
 /// The repository root (for `examples/`).
 pub fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// A fresh, empty temporary directory for one test.
-pub fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("veselov-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+/// A fresh, empty temporary directory for one test (see [`Scratch`]).
+pub fn temp_dir(name: &str) -> Scratch {
+    Scratch::new(name)
 }
 
 /// The `veselov` binary.
@@ -73,10 +74,10 @@ pub fn set(text: &str, key: &str, value: &str) -> String {
 
 /// Run the scenario `text` quietly in a fresh directory `name`; returns
 /// (success, stderr, output directory).
-pub fn run(name: &str, text: &str) -> (bool, String, PathBuf) {
+pub fn run(name: &str, text: &str) -> (bool, String, Scratch) {
     let dir = temp_dir(name);
     let file = scenario(&dir, text);
-    let out = dir.join("out");
+    let out = dir.at("out");
     let o = veselov()
         .args(["run", "--quiet", "--out"])
         .arg(&out)
