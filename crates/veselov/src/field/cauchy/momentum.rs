@@ -50,7 +50,10 @@ where
         let n = self.torus.dimension();
         let w = self.level - j as i64;
         let cells = self.perms.len();
-        let mut values = [[self.values[0]; MAX_LATTICE_DIMENSION + 1]; GATHERED_CELLS];
+        let Some(&blank) = self.values.first() else {
+            return;
+        };
+        let mut values = [[blank; MAX_LATTICE_DIMENSION + 1]; GATHERED_CELLS];
         let mut gathered: [Option<TopCell>; GATHERED_CELLS] = [None; GATHERED_CELLS];
         for i in vertices {
             let at = self.base(w, i);
