@@ -6,6 +6,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::error::CellError;
+use super::metric_star::{LaneOutput, METRIC_LANES};
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
 use super::smooth::{SmoothDensity, energy_momentum_density};
@@ -284,7 +285,7 @@ where
     /// else 1.
     fn vertex_lanes(&self) -> usize {
         if self.chain_rule && self.has_metric_lanes::<M>() {
-            super::metric_star::METRIC_LANES
+            METRIC_LANES
         } else {
             1
         }
@@ -292,7 +293,11 @@ where
 
     /// The metric stars of several vertices at once (their cells'
     /// potentials differentiated in one batch per Newton round, their sums
-    /// side by side), each with the bits of its own solve.
+    /// side by side), each with the bits of its own solve: for a density
+    /// with a diagonal jet metric, the stars of up to four vertices
+    /// (`METRIC_LANES`) by `solve_metric_stars`; `solve_star` solves a single vertex of such a
+    /// density through this method. `false` (one vertex at a time) without
+    /// the chain rule or a diagonal jet metric, for N > 4 or more lanes.
     fn solve_last_vertices<S>(
         &self,
         star: &S,
@@ -305,7 +310,34 @@ where
     where
         S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
     {
-        self.chain_rule && self.solve_stars(star, lanes, options, gradients, stride, solved)
+        if !self.chain_rule {
+            return false;
+        }
+        let Some(eta) = self.density.diagonal_jet_metric() else {
+            return false;
+        };
+        let per_vertex = factorial(N) * (N + 1);
+        if lanes.len() > METRIC_LANES
+            || solved.len() < lanes.len()
+            || stride < per_vertex
+            || gradients.len() < stride * lanes.len()
+        {
+            return false;
+        }
+        let out = LaneOutput {
+            gradients,
+            stride,
+            solved,
+        };
+        // N is a constant of the monomorphised rule: only its own arm (the
+        // star size C = N!) is compiled in.
+        match N {
+            1 => self.metric_lanes_of::<M, 1, S>(&eta, star, lanes, options, out),
+            2 => self.metric_lanes_of::<M, 2, S>(&eta, star, lanes, options, out),
+            3 => self.metric_lanes_of::<M, 6, S>(&eta, star, lanes, options, out),
+            4 => self.metric_lanes_of::<M, 24, S>(&eta, star, lanes, options, out),
+            _ => false,
+        }
     }
 }
 

@@ -47,7 +47,7 @@ use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, invert_nodes};
 use super::smooth::SmoothDensity;
 use crate::ad::Scalar;
-use crate::field::cell::{MAX_CELL_VERTICES, SolvedVertex, VertexLane, VertexStar};
+use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexLane, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::{CauchyOptions, solve_legendre};
@@ -584,7 +584,7 @@ where
             let stride = gradients.len();
             let star = |_: usize, sigma: usize, out: &mut [SVector<f64, M>]| star(sigma, out);
             return self
-                .solve_stars(&star, &lanes, options, gradients, stride, &mut solved)
+                .solve_last_vertices(&star, &lanes, options, gradients, stride, &mut solved)
                 .then_some(solved[0]);
         }
         let mut frames: [Option<PartialFrame<M, N>>; MAX_STAR] = [None; MAX_STAR];
@@ -655,56 +655,8 @@ where
         })
     }
 
-    /// The rule's own solve of several vertex equations at once
-    /// ([`crate::field::cell::DiscreteLagrangian::solve_last_vertices`]):
-    /// for a density with a diagonal jet metric, the stars of up to
-    /// [`METRIC_LANES`] vertices by [`solve_metric_stars`](Self::solve_metric_stars),
-    /// each lane with the bits it gets alone; [`solve_star`](Self::solve_star)
-    /// solves a single vertex of such a density so. `false` (one vertex at
-    /// a time) without a diagonal jet metric, for N > 4 or more lanes.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn solve_stars<const M: usize, S>(
-        &self,
-        star: &S,
-        lanes: &[VertexLane<SVector<f64, M>, M>],
-        options: &CauchyOptions,
-        gradients: &mut [SVector<f64, M>],
-        stride: usize,
-        solved: &mut [SolvedVertex<SVector<f64, M>>],
-    ) -> bool
-    where
-        L: SmoothDensity<Euclidean<M>, M, N>,
-        S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
-    {
-        let Some(eta) = self.density.diagonal_jet_metric() else {
-            return false;
-        };
-        let per_vertex = factorial(N) * (N + 1);
-        if lanes.len() > METRIC_LANES
-            || solved.len() < lanes.len()
-            || stride < per_vertex
-            || gradients.len() < stride * lanes.len()
-        {
-            return false;
-        }
-        let out = LaneOutput {
-            gradients,
-            stride,
-            solved,
-        };
-        // N is a constant of the monomorphised rule: only its own arm (the
-        // star size C = N!) is compiled in.
-        match N {
-            1 => self.metric_lanes_of::<M, 1, S>(&eta, star, lanes, options, out),
-            2 => self.metric_lanes_of::<M, 2, S>(&eta, star, lanes, options, out),
-            3 => self.metric_lanes_of::<M, 6, S>(&eta, star, lanes, options, out),
-            4 => self.metric_lanes_of::<M, 24, S>(&eta, star, lanes, options, out),
-            _ => false,
-        }
-    }
-
-    /// Whether [`solve_stars`](Self::solve_stars) solves several vertices
-    /// at once.
+    /// Whether the rule's [`DiscreteLagrangian::solve_last_vertices`]
+    /// solves several vertices at once.
     pub(super) fn has_metric_lanes<const M: usize>(&self) -> bool
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
@@ -717,7 +669,7 @@ where
     /// guesses), solved by [`solve_metric_stars`](Self::solve_metric_stars);
     /// `false` (nothing solved) for a failed frame or a lane none of whose
     /// cells is in the action.
-    fn metric_lanes_of<const M: usize, const C: usize, S>(
+    pub(super) fn metric_lanes_of<const M: usize, const C: usize, S>(
         &self,
         eta: &SVector<f64, N>,
         star: &S,
