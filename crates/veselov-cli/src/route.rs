@@ -79,17 +79,17 @@ pub fn verify_text(path: &Path, text: &str, job: verify::VerifyJob) -> Result<()
         ScenarioKind::RigidBody => rigid::dispatch(path, text, job),
         ScenarioKind::Field => Err(CliError::Setup(format!(
             "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
-             is measured by the test suite (tests/field_*.rs)",
+             is measured by the test suite (crates/veselov/tests/field/)",
             path.display()
         ))),
         ScenarioKind::Beam => Err(CliError::Setup(format!(
             "{}: `veselov verify` does not take beam scenarios; the beam's convergence (Timoshenko's \
-             frequencies and deflection) is measured by the test suite (tests/beam_*.rs)",
+             frequencies and deflection) is measured by the test suite (crates/veselov/tests/beam/)",
             path.display()
         ))),
         ScenarioKind::Rod => Err(CliError::Setup(format!(
             "{}: `veselov verify` does not take rod scenarios; the rod's convergence (Timoshenko's \
-             cantilever deflection at second order) is measured by the test suite (tests/rod_ends.rs)",
+             cantilever deflection at second order) is measured by the test suite (crates/veselov/tests/rod/rod_ends.rs)",
             path.display()
         ))),
         ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),

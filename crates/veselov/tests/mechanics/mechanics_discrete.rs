@@ -3,7 +3,7 @@
 //! against the general Newton path, and the declared separable form against
 //! the general derivatives.
 
-mod common;
+use crate::common;
 
 use common::{all_methods, scheme};
 use nalgebra::{SVector, Vector2};

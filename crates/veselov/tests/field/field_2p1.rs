@@ -18,8 +18,7 @@ use veselov::field::discretize::{CfkNodes, MidpointRule};
 use veselov::field::fibre::Euclidean;
 use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
 
-#[path = "support/threads.rs"]
-mod threads;
+use crate::threads;
 use threads::on_threads;
 
 /// Cauchy data: the six levels of a prescribed space–time function.

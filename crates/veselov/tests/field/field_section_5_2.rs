@@ -3,7 +3,7 @@
 //! the natural sawtooth of Fig. 5.5, the collision recurrence, the
 //! high-frequency content of Figs. 5.9/5.10, and the energies of Fig. 5.8.
 
-mod common;
+use crate::common;
 use common::kink_antikink;
 use veselov::field::{
     CollisionCounter, FastMarcher, FieldRunConfig, InitialData, Lattice, Scheme, SineGordon, SolverOptions,

@@ -1,4 +1,3 @@
-#![allow(unsafe_code)] // a counting global allocator needs `unsafe impl GlobalAlloc`
 //! Beam evolution allocates nothing per level: the rolling window of the
 //! core's flow marcher is reused for time and space evolution (100 levels
 //! each, the evolution momentum map read after every level).
@@ -12,8 +11,7 @@ use veselov::field::fibre::RigidMotions;
 use veselov::lie::{CayleyMap, Retraction, SE3};
 use veselov::models::beam::{BeamDensity, BeamProperties, CayleyBeam, beam_lagrangian, left_generators, straight};
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::{ALLOCATIONS, WATCHED};
 
 #[test]

@@ -15,8 +15,7 @@ use veselov::field::variational::{action, euler_lagrange, noether_balance};
 use veselov::lie::{SE3, SO3, so3};
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, PhaseState, integrate};
 
-#[path = "support/threads.rs"]
-mod threads;
+use crate::threads;
 use threads::on_threads;
 
 /// A small deterministic generator (xorshift) for random fields.

@@ -1,6 +1,6 @@
 //! Fitted convergence orders on nonlinear problems against exact solutions.
 
-mod common;
+use crate::common;
 
 use common::{all_methods, scheme, step_counts, study};
 use nalgebra::{SVector, Vector1};

@@ -2,7 +2,7 @@
 //! errors without drift, Guo's exactly conserved energy, the single kink's
 //! speed, and the even/odd mode of the symmetric rectangle scheme.
 
-mod common;
+use crate::common;
 use common::kink_antikink;
 use std::f64::consts::{PI, TAU};
 
@@ -116,7 +116,7 @@ fn multisymplectic_energy_errors_do_not_drift() {
 /// scheme) for the paper's two multisymplectic schemes (measured: changes of
 /// the half-run means 1.2·10⁻⁷ for the triangles, 5.6·10⁻⁸ for the symmetric
 /// rectangles; six minutes on two busy cores):
-/// `cargo test --release -p veselov --test field_sine_gordon -- --ignored --nocapture`.
+/// `cargo test --release -p veselov --test field field_sine_gordon:: -- --ignored --nocapture`.
 #[test]
 #[ignore = "long: the whole §5.2 horizon, a few minutes"]
 fn multisymplectic_energy_errors_do_not_drift_over_the_paper_horizon() {

@@ -1,6 +1,6 @@
 //! Exact conservation of Noether momenta and bounded energy error.
 
-mod common;
+use crate::common;
 
 use common::{all_methods, scheme};
 use nalgebra::Vector1;

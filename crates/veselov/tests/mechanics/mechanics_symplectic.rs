@@ -1,7 +1,7 @@
 //! Symplecticity of the one-step maps, measured as ‖JᵀΩJ − Ω‖ with the exact
 //! Jacobian of the converged step (implicit function theorem).
 
-mod common;
+use crate::common;
 
 use common::{all_methods, scheme};
 use nalgebra::Vector2;

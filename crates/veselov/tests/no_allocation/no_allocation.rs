@@ -1,4 +1,3 @@
-#![allow(unsafe_code)] // a counting global allocator needs `unsafe impl GlobalAlloc`
 //! Fixed-size systems allocate nothing inside a step: a counting global
 //! allocator watches the steps of every method on both paths.
 
@@ -7,8 +6,7 @@ use std::sync::atomic::Ordering;
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, OneStepMap, SeparableIntegrator};
 use veselov::models::{DoublePendulum, Kepler};
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::{ALLOCATIONS, WATCHED};
 
 fn allocations_in_steps<M: OneStepMap<2>>(map: &mut M, x0: veselov::mechanics::PhaseState<2>) -> usize {

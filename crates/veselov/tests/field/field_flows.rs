@@ -12,8 +12,7 @@ use veselov::field::complex::{SpacetimeLattice, TopCell, TopCells};
 use veselov::field::fibre::Euclidean;
 use veselov::field::flow::FlowMarcher;
 
-#[path = "support/five_point.rs"]
-mod five_point;
+use crate::five_point;
 
 /// ℒ_d(φ¹, φ², φ³) = ΔsΔt[½((φ² − φ¹)/Δt)² − ½c²((φ³ − φ¹)/Δs)² − ½m²(φ¹)²]
 /// on △ = ((j,a), (j+1,a), (j,a+1)).

@@ -1,4 +1,3 @@
-#![allow(unsafe_code)] // a counting global allocator needs `unsafe impl GlobalAlloc`
 //! The lattice paths allocate nothing per level: a counting global
 //! allocator watches 200 levels of every fast scheme and of the generic
 //! (core) path on triangles and rectangles, periodic and Dirichlet, and 30
@@ -13,8 +12,7 @@ use veselov::field::{
     SineGordon, SolverOptions, TriangleRule,
 };
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use counting_alloc::{ALLOCATIONS, POOL_ALLOCATIONS, POOL_WATCHED, WATCHED, mark_pool_thread};
 
 #[test]

@@ -14,8 +14,7 @@ use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
 use veselov::field::fibre::Euclidean;
 use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
 
-#[path = "support/threads.rs"]
-mod threads;
+use crate::threads;
 use threads::on_threads;
 
 /// A density that reads the base point, so that the rule takes its per-cell

@@ -410,7 +410,7 @@ fn damped_cantilever_settles_to_timoshenkos_deflection_at_second_order() {
 
 /// The convergence of the settled tip deflection under refinement
 /// (50, 100, 200 nodes; about 20 s in release):
-/// `cargo test --release -p veselov --test rod_ends -- --ignored --nocapture`
+/// `cargo test --release -p veselov --test rod rod_ends:: -- --ignored --nocapture`
 #[test]
 #[ignore = "refinement study, about 20 s in release"]
 fn cantilever_deflection_converges_to_timoshenko_under_refinement() {

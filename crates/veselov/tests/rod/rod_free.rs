@@ -13,8 +13,7 @@ use veselov::models::rod::{
     CrossSection, Material, RodLattice, Shear, angular_momentum, linear_momentum, rod_parameters,
 };
 
-#[path = "support/threads.rs"]
-mod threads;
+use crate::threads;
 use threads::on_threads;
 
 /// A slender steel-like rod in units with E/ρ = 1 (fastest wave speed 1).

@@ -1,7 +1,7 @@
 //! Lagrangians of run-time dimension: same steps as the fixed-size path, and
 //! exact conservation for a larger system.
 
-mod common;
+use crate::common;
 
 use common::{all_methods, scheme};
 use veselov::Error;

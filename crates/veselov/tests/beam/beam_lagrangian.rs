@@ -13,8 +13,7 @@ use veselov::field::variational::{action, euler_lagrange};
 use veselov::lie::{CayleyMap, ExpMap, Retraction, SE3};
 use veselov::models::beam::{BeamDensity, BeamLagrangian, BeamProperties, beam_lagrangian, left_generators, straight};
 
-#[path = "support/five_point.rs"]
-mod five_point;
+use crate::five_point;
 
 /// A deterministic sequence in (−1, 1).
 struct Lcg(u64);

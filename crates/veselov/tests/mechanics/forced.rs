@@ -1,7 +1,7 @@
 //! Forced and dissipative systems: discrete Lagrange–d'Alembert integrators,
 //! Galley duplication, variational order (seed 004).
 
-mod common;
+use crate::common;
 
 use common::{LOWER, scheme};
 use nalgebra::{Matrix2, SVector, Vector1, Vector2};
@@ -317,7 +317,7 @@ fn duplicated_lagrangian_and_discretization_are_antisymmetric() {
         );
     }
     // The van der Pol force vanishes at zero velocity (Lemma 3.4 itself is
-    // checked for any inverse retraction in `tests/variational_order.rs`).
+    // checked for any inverse retraction in `tests/mechanics/variational_order.rs`).
     let f = VanDerPol::default().force();
     let q = Vector2::new(0.2, 0.3);
     assert_eq!(f.force(0.0, &q, &Vector2::zeros()), Vector2::zeros());

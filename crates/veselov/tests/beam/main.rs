@@ -1,0 +1,15 @@
+//! The geometrically exact SE(3) beam (seed 000).
+//!
+//! One test binary per area: the modules below were separate test files,
+//! and keep their names (`cargo test -p veselov --test beam <module>::`).
+
+#[path = "../support/five_point.rs"]
+mod five_point;
+
+mod beam_evolution;
+mod beam_forces;
+mod beam_increment_solve;
+mod beam_lagrangian;
+mod beam_paper;
+mod beam_symplectic;
+mod beam_vibration;

@@ -1,0 +1,13 @@
+//! The Cosserat rod on the leapfrog CFK lattice (seed 003 §6).
+//!
+//! One test binary per area: the modules below were separate test files,
+//! and keep their names (`cargo test -p veselov --test rod <module>::`).
+
+#[path = "../support/threads.rs"]
+mod threads;
+
+mod rod_ends;
+mod rod_fast;
+mod rod_free;
+mod rod_loads;
+mod rod_stability;
