@@ -28,9 +28,7 @@ use crate::error::CliError;
 use crate::output::Table;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream};
-use crate::pipeline::{
-    CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run, restore, words_error,
-};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run};
 use crate::run::RunJob;
 
 type Beam<R> = Evolution000<RigidMotions, BeamLagrangian<R>, 6>;
@@ -376,26 +374,20 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     let step_length = if setup.space { setup.ds } else { setup.dt };
     let mut stepper = EvolutionStepper::<RigidMotions, BeamLagrangian<R>, 6>::new(step_length);
     let (first_step, start) = match &resumed {
-        Some(r) => {
-            obs.restore(&mut r.observer_words()).map_err(|e| words_error(&dir, e))?;
-            restore(&dir, &mut state, &mut Words::new(&r.saved.state))?;
-            (r.saved.step, Ok(()))
-        }
+        Some(r) => (r.restore_run(&dir, |w| obs.restore(w), &mut state)?, Ok(())),
         None => {
             obs.domain.add_band(&state);
             (0, obs.record(&state))
         }
     };
-    let outcome = match start {
-        Err(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
-        Ok(()) => session.execute(
-            &mut stepper,
-            &mut state,
-            first_step,
-            StopWhen::steps(setup.levels),
-            &mut obs,
-        )?,
-    };
+    let outcome = session.execute(
+        start,
+        &mut stepper,
+        &mut state,
+        first_step,
+        StopWhen::steps(setup.levels),
+        &mut obs,
+    )?;
     if !outcome.last_step.is_multiple_of(obs.every)
         && matches!(outcome.status, Status::Completed)
         && let Err(e) = obs.record(&state)

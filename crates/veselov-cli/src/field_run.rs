@@ -11,7 +11,7 @@ use veselov::field::{
     GenericMarcher, Lattice, Levels, Model, Phi4, ScalarPotential, SineGordon, Wave, level_energy, shift_charge,
     split_charge,
 };
-use veselov::run::{Checkpoint, Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, Words, save_count};
+use veselov::run::{Checkpoint, Control, Observer, Outcome, StepStats, Stepper, StopWhen, Words, save_count};
 
 use crate::error::CliError;
 use crate::field::LoadedField;
@@ -260,10 +260,15 @@ where
             first as u64
         }
     };
-    let outcome = match start_failure {
-        Some(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
-        None => session.execute(&mut stepper, &mut state, first, StopWhen::steps(total as u64), &mut obs)?,
-    };
+    let start = start_failure.map_or(Ok(()), Err);
+    let outcome = session.execute(
+        start,
+        &mut stepper,
+        &mut state,
+        first,
+        StopWhen::steps(total as u64),
+        &mut obs,
+    )?;
     let recentred_by = (frame.recentred_by)(&state);
     let info = Closing {
         path: frame.path,

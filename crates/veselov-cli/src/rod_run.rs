@@ -39,9 +39,7 @@ use crate::output::Table;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream};
-use crate::pipeline::{
-    CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run, restore, words_error,
-};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run};
 use crate::rod::RodSetup;
 use crate::run::RunJob;
 
@@ -433,26 +431,20 @@ where
     let mut state = marcher;
     let mut stepper = CauchyStepper::<PositionRotation, L, 6>::new(0.5 * setup.dt, FIRST_CUT);
     let (first, start) = match &resumed {
-        Some(r) => {
-            obs.restore(&mut r.observer_words()).map_err(|e| words_error(&dir, e))?;
-            restore(&dir, &mut state, &mut Words::new(&r.saved.state))?;
-            (r.saved.step, Ok(()))
-        }
+        Some(r) => (r.restore_run(&dir, |w| obs.restore(w), &mut state)?, Ok(())),
         None => {
             let t = run_time(&state, setup.dt);
             (0, obs.record(&state, t))
         }
     };
-    let outcome = match start {
-        Err(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
-        Ok(()) => session.execute(
-            &mut stepper,
-            &mut state,
-            first,
-            StopWhen::steps(2 * setup.steps),
-            &mut obs,
-        )?,
-    };
+    let outcome = session.execute(
+        start,
+        &mut stepper,
+        &mut state,
+        first,
+        StopWhen::steps(2 * setup.steps),
+        &mut obs,
+    )?;
     if !outcome.last_step.is_multiple_of(obs.every_levels) && matches!(outcome.status, Status::Completed) {
         let t = run_time(&state, setup.dt);
         if let Err(e) = obs.record(&state, t) {

@@ -5,14 +5,14 @@
 use nalgebra::SVector;
 use serde_json::json;
 use veselov::mechanics::{GalerkinScheme, Method, PhaseState};
-use veselov::run::{Checkpoint, PhaseStepper, SemStepper, Status, Stepper, StopWhen, Words};
+use veselov::run::{Checkpoint, PhaseStepper, SemStepper, Stepper, StopWhen, Words};
 use veselov::sem::{SemRule, SemState};
 
 use crate::catalog::{self, Choice};
 use crate::error::CliError;
 use crate::output::Table;
 pub use crate::pipeline::RunJob;
-use crate::pipeline::finish::{Totals, empty_outcome, finish, open_table_session, start_or_resume, t_of, totals};
+use crate::pipeline::finish::{Totals, finish, open_table_session, start_or_resume, t_of, totals};
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, RowFn, TableObserver, Tracker};
 use crate::pipeline::{restore, summary, words_error};
@@ -464,10 +464,8 @@ fn run_variable<const N: usize>(
         t_end: Some(t_end),
         interrupt: None,
     };
-    let outcome = match failure {
-        Some(e) => empty_outcome(Status::Failed(e)),
-        None => session.execute(&mut stepper, &mut x, first, stop, &mut table)?,
-    };
+    let start = failure.map_or(Ok(()), Err);
+    let outcome = session.execute(start, &mut stepper, &mut x, first, stop, &mut table)?;
     let Totals {
         iterations,
         fallback_steps: fallback,

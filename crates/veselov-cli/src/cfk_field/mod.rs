@@ -46,7 +46,7 @@ use veselov::field::complex::CfkTorus;
 use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
 use veselov::field::fibre::Euclidean;
 use veselov::field::{CauchyStepper, ComplexKleinGordon, NonlinearWave, Phi4, Potential, SineGordon, Wave};
-use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
+use veselov::run::{Control, Observer, StepStats, StopWhen, Words};
 
 use crate::error::CliError;
 use crate::field::{FieldModelSpec, FieldTimeSpec};
@@ -54,7 +54,7 @@ use crate::output::Table;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, open_lattice_run, restore, words_error};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, open_lattice_run};
 use crate::run::RunJob;
 use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, positive_value};
 
@@ -454,23 +454,17 @@ where
     let mut state = marcher;
     let mut stepper = CauchyStepper::<Euclidean<M>, Rule<P>, M>::new(setup.dt / 3.0, 3);
     let (first, start) = match &resumed {
-        Some(r) => {
-            obs.restore(&mut r.observer_words()).map_err(|e| words_error(&dir, e))?;
-            restore(&dir, &mut state, &mut Words::new(&r.saved.state))?;
-            (r.saved.step, Ok(()))
-        }
+        Some(r) => (r.restore_run(&dir, |w| obs.restore(w), &mut state)?, Ok(())),
         None => (0, obs.record(&state, 0)),
     };
-    let outcome = match start {
-        Err(e) => crate::pipeline::finish::empty_outcome(Status::Failed(e)),
-        Ok(()) => session.execute(
-            &mut stepper,
-            &mut state,
-            first,
-            StopWhen::steps(3 * steps as u64),
-            &mut obs,
-        )?,
-    };
+    let outcome = session.execute(
+        start,
+        &mut stepper,
+        &mut state,
+        first,
+        StopWhen::steps(3 * steps as u64),
+        &mut obs,
+    )?;
     let k_final = outcome.last_step / 3;
     if obs.last_snapshot != Some(k_final) {
         obs.snapshot(&state, k_final);

@@ -30,23 +30,18 @@ where
     S: Stepper + Checkpoint,
     S::State: Checkpoint + Clone,
 {
-    let first = match session.resumed.clone() {
+    let (first, start) = match session.resumed.clone() {
         Some(saved) => {
             restore(&session.dir, x, &mut Words::new(&saved.state))?;
             restore(&session.dir, stepper, &mut Words::new(&saved.stepper))?;
             table
                 .resume(saved.step, x, &mut Words::new(words))
                 .map_err(|e| words_error(&session.dir, e))?;
-            saved.step
+            (saved.step, Ok(()))
         }
-        None => {
-            if let Err(e) = table.start(0, x) {
-                return Ok(empty_outcome(Status::Failed(e)));
-            }
-            0
-        }
+        None => (0, table.start(0, x)),
     };
-    session.execute(stepper, x, first, StopWhen::steps(steps), table)
+    session.execute(start, stepper, x, first, StopWhen::steps(steps), table)
 }
 
 /// A session, the positions of its table's files and the rest of the

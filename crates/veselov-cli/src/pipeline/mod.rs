@@ -244,9 +244,12 @@ impl Session {
     /// writing a checkpoint every `checkpoint_every` steps, whenever
     /// `checkpoint_seconds` have passed since the last one (the clock is read
     /// every 256 steps), and at the end (unless the run failed: then the last
-    /// checkpoint stands).
+    /// checkpoint stands). `start` is how the run began: the recording of a
+    /// fresh run's first state, `Ok` for a resumed one; a failed start ends
+    /// the run as failed with no step taken.
     pub fn execute<S, O>(
         &mut self,
+        start: Result<(), veselov::Error>,
         stepper: &mut S,
         state: &mut S::State,
         first: u64,
@@ -258,6 +261,9 @@ impl Session {
         S::State: Checkpoint,
         O: Observer<S::State> + Resumable,
     {
+        if let Err(e) = start {
+            return Ok(finish::empty_outcome(Status::Failed(e)));
+        }
         let stop = self.stop(stop);
         if let Some(t_end) = stop.t_end {
             // Stopped by time: the step count is not known in advance.
@@ -402,6 +408,23 @@ impl<const K: usize> Resumed<K> {
     /// The observer's own words, after the files' positions.
     pub fn observer_words(&self) -> Words<'_> {
         Words::new(&self.saved.observer[2 * K..])
+    }
+
+    /// A lattice run resumed: its observer (`restore_observer` reads the
+    /// observer's own words) and then its state restored from the
+    /// checkpoint; returns the step the run stood at.
+    ///
+    /// # Errors
+    /// [`CliError`] naming the checkpoint in `dir` if its words do not fit.
+    pub fn restore_run<T: Checkpoint + ?Sized>(
+        &self,
+        dir: &std::path::Path,
+        restore_observer: impl FnOnce(&mut Words<'_>) -> veselov::Result<()>,
+        state: &mut T,
+    ) -> Result<u64, CliError> {
+        restore_observer(&mut self.observer_words()).map_err(|e| words_error(dir, e))?;
+        restore(dir, state, &mut Words::new(&self.saved.state))?;
+        Ok(self.saved.step)
     }
 
     /// Where each output file is reopened: at its saved position when
