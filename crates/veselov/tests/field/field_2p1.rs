@@ -18,23 +18,9 @@ use veselov::field::discretize::{CfkNodes, MidpointRule};
 use veselov::field::fibre::Euclidean;
 use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
 
+use crate::shared::cauchy_data;
 use crate::threads;
 use threads::on_threads;
-
-/// Cauchy data: the six levels of a prescribed space–time function.
-fn data<const M: usize>(
-    torus: &CfkTorus,
-    nodes: &CfkNodes<3>,
-    f: impl Fn(&Vector3<f64>) -> SVector<f64, M>,
-) -> Vec<Vec<SVector<f64, M>>> {
-    (0..6)
-        .map(|w| {
-            (0..torus.level_size())
-                .map(|i| f(&nodes.node(&torus.vertex(w, i))))
-                .collect()
-        })
-        .collect()
-}
 
 /// The level energy: Σ of the straddling cells' energies over one Δt.
 fn level_energy<P>(
@@ -59,7 +45,7 @@ fn sine_gordon_energy_is_bounded_without_drift() {
     let (kx, ky) = (2.0 * PI / side, 4.0 * PI / side);
     let omega = (kx * kx + ky * ky + 1.0).sqrt();
     // A large-amplitude standing pattern (nonlinear: sin φ ≠ φ).
-    let y = data::<1>(&torus, &nodes, |x| {
+    let y = cauchy_data::<1>(&torus, &nodes, |x| {
         SVector::from([1.5 * (kx * x[0]).cos() * (ky * x[1]).sin() * (omega * x[2]).cos()])
     });
     let rule = MidpointRule::new(NonlinearWave(SineGordon), nodes);
@@ -101,7 +87,7 @@ fn translation_momenta_and_phase_charge_are_conserved() {
         free,
         torus.clone(),
         0,
-        &data::<2>(&torus, &nodes, field),
+        &cauchy_data::<2>(&torus, &nodes, field),
         CauchyOptions::default(),
     )
     .expect("marcher");
@@ -133,7 +119,7 @@ fn translation_momenta_and_phase_charge_are_conserved() {
         kg,
         torus.clone(),
         0,
-        &data::<2>(&torus, &nodes, wave),
+        &cauchy_data::<2>(&torus, &nodes, wave),
         CauchyOptions::default(),
     )
     .expect("marcher");
@@ -283,7 +269,7 @@ fn straddling_cell_sums_are_the_sequential_sum_on_any_thread_count() {
     let torus = CfkTorus::new(3, &[24, 24]).expect("torus");
     assert!(torus.level_size() > STRADDLING_BLOCK);
     let nodes = CfkNodes::<3>::space_time(0.25, 0.1).expect("node map");
-    let y = data::<1>(&torus, &nodes, |x| {
+    let y = cauchy_data::<1>(&torus, &nodes, |x| {
         SVector::from([1.2 * (0.8 * x[0] - 0.3 * x[2]).sin() * (0.5 * x[1]).cos()])
     });
     let rule = MidpointRule::new(NonlinearWave(SineGordon), nodes);
@@ -340,7 +326,7 @@ fn straddling_cell_sums_are_the_sequential_sum_on_any_thread_count() {
 fn closed_form_march_is_identical_on_one_and_two_threads() {
     let torus = CfkTorus::new(3, &[32, 32]).expect("torus");
     let nodes = CfkNodes::<3>::space_time(0.25, 0.1).expect("node map");
-    let y = data::<1>(&torus, &nodes, |x| {
+    let y = cauchy_data::<1>(&torus, &nodes, |x| {
         SVector::from([1.5 * (0.8 * x[0] - 0.3 * x[2]).sin() * (0.4 * x[1]).cos()])
     });
     let rule = MidpointRule::new(NonlinearWave(SineGordon), nodes);

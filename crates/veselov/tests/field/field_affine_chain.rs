@@ -14,6 +14,7 @@ use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
 use veselov::field::fibre::Euclidean;
 use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
 
+use crate::shared::cauchy_data;
 use crate::threads;
 use threads::on_threads;
 
@@ -234,21 +235,6 @@ fn chain_rule_gradients_match_finite_differences_of_the_cell_lagrangian() {
     }
     println!("chain-rule gradients against central differences: {worst:e}");
     assert!(worst < 1e-8, "gradients and differences differ by {worst:e}");
-}
-
-/// Cauchy data: the six levels of a prescribed space–time function.
-fn cauchy_data<const M: usize>(
-    torus: &CfkTorus,
-    nodes: &CfkNodes<3>,
-    f: impl Fn(&SVector<f64, 3>) -> SVector<f64, M>,
-) -> Vec<Vec<SVector<f64, M>>> {
-    (0..6)
-        .map(|w| {
-            (0..torus.level_size())
-                .map(|i| f(&nodes.node(&torus.vertex(w, i))))
-                .collect()
-        })
-        .collect()
 }
 
 /// The march with the chain rule (here the closed form of the wave's

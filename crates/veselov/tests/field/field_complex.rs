@@ -16,26 +16,8 @@ use veselov::field::complex::{
 };
 use veselov::field::lattice::{Boundary, CellShape};
 
+use crate::shared::SplitMix;
 use proptest::prelude::*;
-
-/// splitmix64: a small seeded generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, m: usize) -> usize {
-        (self.next() % m as u64) as usize
-    }
-    fn uniform(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 fn point(xs: &[i64]) -> Point {
     let mut p = [0; MAX_LATTICE_DIMENSION];
@@ -70,7 +52,7 @@ fn check_dd<K: FiniteComplex>(complex: &K) {
 
 /// ⟨c, dω⟩ = ⟨∂c, ω⟩ for random integer chains and real cochains on every
 /// dimension; dω comes from the cofaces, ∂c from the faces.
-fn check_stokes<K: FiniteComplex>(complex: &K, rng: &mut Rng, trials: usize) {
+fn check_stokes<K: FiniteComplex>(complex: &K, rng: &mut SplitMix, trials: usize) {
     for k in 0..complex.dim() {
         let low = complex.cells(k);
         let high = complex.cells(k + 1);
@@ -161,7 +143,7 @@ fn closure(complex: &CfkLattice, cells: &[CfkCell]) -> BTreeSet<CfkCell> {
 
 #[test]
 fn stokes_theorem_on_random_chains_and_cochains() {
-    let mut rng = Rng(2024);
+    let mut rng = SplitMix(2024);
     for n in 1..=4 {
         check_stokes(&CubicWindow::open(&open_sizes(n)).expect("cubic"), &mut rng, 20);
         check_stokes(&CfkWindow::open(&open_sizes(n)).expect("CFK"), &mut rng, 20);
@@ -292,7 +274,7 @@ fn geometric_incidence_matches_the_closed_form() {
 
 #[test]
 fn orientation_round_trip() {
-    let mut rng = Rng(7);
+    let mut rng = SplitMix(7);
     for n in 1..=4 {
         let window = CfkWindow::open(&open_sizes(n)).expect("window");
         for k in 0..=n {
@@ -398,7 +380,7 @@ fn example_2_19() {
 
 #[test]
 fn point_location_lands_in_the_open_hull() {
-    let mut rng = Rng(99);
+    let mut rng = SplitMix(99);
     for n in 1..=MAX_LATTICE_DIMENSION {
         for _ in 0..200 {
             let p: Vec<f64> = (0..n).map(|_| 20.0 * rng.uniform() - 10.0).collect();
@@ -652,7 +634,7 @@ fn bad_input_is_a_typed_error() {
 }
 
 fn random_cfk_cell(n: usize, k: usize, seed: u64) -> CfkCell {
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix(seed);
     let mut base = [0; MAX_LATTICE_DIMENSION];
     for x in base.iter_mut().take(n) {
         *x = rng.below(5) as i64 - 2;
@@ -689,7 +671,7 @@ proptest! {
         for (m, &a) in coefficients.iter().enumerate() {
             c.add(random_cfk_cell(n, k, seed.wrapping_add(m as u64)), a);
         }
-        let mut rng = Rng(seed);
+        let mut rng = SplitMix(seed);
         let mut omega = Cochain::new();
         let mut faces = Vec::new();
         for (beta, _) in c.iter() {

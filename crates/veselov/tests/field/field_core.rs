@@ -15,22 +15,9 @@ use veselov::field::variational::{action, euler_lagrange, noether_balance};
 use veselov::lie::{SE3, SO3, so3};
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Lagrangian, Method, PhaseState, integrate};
 
+use crate::shared::Xorshift;
 use crate::threads;
 use threads::on_threads;
-
-/// A small deterministic generator (xorshift) for random fields.
-struct Rng(u64);
-impl Rng {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-    fn vector<const K: usize>(&mut self, scale: f64) -> SVector<f64, K> {
-        SVector::from_fn(|_, _| scale * self.uniform())
-    }
-}
 
 /// Node map of the n-dimensional space–time CFK lattice:
 /// space x_a = Δx(v_a − w/n) (a < n − 1 … here all but the last axis),
@@ -182,13 +169,13 @@ fn slab(n: usize, period: usize, levels: usize) -> CfkSlab {
     CfkSlab::new(CfkTorus::new(n, &vec![period; n - 1]).expect("torus"), 0, levels).expect("slab")
 }
 
-fn random_rotation(rng: &mut Rng, scale: f64) -> SO3<f64> {
+fn random_rotation(rng: &mut Xorshift, scale: f64) -> SO3<f64> {
     so3::exp(&rng.vector::<3>(scale))
 }
 
 #[test]
 fn euler_lagrange_is_the_derivative_of_the_action_for_every_fibre() {
-    let mut rng = Rng(0x9e3779b97f4a7c15);
+    let mut rng = Xorshift(0x9e3779b97f4a7c15);
     for n in 1..=3 {
         let s = slab(n, 3, 2 * n + 1);
         let wave = AffineWave::<3, 2> {
@@ -215,7 +202,7 @@ fn euler_lagrange_is_the_derivative_of_the_action_for_every_fibre() {
 
 #[test]
 fn noether_identity_holds_for_random_fields() {
-    let mut rng = Rng(0x243f6a8885a308d3);
+    let mut rng = Xorshift(0x243f6a8885a308d3);
     let s = slab(2, 5, 7);
     // A domain: a random half of the cells.
     let domain: Vec<bool> = (0..s.cell_count()).map(|_| rng.uniform() > 0.0).collect();

@@ -4,6 +4,7 @@
 //! the generic vertex rule (T25), the §3.5 gradients (T26), suitability
 //! (Cor. 6.3, T30), and seed 002's rules (5.8), (5.12) as instances.
 
+use crate::shared::SplitMix;
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use veselov::ad::Scalar;
 use veselov::field::cell::{DiscreteLagrangian, mixed_block, vertex_gradient};
@@ -16,33 +17,6 @@ use veselov::field::discretize::{
 use veselov::field::fibre::{Euclidean, Fibre, Pose, PositionRotation};
 use veselov::field::{CellLagrangian, NonlinearWave, RectangleRule, SineGordon, TriangleRule, Wave};
 use veselov::lie::{SO3, so3};
-
-/// SplitMix64: a small seeded generator for reproducible random data.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Uniform in (−a, a).
-    fn sym(&mut self, a: f64) -> f64 {
-        a * (2.0 * self.next() - 1.0)
-    }
-    fn vec<const K: usize>(&mut self, a: f64) -> SVector<f64, K> {
-        SVector::from_fn(|_, _| self.sym(a))
-    }
-    fn mat<const R: usize, const C: usize>(&mut self, a: f64) -> SMatrix<f64, R, C> {
-        SMatrix::from_fn(|_, _| self.sym(a))
-    }
-    fn rotation(&mut self, angle: f64) -> SO3<f64> {
-        so3::exp(&self.vec::<3>(angle / 3f64.sqrt()))
-    }
-}
 
 fn cell(index: usize, shape: usize, origin: &[i64]) -> TopCell {
     let mut o = [0; 8];
@@ -63,7 +37,7 @@ fn rel_vec<const K: usize>(a: &SVector<f64, K>, b: &SVector<f64, K>) -> f64 {
 }
 
 /// A random well-conditioned matrix: identity plus a perturbation.
-fn random_map<const N: usize>(rng: &mut Rng) -> SMatrix<f64, N, N> {
+fn random_map<const N: usize>(rng: &mut SplitMix) -> SMatrix<f64, N, N> {
     SMatrix::<f64, N, N>::identity() + rng.mat::<N, N>(0.3)
 }
 
@@ -105,7 +79,7 @@ fn nodes_of<const N: usize>(map: &impl NodeMap<N>, c: &TopCell, count: usize) ->
 
 #[test]
 fn t15_quadratures_are_exact_for_constants_and_affine_integrands() {
-    let mut rng = Rng(15);
+    let mut rng = SplitMix(15);
     const N: usize = 3;
     // ∫_Δ dλ = 1/n!: constant density 1 on the unit CFK simplices of ℤ³.
     let unit = CfkNodes::<N>::new(SMatrix::identity()).expect("identity map");
@@ -169,7 +143,7 @@ fn t15_quadratures_are_exact_for_constants_and_affine_integrands() {
 
 #[test]
 fn t17_vertex_jets_of_affine_data_are_the_affine_gradient() {
-    let mut rng = Rng(17);
+    let mut rng = SplitMix(17);
     const N: usize = 3;
     let mut worst = (0.0_f64, 0.0_f64);
     for trial in 0..50 {
@@ -200,7 +174,7 @@ impl<const N: usize> NodeMap<N> for Fixed<N> {
 
 #[test]
 fn t18_affine_bundle_identities_of_prop_5_20() {
-    let mut rng = Rng(18);
+    let mut rng = SplitMix(18);
     const N: usize = 2;
     let mut worst = 0.0_f64;
     for trial in 0..50 {
@@ -251,12 +225,12 @@ fn t18_affine_bundle_identities_of_prop_5_20() {
 
 #[test]
 fn seed_002_triangle_and_symmetric_rectangle_rules_are_instances() {
-    let mut rng = Rng(2);
+    let mut rng = SplitMix(2);
     let sg = NonlinearWave(SineGordon);
     let (mut tri, mut rect) = (0.0_f64, 0.0_f64);
     let mut rect_5_9 = f64::INFINITY;
     for trial in 0..100 {
-        let (h, k) = (0.05 + rng.next(), 0.05 + rng.next());
+        let (h, k) = (0.05 + rng.uniform(), 0.05 + rng.uniform());
         let (i, j) = ((rng.sym(20.0)) as i64, (rng.sym(20.0)) as i64);
         let y: Vec<SVector<f64, 1>> = (0..4).map(|_| rng.vec(3.0)).collect();
         // (5.8) on ((i,j), (i,j+1), (i+1,j+1)) = CFK simplex (v, σ = (1, 0)) under x = diag(k, h) v.
@@ -304,23 +278,27 @@ fn seed_002_triangle_and_symmetric_rectangle_rules_are_instances() {
 
 // ---------------------------------------------------------------- the rod
 
-fn spd(rng: &mut Rng) -> Matrix3<f64> {
+fn spd(rng: &mut SplitMix) -> Matrix3<f64> {
     let b = rng.mat::<3, 3>(1.0);
     b * b.transpose() + Matrix3::identity() * 0.5
 }
 
-fn rod_parameters(rng: &mut Rng) -> RodParameters {
-    let inertia = Matrix3::from_diagonal(&Vector3::new(0.2 + rng.next(), 0.2 + rng.next(), 0.1 + rng.next()));
-    RodParameters::new(0.5 + rng.next(), inertia, spd(rng), spd(rng), rng.vec(1.0)).expect("valid rod")
+fn rod_parameters(rng: &mut SplitMix) -> RodParameters {
+    let inertia = Matrix3::from_diagonal(&Vector3::new(
+        0.2 + rng.uniform(),
+        0.2 + rng.uniform(),
+        0.1 + rng.uniform(),
+    ));
+    RodParameters::new(0.5 + rng.uniform(), inertia, spd(rng), spd(rng), rng.vec(1.0)).expect("valid rod")
 }
 
 /// Three poses with rotations within `spread` of a random frame.
-fn rod_values(rng: &mut Rng, spread: f64) -> [Pose<f64>; 3] {
+fn rod_values(rng: &mut SplitMix, spread: f64) -> [Pose<f64>; 3] {
     let base = rng.rotation(3.0);
     std::array::from_fn(|_| Pose::new(rng.vec(1.0), base.compose(&rng.rotation(spread))))
 }
 
-fn rod_cell(rng: &mut Rng, index: usize) -> TopCell {
+fn rod_cell(rng: &mut SplitMix, index: usize) -> TopCell {
     cell(index, index % 2, &[rng.sym(10.0) as i64, rng.sym(10.0) as i64])
 }
 
@@ -349,11 +327,11 @@ fn term_size(p: &RodParameters, ds: f64, dt: f64, c: &TopCell, y: &[Pose<f64>; 3
 
 #[test]
 fn t24_rod_jets_of_6_7() {
-    let mut rng = Rng(24);
+    let mut rng = SplitMix(24);
     let mut worst = 0.0_f64;
     let mut rotation_parts_differ = 0.0_f64;
     for trial in 0..40 {
-        let (ds, dt) = (0.1 + rng.next(), 0.1 + rng.next());
+        let (ds, dt) = (0.1 + rng.uniform(), 0.1 + rng.uniform());
         let map = CfkNodes::leapfrog(ds, dt).expect("spacings");
         let c = rod_cell(&mut rng, trial);
         let sigma = if c.shape == 0 { 1.0 } else { -1.0 };
@@ -388,11 +366,11 @@ fn t24_rod_jets_of_6_7() {
 
 #[test]
 fn t25_prop_6_5_equals_the_vertex_rule_on_the_leapfrog_embedding() {
-    let mut rng = Rng(25);
+    let mut rng = SplitMix(25);
     let mut worst = 0.0_f64;
     for trial in 0..200 {
         let p = rod_parameters(&mut rng);
-        let (ds, dt) = (0.05 + rng.next(), 0.05 + rng.next());
+        let (ds, dt) = (0.05 + rng.uniform(), 0.05 + rng.uniform());
         let map = CfkNodes::leapfrog(ds, dt).expect("spacings");
         let c = rod_cell(&mut rng, trial);
         let y = rod_values(&mut rng, 1.2);
@@ -413,11 +391,11 @@ fn t25_prop_6_5_equals_the_vertex_rule_on_the_leapfrog_embedding() {
 
 #[test]
 fn t26_closed_form_gradients_match_the_exact_vertex_gradients() {
-    let mut rng = Rng(26);
+    let mut rng = SplitMix(26);
     let (mut worst, mut fd_worst) = (0.0_f64, 0.0_f64);
     for trial in 0..100 {
         let p = rod_parameters(&mut rng);
-        let (ds, dt) = (0.05 + rng.next(), 0.05 + rng.next());
+        let (ds, dt) = (0.05 + rng.uniform(), 0.05 + rng.uniform());
         let c = rod_cell(&mut rng, trial);
         let y = rod_values(&mut rng, 1.2);
         let density = CosseratDensity {
@@ -455,11 +433,11 @@ fn mixed_blocks_of_the_vertex_rule_match_the_closed_form_cell() {
     // The Jacobian block of a vertex solve (∂/∂y₂ of ∂L/∂y₀) through nested
     // duals and the fibre logarithm, against the closed form's and finite
     // differences of the exact gradient.
-    let mut rng = Rng(27);
+    let mut rng = SplitMix(27);
     let (mut worst, mut fd_worst) = (0.0_f64, 0.0_f64);
     for trial in 0..40 {
         let p = rod_parameters(&mut rng);
-        let (ds, dt) = (0.05 + rng.next(), 0.05 + rng.next());
+        let (ds, dt) = (0.05 + rng.uniform(), 0.05 + rng.uniform());
         let c = rod_cell(&mut rng, trial);
         let y = rod_values(&mut rng, 1.2);
         let density = CosseratDensity::free(p);
@@ -489,11 +467,11 @@ fn mixed_blocks_of_the_vertex_rule_match_the_closed_form_cell() {
 
 #[test]
 fn t19_rigid_motions_leave_the_discrete_rod_lagrangian_invariant() {
-    let mut rng = Rng(19);
+    let mut rng = SplitMix(19);
     let mut worst = [0.0_f64; 3];
     for trial in 0..200 {
         let p = rod_parameters(&mut rng);
-        let (ds, dt) = (0.05 + rng.next(), 0.05 + rng.next());
+        let (ds, dt) = (0.05 + rng.uniform(), 0.05 + rng.uniform());
         let map = CfkNodes::leapfrog(ds, dt).expect("spacings");
         let c = rod_cell(&mut rng, trial);
         let y = rod_values(&mut rng, 1.2);
@@ -518,7 +496,7 @@ fn t19_rigid_motions_leave_the_discrete_rod_lagrangian_invariant() {
 
 #[test]
 fn t19_shift_symmetry_of_the_wave_density() {
-    let mut rng = Rng(190);
+    let mut rng = SplitMix(190);
     let map = CfkNodes::leapfrog(0.4, 0.1).expect("spacings");
     let grid = CubeNodes::grid(Vector2::new(0.4, 0.1)).expect("grid");
     let wave = SpaceTime(NonlinearWave(Wave));
@@ -565,7 +543,7 @@ fn t19_shift_symmetry_of_the_wave_density() {
 
 #[test]
 fn unsuitable_cells_are_named_errors_and_never_panic() {
-    let mut rng = Rng(30);
+    let mut rng = SplitMix(30);
     let p = rod_parameters(&mut rng);
     let density = CosseratDensity::free(p);
     let rod = CosseratCell::new(density, 0.5, 0.1).expect("spacings");
@@ -639,11 +617,11 @@ fn unsuitable_cells_are_named_errors_and_never_panic() {
 fn t27_per_cell_momentum_identities_of_the_free_rod() {
     // Σ_k ∇_{r_k}L_β = 0 and Σ_k (r_k × ∇_{r_k}L_β + R_k ∇_{R_k}L_β) = 0 (note 003 §3.7),
     // for the closed form and for Q_sym (symmetry transfer, Prop. 5.17).
-    let mut rng = Rng(270);
+    let mut rng = SplitMix(270);
     let mut worst = 0.0_f64;
     for trial in 0..100 {
         let p = rod_parameters(&mut rng);
-        let (ds, dt) = (0.05 + rng.next(), 0.05 + rng.next());
+        let (ds, dt) = (0.05 + rng.uniform(), 0.05 + rng.uniform());
         let c = rod_cell(&mut rng, trial);
         let y = rod_values(&mut rng, 1.2);
         let density = CosseratDensity::free(p);
@@ -752,7 +730,7 @@ impl SmoothDensity<veselov::field::fibre::Rotations, 3, 3> for SigmaModel {
 #[test]
 fn rotation_fibre_on_a_three_dimensional_space_time_lattice() {
     use veselov::field::fibre::Rotations;
-    let mut rng = Rng(3);
+    let mut rng = SplitMix(3);
     let map = CfkNodes::<3>::space_time(0.3, 0.1).expect("spacings");
     let dens = SigmaModel(Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 0.5)));
     let (mut invariance, mut fd_worst) = (0.0_f64, 0.0_f64);

@@ -31,3 +31,4 @@ mod field_schemes;
 mod field_section_5_2;
 mod field_sine_gordon;
 mod field_wave;
+mod shared;

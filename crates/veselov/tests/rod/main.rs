@@ -11,3 +11,4 @@ mod rod_fast;
 mod rod_free;
 mod rod_loads;
 mod rod_stability;
+mod sample;

@@ -11,25 +11,14 @@ use veselov::field::complex::TopCell;
 use veselov::field::discretize::{CosseratCell, CosseratDensity, RodLoads, RodParameters};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 use veselov::lie::so3;
-use veselov::models::rod::{
-    CrossSection, EndCondition, Material, RodEnds, RodLattice, Shear, angular_momentum, linear_momentum, load_impulse,
-    rod_parameters,
-};
+use veselov::models::rod::{EndCondition, RodEnds, RodLattice, angular_momentum, linear_momentum, load_impulse};
+
+use crate::sample::unit_rod;
 
 const ROUND_OFF: CauchyOptions = CauchyOptions {
     tolerance: 1e-16,
     max_iterations: 30,
 };
-
-fn parameters(radius: f64) -> RodParameters {
-    let material = Material {
-        density: 1.0,
-        young: 1.0,
-        shear: Shear::Poisson(0.3),
-        shear_coefficient: 0.9,
-    };
-    rod_parameters(&CrossSection::Circle { radius }, &material).expect("valid rod")
-}
 
 type Rod = CauchyMarcher<PositionRotation, CosseratCell, 6>;
 
@@ -75,7 +64,7 @@ fn max_rel(a: &Vector3<f64>, b: &Vector3<f64>, scale: f64) -> f64 {
 #[test]
 fn momentum_changes_by_the_impulse_of_damping_and_end_loads() {
     let lattice = RodLattice::new(21, 1.0, 0.04).expect("lattice");
-    let lag = CosseratCell::new(CosseratDensity::free(parameters(0.1)), lattice.ds(), lattice.dt())
+    let lag = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
         .expect("spacings")
         .with_loads(loads(20))
         .expect("loads");
@@ -112,7 +101,7 @@ fn momentum_changes_by_the_impulse_of_damping_and_end_loads() {
 fn split_step_with_loads_and_a_clamp_matches_the_generic_newton() {
     let lattice = RodLattice::new(15, 1.0, 0.04).expect("lattice");
     let cell = |analytic| {
-        CosseratCell::new(CosseratDensity::free(parameters(0.1)), lattice.ds(), lattice.dt())
+        CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
             .expect("spacings")
             .with_analytic_gradients(analytic)
             .with_loads(loads(14))
@@ -161,7 +150,7 @@ fn split_step_with_loads_and_a_clamp_matches_the_generic_newton() {
 #[test]
 fn cell_forces_are_the_cell_force_at_each_position() {
     let lattice = RodLattice::new(21, 1.0, 0.04).expect("lattice");
-    let lag = CosseratCell::new(CosseratDensity::free(parameters(0.1)), lattice.ds(), lattice.dt())
+    let lag = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
         .expect("spacings")
         .with_loads(loads(20))
         .expect("loads");
@@ -220,7 +209,7 @@ fn cell_forces_are_the_cell_force_at_each_position() {
 #[test]
 fn a_loaded_march_rebuilt_from_its_values_continues_bit_for_bit() {
     let lattice = RodLattice::new(21, 1.0, 0.04).expect("lattice");
-    let lag = CosseratCell::new(CosseratDensity::free(parameters(0.1)), lattice.ds(), lattice.dt())
+    let lag = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
         .expect("spacings")
         .with_loads(loads(20))
         .expect("loads");
@@ -281,7 +270,7 @@ fn cantilever(nodes: usize) -> (f64, f64, f64) {
 fn tapered_cantilever(nodes: usize, taper: f64) -> (f64, f64, f64) {
     let (length, radius) = (1.0_f64, 0.1);
     let radius_at = |s: f64| radius * (1.0 - taper * s / length);
-    let p = parameters(radius);
+    let p = unit_rod(radius);
     let (rho_a, ei, kga) = (p.rho(), p.c2()[(0, 0)], p.c1()[(0, 0)]);
     let omega1 = 1.875_104_f64.powi(2) * (ei / (rho_a * length.powi(4))).sqrt();
     let probe = RodLattice::new(nodes, length, 1.0).expect("lattice");
@@ -305,7 +294,7 @@ fn tapered_cantilever(nodes: usize, taper: f64) -> (f64, f64, f64) {
         .expect("loads");
     if taper > 0.0 {
         let profile = (0..nodes)
-            .map(|k| parameters(radius_at(length * k as f64 / (nodes - 1) as f64)))
+            .map(|k| unit_rod(radius_at(length * k as f64 / (nodes - 1) as f64)))
             .collect();
         lag = lag.with_profile(profile).expect("profile");
     }
@@ -340,7 +329,7 @@ fn tapered_cantilever(nodes: usize, taper: f64) -> (f64, f64, f64) {
         let intervals = 4000;
         let h = length / intervals as f64;
         let integrand = |s: f64| {
-            let q = parameters(radius_at(s));
+            let q = unit_rod(radius_at(s));
             (length - s).powi(2) / q.c2()[(0, 0)] + 1.0 / q.c1()[(0, 0)]
         };
         let simpson: f64 = (0..=intervals)
@@ -439,13 +428,10 @@ fn cantilever_deflection_converges_to_timoshenko_under_refinement() {
 #[test]
 fn profiled_cells_take_their_base_points_parameters() {
     let (nodes, ds, dt) = (9usize, 0.25, 0.01);
-    let profile: Vec<RodParameters> = (0..nodes).map(|k| parameters(0.1 + 0.01 * k as f64)).collect();
-    let plain = CosseratCell::new(CosseratDensity::free(parameters(0.1)), ds, dt).expect("spacings");
+    let profile: Vec<RodParameters> = (0..nodes).map(|k| unit_rod(0.1 + 0.01 * k as f64)).collect();
+    let plain = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), ds, dt).expect("spacings");
     let profiled = plain.clone().with_profile(profile).expect("profile");
-    let same = plain
-        .clone()
-        .with_profile(vec![parameters(0.1); nodes])
-        .expect("profile");
+    let same = plain.clone().with_profile(vec![unit_rod(0.1); nodes]).expect("profile");
     let reference = profiled.clone().with_analytic_gradients(false);
     let pose = |x: f64, w: [f64; 3]| Pose::new(Vector3::new(x, 0.1 * x * x, 0.2 - x), so3::exp(&Vector3::from(w)));
     let y = [

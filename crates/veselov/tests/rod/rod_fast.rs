@@ -4,39 +4,17 @@
 //! then a 3-D rotation Newton) replaces the generic 6-D Newton; the AD path
 //! with the generic Newton stays selectable and is the reference.
 
-use nalgebra::{SVector, Vector3};
+use nalgebra::SVector;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
-use veselov::field::discretize::{CosseratCell, CosseratDensity, RodParameters};
-use veselov::field::fibre::{Fibre, Pose, PositionRotation};
-use veselov::lie::so3;
-use veselov::models::rod::{CrossSection, Material, RodLattice, Shear, rod_parameters};
+use veselov::field::discretize::{CosseratCell, CosseratDensity};
+use veselov::field::fibre::{Fibre, PositionRotation};
+use veselov::models::rod::RodLattice;
 
-fn parameters() -> RodParameters {
-    let material = Material {
-        density: 1.0,
-        young: 1.0,
-        shear: Shear::Poisson(0.3),
-        shear_coefficient: 0.9,
-    };
-    rod_parameters(&CrossSection::Circle { radius: 0.1 }, &material).expect("valid rod")
-}
-
-/// A tumbling, translating rod with a bending wave.
-fn motion(length: f64) -> impl Fn(f64, f64) -> Pose<f64> {
-    move |s, t| {
-        let k = std::f64::consts::PI / length;
-        let spin = so3::exp(&(Vector3::new(0.3, -0.2, 0.5) * t));
-        let bend = 0.05 * (k * s).sin() * (1.0 + 0.5 * (3.0 * t).cos());
-        let slope = 0.05 * k * (k * s).cos() * (1.0 + 0.5 * (3.0 * t).cos());
-        let local = Vector3::new(bend, 0.02 * (2.0 * k * s).sin() * t, s * (1.0 + 0.01 * t));
-        let frame = spin.compose(&so3::exp(&Vector3::new(0.0, slope, 0.1 * s * t)));
-        Pose::new(spin.act(&local) + Vector3::new(0.1, 0.2, -0.3) * t, frame)
-    }
-}
+use crate::sample::{tumbling, unit_rod};
 
 fn cell(lattice: &RodLattice, analytic: bool) -> CosseratCell {
-    CosseratCell::new(CosseratDensity::free(parameters()), lattice.ds(), lattice.dt())
+    CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
         .expect("spacings")
         .with_analytic_gradients(analytic)
 }
@@ -51,7 +29,7 @@ const ROUND_OFF: CauchyOptions = CauchyOptions {
 };
 
 fn march(lag: CosseratCell, lattice: &RodLattice) -> CauchyMarcher<PositionRotation, CosseratCell, 6> {
-    let data = lattice.cauchy_data(motion(lattice.length()));
+    let data = lattice.cauchy_data(tumbling(lattice.length()));
     CauchyMarcher::with_window(lag, lattice.torus().clone(), 0, &data, ROUND_OFF, lattice.window()).expect("marcher")
 }
 

@@ -6,45 +6,18 @@ use nalgebra::{SVector, Vector3};
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
 use veselov::field::complex::{TopCell, permutation};
-use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, RodParameters, VertexRule};
+use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, VertexRule};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
-use veselov::lie::so3;
-use veselov::models::rod::{
-    CrossSection, Material, RodLattice, Shear, angular_momentum, linear_momentum, rod_parameters,
-};
+use veselov::models::rod::{RodLattice, angular_momentum, linear_momentum};
 
+use crate::sample::{tumbling, unit_rod};
 use crate::threads;
 use threads::on_threads;
-
-/// A slender steel-like rod in units with E/ρ = 1 (fastest wave speed 1).
-fn parameters() -> RodParameters {
-    let material = Material {
-        density: 1.0,
-        young: 1.0,
-        shear: Shear::Poisson(0.3),
-        shear_coefficient: 0.9,
-    };
-    rod_parameters(&CrossSection::Circle { radius: 0.1 }, &material).expect("valid rod")
-}
-
-/// A tumbling, vibrating motion: a slightly bent rod along e₃, spinning about
-/// an oblique axis and translating, with a bending wave.
-fn motion(length: f64) -> impl Fn(f64, f64) -> Pose<f64> {
-    move |s, t| {
-        let k = std::f64::consts::PI / length;
-        let spin = so3::exp(&(Vector3::new(0.3, -0.2, 0.5) * t));
-        let bend = 0.05 * (k * s).sin() * (1.0 + 0.5 * (3.0 * t).cos());
-        let slope = 0.05 * k * (k * s).cos() * (1.0 + 0.5 * (3.0 * t).cos());
-        let local = Vector3::new(bend, 0.02 * (2.0 * k * s).sin() * t, s * (1.0 + 0.01 * t));
-        let frame = spin.compose(&so3::exp(&Vector3::new(0.0, slope, 0.1 * s * t)));
-        Pose::new(spin.act(&local) + Vector3::new(0.1, 0.2, -0.3) * t, frame)
-    }
-}
 
 type Rod<L> = CauchyMarcher<PositionRotation, L, 6>;
 
 fn rod_march<L: DiscreteLagrangian<PositionRotation, 6>>(lag: L, lattice: &RodLattice) -> Rod<L> {
-    let data = lattice.cauchy_data(motion(lattice.length()));
+    let data = lattice.cauchy_data(tumbling(lattice.length()));
     CauchyMarcher::with_window(
         lag,
         lattice.torus().clone(),
@@ -64,7 +37,7 @@ fn rod_march<L: DiscreteLagrangian<PositionRotation, 6>>(lag: L, lattice: &RodLa
 }
 
 fn closed_form(lattice: &RodLattice) -> CosseratCell {
-    CosseratCell::new(CosseratDensity::free(parameters()), lattice.ds(), lattice.dt()).expect("spacings")
+    CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt()).expect("spacings")
 }
 
 fn rel(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
@@ -90,7 +63,7 @@ fn free_rod_conserves_linear_and_angular_momentum() {
     // An independent reference: ∫ρ∂_t r ds of the sampled motion at
     // t = Δt/2 (Simpson in s, central differences in t); the lattice
     // momentum approximates it to O(Δs + Δt).
-    let (f, h, n) = (motion(lattice.length()), 1e-5, 200);
+    let (f, h, n) = (tumbling(lattice.length()), 1e-5, 200);
     let t = 0.5 * lattice.dt();
     let continuum: Vector3<f64> = (0..=n)
         .map(|k| {
@@ -105,7 +78,7 @@ fn free_rod_conserves_linear_and_angular_momentum() {
             (f(s, t + h).position - f(s, t - h).position) / (2.0 * h) * w
         })
         .sum::<Vector3<f64>>()
-        * (parameters().rho() * lattice.length() / (3.0 * n as f64));
+        * (unit_rod(0.1).rho() * lattice.length() / (3.0 * n as f64));
     println!(
         "free rod, 160 levels: P = {p0:?} (∫ρ∂_t r ds = {continuum:?}), max rel drift P {dp:.1e}, L {dl:.1e}, \
          Newton iterations per vertex {:.2}",
@@ -213,7 +186,7 @@ fn generic_discretisation_marches_the_same_rod_and_q_sym_conserves_momentum() {
     // (6.1) marches the same field as Prop. 6.5 to round-off; the symmetric
     // rule Q_sym is another exactly symmetric discretisation.
     let lattice = RodLattice::new(9, 1.0, 0.05).expect("lattice");
-    let density = CosseratDensity::free(parameters());
+    let density = CosseratDensity::free(unit_rod(0.1));
     let nodes = CfkNodes::leapfrog(lattice.ds(), lattice.dt()).expect("spacings");
     let mut closed = rod_march(closed_form(&lattice), &lattice);
     let mut generic = rod_march(VertexRule::at_vertex(density, nodes, 0).expect("u = 0"), &lattice);

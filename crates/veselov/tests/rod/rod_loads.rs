@@ -12,19 +12,13 @@ use veselov::field::complex::permutation;
 use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential};
 use veselov::field::fibre::Pose;
 use veselov::lie::so3;
-use veselov::models::rod::{
-    CrossSection, Material, RodLattice, Shear, angular_momentum, linear_momentum, momenta, rod_parameters,
-};
+use veselov::models::rod::{RodLattice, angular_momentum, linear_momentum, momenta};
+
+use crate::sample::unit_rod;
 
 #[test]
 fn momentum_changes_by_the_impulse_of_the_load() {
-    let material = Material {
-        density: 1.0,
-        young: 1.0,
-        shear: Shear::Poisson(0.3),
-        shear_coefficient: 0.9,
-    };
-    let p = rod_parameters(&CrossSection::Circle { radius: 0.1 }, &material).expect("valid rod");
+    let p = unit_rod(0.1);
     let lattice = RodLattice::new(21, 1.0, 0.04).expect("lattice");
     // Gravity g: the potential energy per length is −ρA g·r and enters (6.1)
     // as −½P, so P = −2ρA g·r.
