@@ -20,7 +20,7 @@
 //! used belong to increments that solve the stage equations below round-off)
 //! or when the update stops shrinking at a small size. Kepler e = 0.6 at
 //! h = 2π/1000 takes 4.3, 5.4 and 7.0 ∇V evaluations per step for Gauss
-//! s = 2, 4, 6 (test `separable_start.rs`). If the iteration fails to
+//! s = 2, 4, 6 (`tests/mechanics/separable_start.rs`). If the iteration fails to
 //! contract, the step falls back to the exact-Newton [`GalerkinIntegrator`]
 //! and the step is flagged.
 
