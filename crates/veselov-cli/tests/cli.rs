@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{assert_mentions, csv, run, scenario, succeeds, summary, temp_dir, veselov, workspace_root};
+use common::{Scratch, assert_mentions, csv, run, scenario, succeeds, summary, veselov, workspace_root};
 
 /// Replace the `[time]` table of an example with a short horizon.
 /// The example `examples/<name>.toml` cut to `steps` steps, written into `dir`.
@@ -154,7 +154,7 @@ fn every_example_runs() {
             .and_then(|s| s.to_str())
             .unwrap_or("example")
             .to_string();
-        let dir = temp_dir(&format!("example-{name}"));
+        let dir = Scratch::new(&format!("example-{name}"));
         let original = std::fs::read_to_string(&path).expect("read example");
         if original.contains("[lattice]") {
             check_field_example(&name, &original, &dir);
@@ -211,7 +211,7 @@ fn every_example_runs() {
 
 #[test]
 fn run_writes_npy_json_and_momentum_columns() {
-    let dir = temp_dir("kepler-npy");
+    let dir = Scratch::new("kepler-npy");
     let file = example_scenario(&dir, "kepler", 100);
     let out = dir.join("out");
     veselov()
@@ -256,7 +256,7 @@ fn run_writes_npy_json_and_momentum_columns() {
 
 #[test]
 fn custom_kepler_matches_built_in_kepler() {
-    let dir = temp_dir("custom-vs-builtin");
+    let dir = Scratch::new("custom-vs-builtin");
     let common = "[method]\nname = \"galerkin-gauss\"\nstages = 3\ndt = 0.02\n[time]\nsteps = 300\n\
                   [initial]\nq = [0.4, 0.0]\np = [0.0, 1.8708286933869707]\n";
     let builtin = scenario(
@@ -310,7 +310,7 @@ fn custom_kepler_matches_built_in_kepler() {
 
 /// Run a scenario that must fail, returning stderr.
 fn failing(name: &str, text: &str) -> String {
-    let dir = temp_dir(name);
+    let dir = Scratch::new(name);
     let file = scenario(&dir, text);
     let out = veselov()
         .args(["run", "--quiet", "--out"])
@@ -371,7 +371,7 @@ fn bad_input_gives_one_clear_message() {
 
 #[test]
 fn unwritable_or_non_empty_output_directory_is_refused() {
-    let dir = temp_dir("outdir");
+    let dir = Scratch::new("outdir");
     let file = scenario(&dir, KEPLER);
     // A path below a regular file cannot be created.
     std::fs::write(dir.join("blocker"), "x").expect("write");
@@ -449,7 +449,7 @@ fn every_file_a_run_writes_is_a_known_output() {
             }
         }
     }
-    let dir = temp_dir("known-verify");
+    let dir = Scratch::new("known-verify");
     let file = scenario(&dir, &short("harmonic.toml", "steps", "50"));
     let out = dir.join("verify");
     succeeds(
@@ -471,7 +471,7 @@ fn every_file_a_run_writes_is_a_known_output() {
 /// for the new run's.
 #[test]
 fn force_removes_the_outputs_of_an_earlier_run() {
-    let dir = temp_dir("force-kinds");
+    let dir = Scratch::new("force-kinds");
     let rod = scenario(
         &dir,
         &common::set(&common::example("rod_free_tumbling.toml"), "t_end", "0.05"),
@@ -504,7 +504,7 @@ fn failure_mid_run_keeps_partial_results() {
     // L = ½ẋ² + √(1 − x²): leaves the domain |x| < 1 after a few steps.
     let text = "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2 + sqrt(1 - x^2)\"\n\
                 [method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 200\n[initial]\nq = [0.0]\np = [2.0]\n";
-    let dir = temp_dir("midway");
+    let dir = Scratch::new("midway");
     let file = scenario(&dir, text);
     let out = dir.join("out");
     let res = veselov()
@@ -559,7 +559,7 @@ fn listing_commands_describe_models_and_methods() {
 
 #[test]
 fn verify_measures_the_order() {
-    let dir = temp_dir("verify");
+    let dir = Scratch::new("verify");
     let text = "[model]\nname = \"pendulum\"\n[method]\nname = \"galerkin-gauss\"\nstages = 2\ndt = 0.1\n[time]\nt_end = 2.0\n";
     let file = scenario(&dir, text);
     let out = dir.join("v");
@@ -602,7 +602,7 @@ fn verify_measures_the_order() {
 /// adjusted to land on t_end, with the order reached and the range printed.
 #[test]
 fn verify_runs_the_kepler_example_as_documented() {
-    let dir = temp_dir("verify-kepler");
+    let dir = Scratch::new("verify-kepler");
     let out = dir.join("v");
     let stdout = succeeds(
         veselov()
@@ -628,7 +628,7 @@ fn verify_runs_the_kepler_example_as_documented() {
 /// orbit (a local rate near 6 for a fourth-order method).
 #[test]
 fn verify_warns_when_the_steps_are_not_asymptotic() {
-    let dir = temp_dir("verify-coarse");
+    let dir = Scratch::new("verify-coarse");
     let out = dir.join("top");
     let stdout = succeeds(
         veselov()
@@ -659,7 +659,7 @@ fn verify_warns_when_the_steps_are_not_asymptotic() {
 
 #[test]
 fn verify_measures_the_order_of_the_lie_group_integrator() {
-    let dir = temp_dir("rigid-verify");
+    let dir = Scratch::new("rigid-verify");
     let path = scenario(
         &dir,
         "[model]\nname = \"heavy-top\"\n[method]\nretraction = \"exp\"\ndt = 0.01\n\
@@ -680,7 +680,7 @@ fn verify_measures_the_order_of_the_lie_group_integrator() {
 
 #[test]
 fn lattice_field_run_reports_energy_and_charges() {
-    let dir = temp_dir("field-wave");
+    let dir = Scratch::new("field-wave");
     let out = dir.join("out");
     let path = scenario(
         &dir,
@@ -718,7 +718,7 @@ fn lattice_field_run_reports_energy_and_charges() {
 
 #[test]
 fn lattice_field_errors_name_the_key() {
-    let dir = temp_dir("field-errors");
+    let dir = Scratch::new("field-errors");
     let base = |lattice: &str, method: &str, initial: &str| {
         format!(
             "[model]\nname = \"sine-gordon\"\n[lattice]\n{lattice}\n[method]\n{method}\n[initial]\n{initial}\n\
@@ -802,7 +802,7 @@ fn lattice_field_errors_name_the_key() {
 
 #[test]
 fn generic_lattice_paths_complex_field_and_fixed_ends() {
-    let dir = temp_dir("field-generic");
+    let dir = Scratch::new("field-generic");
     let out = dir.join("complex");
     let path = scenario(
         &dir,
@@ -891,7 +891,7 @@ fn relative_energy_error_is_stated(s: &serde_json::Value) {
 
 #[test]
 fn cfk_lattice_fields_run_and_conserve_their_momenta() {
-    let dir = temp_dir("cfk");
+    let dir = Scratch::new("cfk");
     let text = |model: &str, initial: &str, dt: f64| {
         format!(
             "[model]\nname = \"{model}\"\n[lattice]\nkind = \"cfk\"\nspace_dimension = 2\nnodes = [12, 10]\n\
@@ -950,7 +950,7 @@ fn method_key_is_spelled_name_or_scheme_in_every_kind() {
     for (file, from, to) in cases {
         let original = std::fs::read_to_string(workspace_root().join("examples").join(file)).expect("example");
         assert!(original.contains(from), "{file} spells {from}");
-        let dir = temp_dir(&format!("spelling-{file}"));
+        let dir = Scratch::new(&format!("spelling-{file}"));
         let text = original.replacen(from, to, 1);
         let text = if original.contains("[lattice]") {
             text.replace("t_end = ", "t_end = 1.0 #")
@@ -972,7 +972,7 @@ fn method_key_is_spelled_name_or_scheme_in_every_kind() {
 /// dissipated energy as an "error"; a conservative run keeps its energy error.
 #[test]
 fn forced_runs_report_the_energy_balance() {
-    let dir = temp_dir("forced-headline");
+    let dir = Scratch::new("forced-headline");
     let file = example_scenario(&dir, "damped_kepler", 2000);
     let out = dir.join("out");
     let said = succeeds(veselov().args(["run", "--out"]).arg(&out).arg(&file));
@@ -1027,7 +1027,7 @@ fn expression_language_is_documented_and_helpful() {
     let ok = "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\n\
               lagrangian = \"0.5*x_dot^2 + cos(x) - 0*pi*e\"\n[method]\nname = \"midpoint\"\ndt = 0.01\n\
               [time]\nsteps = 10\n[initial]\nq = [1.0]\np = [0.0]\n";
-    let dir = temp_dir("expressions");
+    let dir = Scratch::new("expressions");
     let file = scenario(&dir, ok);
     veselov()
         .args(["run", "--quiet", "--out"])
@@ -1057,7 +1057,7 @@ fn declared_symmetries_are_checked() {
              [method]\nname = \"midpoint\"\ndt = 0.01\n[time]\nsteps = 200\n[initial]\nq = [1.0, 0.0]\nv = [0.0, 1.0]\n"
         )
     };
-    let dir = temp_dir("symmetry-check");
+    let dir = Scratch::new("symmetry-check");
     let file = scenario(&dir, &model("[\"-y\", \"x\"]"));
     let out = dir.join("out");
     veselov()
@@ -1081,7 +1081,7 @@ fn declared_symmetries_are_checked() {
 /// `dt = 0.01` is one step of 0.001 (it used to integrate to 0.01).
 #[test]
 fn fixed_step_runs_land_on_t_end() {
-    let dir = temp_dir("land-on-t-end");
+    let dir = Scratch::new("land-on-t-end");
     for (t_end, dt, steps) in [(0.001, 0.01, 1), (1.0, 0.3, 3), (1.0, 0.1, 10)] {
         let text = format!(
             "[model]\nname = \"pendulum\"\n[method]\nname = \"midpoint\"\ndt = {dt}\n[time]\nt_end = {t_end}\n\
@@ -1108,7 +1108,7 @@ fn fixed_step_runs_land_on_t_end() {
 /// was computed is kept), and values out of range are refused naming the key.
 #[test]
 fn newton_controls_reach_the_iteration() {
-    let dir = temp_dir("newton-controls");
+    let dir = Scratch::new("newton-controls");
     let base = "[model]\nname = \"double-pendulum\"\n[method]\nname = \"galerkin-gauss\"\nstages = 2\ndt = 0.01\n";
     let rest = "[time]\nsteps = 100\n[initial]\nq = [0.5, -0.5]\np = [0.0, 0.0]\n";
     let run = |extra: &str, name: &str| {
@@ -1145,7 +1145,7 @@ fn newton_controls_reach_the_iteration() {
 /// drawn on a linear scale with a title that says so, not as an empty log plot.
 #[test]
 fn exactly_conserved_momentum_is_plotted_visibly() {
-    let dir = temp_dir("exact-momentum");
+    let dir = Scratch::new("exact-momentum");
     let text = "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2\"\n\
                 symmetries = { translation = [\"1\"] }\n[method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 20\n\
                 [initial]\nq = [0.0]\np = [0.75]\n";
@@ -1167,7 +1167,7 @@ fn exactly_conserved_momentum_is_plotted_visibly() {
 /// are refused naming the key, before any output directory is made.
 #[test]
 fn output_at_chosen_times() {
-    let dir = temp_dir("output-times");
+    let dir = Scratch::new("output-times");
     let base = "[model]\nname = \"pendulum\"\n[method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nt_end = 1.0\n\
                 [initial]\nq = [1.0]\np = [0.0]\n[output]\n";
     let file = scenario(&dir, &format!("{base}times = [0.5, 0.25, 0.7]\n"));
@@ -1376,7 +1376,7 @@ fn custom_models_beyond_six_coordinates_refuse_what_they_cannot_do() {
         oscillator_and_chain(65, ""),
         &["model.coordinates", "between 1 and 64"],
     );
-    let dir = temp_dir("dyn-verify");
+    let dir = Scratch::new("dyn-verify");
     let file = scenario(&dir, &base);
     let o = veselov()
         .args(["verify", "--quiet", "--dt", "0.1,0.05"])
@@ -1448,7 +1448,7 @@ fn verify_works_on_every_shipped_mechanics_example() {
             .and_then(|s| s.to_str())
             .unwrap_or("example")
             .to_string();
-        let out = temp_dir(&format!("verify-all-{name}")).at("v");
+        let out = Scratch::new(&format!("verify-all-{name}")).at("v");
         succeeds(
             veselov()
                 .args(["verify", "--quiet", "--dt", &format!("{dt},{}", dt / 2.0), "--out"])

@@ -18,6 +18,9 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+mod common;
+use common::Scratch;
+
 /// xorshift64*: a seeded generator without dependencies.
 struct Rng(u64);
 
@@ -202,8 +205,7 @@ fn run_case(work: &Path, text: &str, limit: f64) -> Result<&'static str, String>
 }
 
 fn fuzz(cases: usize, seed: u64, limit: f64) {
-    let work = std::env::temp_dir().join(format!("veselov-fuzz-{}-{seed}", std::process::id()));
-    std::fs::create_dir_all(&work).expect("work dir");
+    let work = Scratch::new(&format!("fuzz-{seed}"));
     let examples = examples();
     let mut rng = Rng(seed | 1);
     let mut counts = std::collections::BTreeMap::new();
@@ -219,7 +221,6 @@ fn fuzz(cases: usize, seed: u64, limit: f64) {
             Err(why) => failures.push(format!("case {case} ({name}):\n{mutated}\n=> {why}")),
         }
     }
-    std::fs::remove_dir_all(&work).ok();
     eprintln!(
         "fuzz: {cases} cases, seed {seed}: {counts:?}, {} forbidden",
         failures.len()

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use veselov_cli::output::Table;
 
 mod common;
-use common::{summary, temp_dir};
+use common::{Scratch, summary};
 
 fn binary() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_veselov"))
@@ -56,7 +56,7 @@ const TRAJECTORY: Files = Files {
 /// Run `text` to the end in one go, and again killed with SIGTERM once
 /// the watched file holds rows, then resumed; compare.
 fn interrupt_and_resume(name: &str, text: &str, files: &Files) {
-    let dir = temp_dir(name);
+    let dir = Scratch::new(name);
     let file = dir.join("scenario.toml");
     std::fs::write(&file, text).expect("scenario");
     let whole = dir.join("whole");

@@ -5,7 +5,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 mod common;
-use common::{example, scenario, set, succeeds, temp_dir, veselov};
+use common::{Scratch, example, scenario, set, succeeds, veselov};
 
 /// The figure files in `dir`, by name.
 fn figures(dir: &Path) -> BTreeSet<String> {
@@ -98,7 +98,7 @@ fn plot_redraws_every_kind_of_run() {
         ),
     ];
     for (name, settings, expected) in cases {
-        let dir = temp_dir(&format!("plot-{name}"));
+        let dir = Scratch::new(&format!("plot-{name}"));
         let mut text = example(&format!("{name}.toml"));
         for (key, value) in *settings {
             text = set(&text, key, value);
@@ -116,7 +116,7 @@ fn plot_redraws_every_kind_of_run() {
 
 #[test]
 fn plot_redraws_a_verify_study() {
-    let dir = temp_dir("plot-verify");
+    let dir = Scratch::new("plot-verify");
     let out = dir.join("study");
     let file = scenario(&dir, &set(&example("harmonic.toml"), "t_end", "1.0"));
     succeeds(
@@ -130,7 +130,7 @@ fn plot_redraws_a_verify_study() {
 
 #[test]
 fn plot_refuses_what_is_not_a_run() {
-    let dir = temp_dir("plot-nothing");
+    let dir = Scratch::new("plot-nothing");
     let o = veselov().arg("plot").arg(&dir).output().expect("plot");
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("nothing to plot"));

@@ -15,11 +15,6 @@ pub fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// A fresh, empty temporary directory for one test (see [`Scratch`]).
-pub fn temp_dir(name: &str) -> Scratch {
-    Scratch::new(name)
-}
-
 /// The `veselov` binary.
 pub fn veselov() -> Command {
     Command::cargo_bin("veselov").expect("binary built")
@@ -75,7 +70,7 @@ pub fn set(text: &str, key: &str, value: &str) -> String {
 /// Run the scenario `text` quietly in a fresh directory `name`; returns
 /// (success, stderr, output directory).
 pub fn run(name: &str, text: &str) -> (bool, String, Scratch) {
-    let dir = temp_dir(name);
+    let dir = Scratch::new(name);
     let file = scenario(&dir, text);
     let out = dir.at("out");
     let o = veselov()

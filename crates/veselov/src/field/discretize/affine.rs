@@ -295,9 +295,10 @@ where
     /// potentials differentiated in one batch per Newton round, their sums
     /// side by side), each with the bits of its own solve: for a density
     /// with a diagonal jet metric, the stars of up to four vertices
-    /// (`METRIC_LANES`) by `solve_metric_stars`; `solve_star` solves a single vertex of such a
-    /// density through this method. `false` (one vertex at a time) without
-    /// the chain rule or a diagonal jet metric, for N > 4 or more lanes.
+    /// (`METRIC_LANES`) by `solve_metric_stars`; `solve_star` solves a
+    /// single vertex of such a density through this method. `false` (one
+    /// vertex at a time) without the chain rule or a diagonal jet metric,
+    /// for N > 4 or more lanes.
     fn solve_last_vertices<S>(
         &self,
         star: &S,
