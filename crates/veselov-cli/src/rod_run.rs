@@ -99,9 +99,11 @@ impl RodObserver<'_> {
         [p[0], p[1], p[2], l[0], l[1], l[2]]
     }
 
-    /// The impulse of the loads and of gravity on the level just solved.
-    fn level_impulse<L: DiscreteLagrangian<PositionRotation, 6>>(&self, m: &Rod<L>) -> [f64; 6] {
-        let (mut f, mut tau) = load_impulse(m);
+    /// The impulse of the loads and of gravity on the level just solved
+    /// (`None` before the marcher's first step since it was built or
+    /// restored, see [`load_impulse`]).
+    fn level_impulse<L: DiscreteLagrangian<PositionRotation, 6>>(&self, m: &Rod<L>) -> Option<[f64; 6]> {
+        let (mut f, mut tau) = load_impulse(m)?;
         let g = self.setup.gravity;
         if g != Vector3::zeros() {
             // P = −2ρA g·r enters at v₀ only: Σ_k ∇_{r_k}L_β = (ΔsΔt/4)ρA g
@@ -123,7 +125,7 @@ impl RodObserver<'_> {
                 }
             });
         }
-        [f[0], f[1], f[2], tau[0], tau[1], tau[2]]
+        Some([f[0], f[1], f[2], tau[0], tau[1], tau[2]])
     }
 
     /// Centreline and frames at the cut (level c: the points of level c as
@@ -253,9 +255,11 @@ fn midpoint(a: &Pose<f64>, b: &Pose<f64>) -> Result<Pose<f64>, veselov::Error> {
 impl<L: DiscreteLagrangian<PositionRotation, 6>> Observer<Rod<L>> for RodObserver<'_> {
     fn observe(&mut self, step: u64, state: &Rod<L>, stats: &StepStats) -> Control {
         self.el_residual_max = self.el_residual_max.max(stats.max_relative_residual);
-        let i = self.level_impulse(state);
-        for (s, x) in self.impulse.iter_mut().zip(i) {
-            *s += x;
+        // Observed after a step, so the level's impulse is always known.
+        if let Some(i) = self.level_impulse(state) {
+            for (s, x) in self.impulse.iter_mut().zip(i) {
+                *s += x;
+            }
         }
         let recorded = if step.is_multiple_of(self.every_levels) {
             self.record(state, run_time(state, self.setup.dt))

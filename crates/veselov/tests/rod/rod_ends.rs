@@ -76,7 +76,7 @@ fn momentum_changes_by_the_impulse_of_damping_and_end_loads() {
         let (p0, l0) = (linear_momentum(&m), angular_momentum(&m));
         m.step().expect("stable step");
         let (p1, l1) = (linear_momentum(&m), angular_momentum(&m));
-        let (ip, il) = load_impulse(&m);
+        let (ip, il) = load_impulse(&m).expect("defined after a step");
         impulse_p += ip;
         impulse_l += il;
         // Round-off relative to the size of the momenta and impulses.

@@ -44,6 +44,8 @@ where
             });
         }
         self.level = level as i64;
+        self.start_level = self.level;
+        self.forces_level = None;
         let n = self.torus.dimension() as i64;
         let size = self.torus.level_size();
         let mut c = [0.0; 16];

@@ -144,6 +144,10 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     /// The level whose vertex forces `results` hold (the last level solved
     /// in full), if any.
     forces_level: Option<i64>,
+    /// The level at which the marcher was built or restored: the forces of
+    /// the cells based below it are not stored, so a level impulse is
+    /// defined from the level after it on ([`level_impulses`](Self::level_impulses)).
+    start_level: i64,
     /// Wall time per vertex of the last level solved on one thread (ns;
     /// `None` before the first), which sizes the parallel chunks
     /// ([`CHUNK_WORK_NS`]).
@@ -317,6 +321,7 @@ where
                 size
             ],
             forces_level: None,
+            start_level: first_level + n as i64,
             vertex_ns: None,
             lag,
             torus,

@@ -173,9 +173,11 @@ where
     /// momentum balance of the Lagrange–d'Alembert principle. Zero without
     /// forces. Defined after a step: the cells through level c are then all
     /// known (Σ_β F_β at each vertex is taken while the level is solved, on
-    /// the solving threads).
-    pub fn level_impulse(&self, generator: impl Fn(&F::Point<f64>) -> SVector<f64, M>) -> f64 {
-        self.level_impulses(|y| [generator(y)])[0]
+    /// the solving threads). `None` before the first step since the marcher
+    /// was built or restored from a checkpoint: the forces of the cells
+    /// based at c − n, below the stored levels, are then not known.
+    pub fn level_impulse(&self, generator: impl Fn(&F::Point<f64>) -> SVector<f64, M>) -> Option<f64> {
+        self.level_impulses(|y| [generator(y)]).map(|[i]| i)
     }
 
     /// Σ_β F^{l(v)}_β over the cells β through the vertex v = (c, i), from
@@ -207,10 +209,13 @@ where
     pub fn level_impulses<const K: usize>(
         &self,
         generators: impl Fn(&F::Point<f64>) -> [SVector<f64, M>; K],
-    ) -> [f64; K] {
+    ) -> Option<[f64; K]> {
+        if self.level <= self.start_level {
+            return None;
+        }
         let mut sum = [0.0; K];
         if !self.lag.has_forces() {
-            return sum;
+            return Some(sum);
         }
         let stride = self.stride();
         let c = self.level - 1;
@@ -232,7 +237,7 @@ where
                 *s += force.dot(dk);
             }
         }
-        sum
+        Some(sum)
     }
 }
 
@@ -246,12 +251,10 @@ mod tests {
     use crate::lie::so3;
     use crate::models::rod::{CrossSection, Material, RodLattice, Shear, load_impulse, rod_parameters};
 
-    /// The level impulse from the vertex forces taken while the level was
-    /// solved equals, bit for bit, the one summed again from the stored
-    /// forces (the path after a failed step), on a damped, end-loaded rod
-    /// with a window, level after level.
-    #[test]
-    fn level_impulses_from_the_solve_equal_those_from_the_stored_forces() {
+    type LoadedRod = CauchyMarcher<crate::field::fibre::PositionRotation, CosseratCell, 6>;
+
+    /// A damped, end-loaded 12-element rod with a window.
+    fn loaded_rod() -> LoadedRod {
         let material = Material {
             density: 5000.0,
             young: 1e6,
@@ -286,18 +289,58 @@ mod tests {
             tolerance: 1e-13,
             ..CauchyOptions::default()
         };
-        let mut m = CauchyMarcher::with_window(cell, lattice.torus().clone(), 0, &data, options, lattice.window())
-            .expect("marcher");
+        CauchyMarcher::with_window(cell, lattice.torus().clone(), 0, &data, options, lattice.window()).expect("marcher")
+    }
+
+    /// The level impulse from the vertex forces taken while the level was
+    /// solved equals, bit for bit, the one summed again from the stored
+    /// forces (the path after a failed step), on a damped, end-loaded rod
+    /// with a window, level after level.
+    #[test]
+    fn level_impulses_from_the_solve_equal_those_from_the_stored_forces() {
+        let mut m = loaded_rod();
         for _ in 0..8 {
             m.step().expect("stable");
-            let fresh = load_impulse(&m);
+            let fresh = load_impulse(&m).expect("defined after a step");
             assert_eq!(m.forces_level, Some(m.level() - 1));
             m.forces_level = None;
-            let summed = load_impulse(&m);
+            let summed = load_impulse(&m).expect("defined after a step");
             assert!(fresh.0.amax() > 0.0 && fresh.1.amax() > 0.0, "the loads act");
             for (a, b) in fresh.0.iter().chain(&fresh.1).zip(summed.0.iter().chain(&summed.1)) {
                 assert_eq!(a.to_bits(), b.to_bits(), "{fresh:?} against {summed:?}");
             }
+        }
+    }
+
+    /// Before the first step since the marcher was built or restored the
+    /// forces of the cells based below the stored levels are unknown: the
+    /// impulse is `None`, not a sum over stale or zero terms. One step
+    /// later it is defined, and a march restored from a checkpoint gives
+    /// the uninterrupted march's impulses bit for bit.
+    #[test]
+    fn level_impulses_are_undefined_until_a_step_after_build_or_restore() {
+        use crate::run::{Checkpoint, Words};
+        let mut m = loaded_rod();
+        assert_eq!(load_impulse(&m), None, "just built");
+        for _ in 0..5 {
+            m.step().expect("stable");
+        }
+        assert!(load_impulse(&m).is_some(), "after a step");
+        let mut saved = Vec::new();
+        m.save(&mut saved);
+        // A marcher that has marched further, then restored to the saved level.
+        let mut restored = loaded_rod();
+        for _ in 0..9 {
+            restored.step().expect("stable");
+        }
+        restored.restore(&mut Words::new(&saved)).expect("restore");
+        assert_eq!(restored.level(), m.level());
+        assert_eq!(load_impulse(&restored), None, "just restored");
+        for _ in 0..4 {
+            m.step().expect("stable");
+            restored.step().expect("stable");
+            let (a, b) = (load_impulse(&m), load_impulse(&restored));
+            assert!(a.is_some() && a == b, "{a:?} against {b:?}");
         }
     }
 }

@@ -60,11 +60,13 @@ fn generator(k: usize, y: &Pose<f64>) -> SVector<f64, 6> {
 /// ([`CauchyMarcher::level_impulse`]): with free ends and no potential,
 /// [`linear_momentum`] and [`angular_momentum`] change across a step by
 /// exactly these (the discrete Lagrange–d'Alembert momentum balance).
+/// `None` before the marcher's first step since it was built or restored
+/// ([`CauchyMarcher::level_impulses`]).
 pub fn load_impulse<L: DiscreteLagrangian<PositionRotation, 6>>(
     m: &CauchyMarcher<PositionRotation, L, 6>,
-) -> (Vector3<f64>, Vector3<f64>) {
-    let i = m.level_impulses(|y: &Pose<f64>| std::array::from_fn::<_, 6, _>(|k| generator(k, y)));
-    (Vector3::new(i[0], i[1], i[2]), Vector3::new(i[3], i[4], i[5]))
+) -> Option<(Vector3<f64>, Vector3<f64>)> {
+    let i = m.level_impulses(|y: &Pose<f64>| std::array::from_fn::<_, 6, _>(|k| generator(k, y)))?;
+    Some((Vector3::new(i[0], i[1], i[2]), Vector3::new(i[3], i[4], i[5])))
 }
 
 /// The rod's energy at the cut: Σ over the cells of the slab below the
