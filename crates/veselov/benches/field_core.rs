@@ -23,7 +23,7 @@ use veselov::lie::so3;
 
 const NODES: usize = 32;
 /// Nodes per axis of the frame-field run (its vertex solves are 6-D, with
-/// SO(3) logarithms over hyper-dual numbers for the Jacobian).
+/// nested-dual SO(3) logarithms).
 const FRAME_NODES: usize = 6;
 
 /// 𝓛 = ½φ_t² − ½|∇φ|² − (1 − cos φ), P1 on the simplices of the space–time

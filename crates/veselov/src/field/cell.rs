@@ -5,11 +5,11 @@
 //! * [`vertex_gradient`]: ∂L_β/∂y_l, the covector d_{y_β}L_β ∘ i_{y_l} in the
 //!   chart y_l·τ(ξ) (one dual pass of M directions);
 //! * [`mixed_block`]: that gradient and its derivative with respect to the
-//!   value at another vertex, ∂²L_β/∂y_a∂y_b (hyper-dual numbers), the Jacobian
+//!   value at another vertex, ∂²L_β/∂y_a∂y_b (nested duals), the Jacobian
 //!   block of a vertex solve (note 003 §2.4, Def. 4.9).
 
 use nalgebra::{Const, SMatrix, SVector, U1};
-use num_dual::{DualSVec, DualSVec64, HyperDualSVec64};
+use num_dual::{Derivative, DualSVec, DualSVec64};
 
 use super::complex::TopCell;
 use super::fibre::Fibre;
@@ -60,7 +60,7 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
 
     /// ∂L_β/∂y_a and its derivative with respect to y_b (the block of
     /// [`mixed_block`]) when the Lagrangian computes them itself; `None`
-    /// (default) for the hyper-dual pass ([`mixed_block_dual`]), which stays
+    /// (default) for the nested-dual pass ([`mixed_block_dual`]), which stays
     /// the reference.
     fn analytic_block(
         &self,
@@ -515,7 +515,7 @@ where
 /// y_a ← y_a·τ(δ) (the Hessian, symmetric, on ℝ^M).
 ///
 /// The Lagrangian's own evaluation ([`DiscreteLagrangian::analytic_block`])
-/// where it has one, the hyper-dual pass ([`mixed_block_dual`]) otherwise.
+/// where it has one, the nested-dual pass ([`mixed_block_dual`]) otherwise.
 pub fn mixed_block<F, L, const M: usize>(
     lag: &L,
     cell: &TopCell,
@@ -531,11 +531,7 @@ where
         .unwrap_or_else(|| mixed_block_dual::<F, L, M>(lag, cell, y, a, b))
 }
 
-/// [`mixed_block`] by one hyper-dual pass over L_β (the reference): the
-/// first directions (ε₁) seed y_a, the second (ε₂) y_b, and the ε₁ε₂ part
-/// of L_β is the block. (A dual number over dual numbers gives the same
-/// derivatives with twice the arithmetic: each of its M outer parts is a
-/// whole inner dual number.)
+/// [`mixed_block`] by nested dual numbers over L_β (the reference).
 pub fn mixed_block_dual<F, L, const M: usize>(
     lag: &L,
     cell: &TopCell,
@@ -547,21 +543,22 @@ where
     F: Fibre<M>,
     L: DiscreteLagrangian<F, M> + ?Sized,
 {
-    type Hyper<const M: usize> = HyperDualSVec64<M, M>;
+    type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
     let k = y.len();
     debug_assert!(k <= MAX_CELL_VERTICES && a < k && b < k);
-    let first: SVector<Hyper<M>, M> = SVector::from_fn(|i, _| Hyper::<M>::from_re(0.0).derivative1(i));
-    let second: SVector<Hyper<M>, M> = SVector::from_fn(|i, _| Hyper::<M>::from_re(0.0).derivative2(i));
-    // For b = a the second step comes first, y_a·τ(ζ)·τ(ξ): the gradient at
+    // Inner directions seed y_a, outer directions seed y_b.
+    let inner: SVector<Outer<M>, M> = seeds::<f64, M>().map(Outer::<M>::from_re);
+    let outer: SVector<Outer<M>, M> = seeds::<DualSVec64<M>, M>();
+    // For b = a the outer step comes first, y_a·τ(ζ)·τ(ξ): the gradient at
     // the moved point in its own chart, which is what Newton's update
     // y_a ← y_a·τ(δ) changes (on a group, y_a·τ(ξ)·τ(ζ) would differ by a
     // bracket term of the size of the gradient itself).
     let ya = if a == b {
-        F::retract(&F::retract_seeded(&y[a], &second), &first)
+        F::retract(&F::retract_seeded(&y[a], &outer), &inner)
     } else {
-        F::retract_seeded(&y[a], &first)
+        F::retract_seeded(&y[a], &inner)
     };
-    let yb = F::retract_seeded(&y[b], &second);
+    let yb = F::retract_seeded(&y[b], &outer);
     let value = with_values(
         k,
         |i| {
@@ -575,8 +572,15 @@ where
         },
         |v| lag.cell_lagrangian(cell, v),
     );
-    (
-        value.eps1.unwrap_generic(Const::<M>, U1),
-        value.eps1eps2.unwrap_generic(Const::<M>, Const::<M>),
-    )
+    let grad = value.re.eps.unwrap_generic(Const::<M>, U1);
+    let outer_eps: SVector<DualSVec64<M>, M> = match value.eps {
+        Derivative(Some(e)) => e,
+        Derivative(None) => SVector::from_element(DualSVec64::<M>::from_re(0.0)),
+    };
+    let mut block = SMatrix::<f64, M, M>::zeros();
+    for j in 0..M {
+        let col = outer_eps[j].eps.unwrap_generic(Const::<M>, U1);
+        block.set_column(j, &col);
+    }
+    (grad, block)
 }

@@ -430,9 +430,9 @@ fn t26_closed_form_gradients_match_the_exact_vertex_gradients() {
 
 #[test]
 fn mixed_blocks_of_the_vertex_rule_match_the_closed_form_cell() {
-    // The Jacobian block of a vertex solve (∂/∂y₂ of ∂L/∂y₀) through
-    // hyper-dual numbers and the fibre logarithm, against the closed form's
-    // and finite differences of the exact gradient.
+    // The Jacobian block of a vertex solve (∂/∂y₂ of ∂L/∂y₀) through nested
+    // duals and the fibre logarithm, against the closed form's and finite
+    // differences of the exact gradient.
     let mut rng = SplitMix(27);
     let (mut worst, mut fd_worst) = (0.0_f64, 0.0_f64);
     for trial in 0..40 {

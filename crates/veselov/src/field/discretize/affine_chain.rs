@@ -37,7 +37,7 @@
 //! for the block): one evaluation of the potential per cell and evaluation.
 
 use nalgebra::{Const, SMatrix, SVector, U1};
-use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec64, HyperDualSVec64};
+use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec, DualSVec64};
 
 use super::affine::MidpointRule;
 use super::metric_star::{
@@ -508,20 +508,28 @@ where
             });
             return (metric_gradient(frame, &eta, &dv, a), block);
         }
-        // One hyper-dual pass: ε₁ seeds y_a, ε₂ seeds y_b ([`mixed_block_dual`](crate::field::cell::mixed_block_dual)).
-        type Hyper<const M: usize> = HyperDualSVec64<M, M>;
-        let seed = |k: usize, re: f64, first: f64, second: f64| {
-            let e1 = SVector::<f64, M>::from_fn(|d, _| if d == k { first } else { 0.0 });
-            let e2 = SMatrix::<f64, 1, M>::from_fn(|_, d| if d == k { second } else { 0.0 });
-            Hyper::<M>::new(re, Derivative::some(e1), Derivative::some(e2), Derivative::none())
+        type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
+        let seed = |k: usize, re: f64, inner: f64, outer: f64| {
+            let inner_eps = SVector::<f64, M>::from_fn(|d, _| if d == k { inner } else { 0.0 });
+            let outer_eps =
+                SVector::<DualSVec64<M>, M>::from_fn(|d, _| DualSVec64::from_re(if d == k { outer } else { 0.0 }));
+            Outer::<M>::new(
+                DualSVec64::new(re, Derivative::some(inner_eps)),
+                Derivative::some(outer_eps),
+            )
         };
-        let r = self.seeded::<Hyper<M>, M>(
+        let r = self.seeded::<Outer<M>, M>(
             frame,
             |k, re| seed(k, re, w, w),
             |k, c, re| seed(k, re, frame.coefficient(a, c), frame.coefficient(b, c)),
         );
-        let grad = r.eps1.unwrap_generic(Const::<M>, U1);
-        let block = r.eps1eps2.unwrap_generic(Const::<M>, Const::<M>);
+        let grad = r.re.eps.unwrap_generic(Const::<M>, U1);
+        let mut block = SMatrix::<f64, M, M>::zeros();
+        if let Derivative(Some(outer)) = r.eps {
+            for j in 0..M {
+                block.set_column(j, &outer[j].eps.unwrap_generic(Const::<M>, U1));
+            }
+        }
         (grad, block)
     }
 
