@@ -4,6 +4,10 @@ use super::CauchyMarcher;
 use crate::field::cell::DiscreteLagrangian;
 use crate::field::fibre::Fibre;
 use crate::run::{Checkpoint, Words};
+use crate::solve::SmallLu;
+
+/// Marks the section of kept Jacobian factors.
+const KEPT_FACTORS_TAG: f64 = -17.0;
 use crate::{Error, Result};
 
 /// A checkpoint of a march: the level and the 2n known levels above the
@@ -11,8 +15,13 @@ use crate::{Error, Result};
 /// by [`Fibre::read`]); the cell gradients are recomputed from them by the
 /// same operations as during the march (a model's own vertex solve that
 /// writes them, [`DiscreteLagrangian::solve_last_vertex`], must compute them
-/// from the stored values too), so the restored march continues bit for
-/// bit. Dirichlet data are part of the set-up, not of the checkpoint.
+/// from the stored values too); then, when the marcher's own vertex solves
+/// kept any, the factors of their Newton Jacobians, on which the next
+/// levels' iterations depend (a section that checkpoints of earlier
+/// versions lack: restored from one of those, the march starts with fresh
+/// Jacobians and continues to round-off, not bit for bit). So the restored
+/// march continues bit for bit. Dirichlet data are part of the set-up, not
+/// of the checkpoint.
 impl<F, L, const M: usize> Checkpoint for CauchyMarcher<F, L, M>
 where
     F: Fibre<M>,
@@ -29,6 +38,23 @@ where
                 for y in level {
                     F::write(y, &mut c[..k]);
                     out.extend_from_slice(&c[..k]);
+                }
+            }
+        }
+        if self.kept.iter().any(|slot| !slot.is_empty()) {
+            // Per slot (level modulo n) and vertex, tag 2: factors follow;
+            // tag 3: none.
+            out.push(KEPT_FACTORS_TAG);
+            let size = self.torus.level_size();
+            for slot in &self.kept {
+                for i in 0..size {
+                    match slot.get(i).copied().flatten() {
+                        Some(lu) => {
+                            out.push(2.0);
+                            lu.save_factors(out);
+                        }
+                        None => out.push(3.0),
+                    }
                 }
             }
         }
@@ -55,6 +81,26 @@ where
             for y in &mut self.values[slot * size..(slot + 1) * size] {
                 words.fill(&mut c[..k])?;
                 *y = F::read(&c[..k]);
+            }
+        }
+        let with_factors = words.take_tag(KEPT_FACTORS_TAG);
+        for slot in &mut self.kept {
+            slot.clear();
+            if !with_factors {
+                continue;
+            }
+            for _ in 0..size {
+                slot.push(match words.one()? {
+                    2.0 => Some(SmallLu::restore_factors(words)?),
+                    3.0 => None,
+                    tag => {
+                        return Err(Error::InvalidParameter {
+                            name: "checkpoint".into(),
+                            value: tag.to_string(),
+                            reason: "not a kept-Jacobian tag (2 or 3)".into(),
+                        });
+                    }
+                });
             }
         }
         self.fill_gradients();
