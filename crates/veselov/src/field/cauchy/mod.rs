@@ -11,7 +11,11 @@
 //!
 //! solved by Newton in the fibre's chart z·τ(ζ) with the exact Jacobian
 //! Σ_σ ∂²L_{(v,σ)}/∂y_v∂y_{Δv} (Def. 4.9), from the linear extrapolation
-//! y_v·τ(log(y_{v−Δ}, y_v)), to round-off.
+//! y_v·τ(log(y_{v−Δ}, y_v)), to round-off. Where the marcher solves a
+//! vertex itself (a model without a solve of its own), Newton starts from the
+//! factors of the Jacobian the solve at the same point kept one flow step
+//! before and evaluates a fresh one only when an iteration contracts less
+//! than fourfold ([`CauchyMarcher::with_jacobian_reuse`]).
 //!
 //! Each cell's vertex gradients are computed once, when its last vertex is
 //! solved, and kept in a ring of n + 1 base levels; μ_v gathers them in a
@@ -21,8 +25,8 @@
 //! ([`DiscreteLagrangian::vertex_lanes`]), and every vertex's arithmetic is
 //! independent of the partition and of the grouping, so results are
 //! bit-identical for every thread count. Storage is allocated once: 2n + 1
-//! levels of values and n + 1 levels of cell gradients; nothing is allocated
-//! inside a level.
+//! levels of values, n + 1 levels of cell gradients and n levels of kept
+//! Jacobian factors; nothing is allocated inside a level.
 //!
 //! On the 2-D lattice the march may be confined to a finite body
 //! ([`MaterialWindow`], [`CauchyMarcher::with_window`]): only the triangles
