@@ -473,13 +473,7 @@ where
         // iterations depend on them. Tag 2: factors follow; tag 3: none.
         // (Earlier versions wrote tag 1 and a Jacobian, or tag 0 and zeros.)
         for j in &self.jacobians {
-            match j {
-                Some(lu) => {
-                    out.push(2.0);
-                    lu.save_factors(out);
-                }
-                None => out.push(3.0),
-            }
+            SmallLu::save_kept(j, out);
         }
     }
 
@@ -507,28 +501,18 @@ where
             }
         }
         for j in &mut self.jacobians {
-            *j = match words.one()? {
-                0.0 => {
-                    words.take(M * M)?;
-                    None
-                }
+            *j = if words.take_tag(0.0) {
+                words.take(M * M)?;
+                None
+            } else if words.take_tag(1.0) {
                 // The Jacobian an earlier version kept, factored as this
                 // version factors a fresh one (the run continues, not bit for
                 // bit with that version: its back substitution divided).
-                1.0 => {
-                    let mut m = SMatrix::<f64, M, M>::zeros();
-                    words.fill(m.as_mut_slice())?;
-                    SmallLu::factor(&m).0
-                }
-                2.0 => Some(SmallLu::restore_factors(words)?),
-                3.0 => None,
-                tag => {
-                    return Err(Error::InvalidParameter {
-                        name: "checkpoint".into(),
-                        value: tag.to_string(),
-                        reason: "not a kept-Jacobian tag (0 to 3)".into(),
-                    });
-                }
+                let mut m = SMatrix::<f64, M, M>::zeros();
+                words.fill(m.as_mut_slice())?;
+                SmallLu::factor(&m).0
+            } else {
+                SmallLu::restore_kept(words)?
             };
         }
         self.level = level as usize;

@@ -344,6 +344,35 @@ impl<const N: usize> SmallLu<N> {
         Ok(lu)
     }
 
+    /// Append kept factors, or their absence, as checkpoint words: tag 2
+    /// and [`save_factors`](Self::save_factors), or tag 3.
+    pub fn save_kept(kept: &Option<Self>, out: &mut Vec<f64>) {
+        match kept {
+            Some(lu) => {
+                out.push(2.0);
+                lu.save_factors(out);
+            }
+            None => out.push(3.0),
+        }
+    }
+
+    /// Restore what [`SmallLu::save_kept`] wrote.
+    ///
+    /// # Errors
+    /// If the words run out, the tag is neither 2 nor 3, or the factors do
+    /// not restore ([`restore_factors`](Self::restore_factors)).
+    pub fn restore_kept(words: &mut crate::run::Words<'_>) -> Result<Option<Self>> {
+        match words.one()? {
+            2.0 => Ok(Some(Self::restore_factors(words)?)),
+            3.0 => Ok(None),
+            tag => Err(Error::InvalidParameter {
+                name: "checkpoint".into(),
+                value: tag.to_string(),
+                reason: "not a kept-Jacobian tag".into(),
+            }),
+        }
+    }
+
     /// Whether every factor is finite.
     pub fn is_finite(&self) -> bool {
         self.factors.iter().flatten().all(|x| x.is_finite())

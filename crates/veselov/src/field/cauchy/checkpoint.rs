@@ -48,13 +48,7 @@ where
             let size = self.torus.level_size();
             for slot in &self.kept {
                 for i in 0..size {
-                    match slot.get(i).copied().flatten() {
-                        Some(lu) => {
-                            out.push(2.0);
-                            lu.save_factors(out);
-                        }
-                        None => out.push(3.0),
-                    }
+                    SmallLu::save_kept(&slot.get(i).copied().flatten(), out);
                 }
             }
         }
@@ -90,17 +84,7 @@ where
                 continue;
             }
             for _ in 0..size {
-                slot.push(match words.one()? {
-                    2.0 => Some(SmallLu::restore_factors(words)?),
-                    3.0 => None,
-                    tag => {
-                        return Err(Error::InvalidParameter {
-                            name: "checkpoint".into(),
-                            value: tag.to_string(),
-                            reason: "not a kept-Jacobian tag (2 or 3)".into(),
-                        });
-                    }
-                });
+                slot.push(SmallLu::restore_kept(words)?);
             }
         }
         self.fill_gradients();
