@@ -5,10 +5,10 @@ use crate::field::cell::DiscreteLagrangian;
 use crate::field::fibre::Fibre;
 use crate::run::{Checkpoint, Words};
 use crate::solve::SmallLu;
+use crate::{Error, Result};
 
 /// Marks the section of kept Jacobian factors.
 const KEPT_FACTORS_TAG: f64 = -17.0;
-use crate::{Error, Result};
 
 /// A checkpoint of a march: the level and the 2n known levels above the
 /// cut, each value by its coordinates ([`Fibre::write`], read back exactly

@@ -418,9 +418,9 @@ where
     /// tolerance are the same either way; the bits are not. A solve that
     /// ends on an old Jacobian converges linearly, so its last iterate lies
     /// just within the tolerance, where the last step of a fresh Jacobian
-    /// squares the error: in the tests the two marches of a 2+1 field stay
-    /// within 1e-13 of the field of the closed-form solve over 120 levels,
-    /// against 6e-15 with a Jacobian at every vertex.
+    /// squares the error: in the tests a 2+1 field so marched stays within
+    /// 1e-13 of the closed-form solve's field over 120 levels, against
+    /// 6e-15 with a Jacobian at every vertex.
     #[must_use]
     pub fn with_jacobian_reuse(mut self, on: bool) -> Self {
         self.reuse_jacobians = on;
