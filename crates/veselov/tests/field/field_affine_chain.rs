@@ -338,7 +338,8 @@ where
 }
 
 /// A checkpoint whose kept-Jacobian section is damaged (a tag that is not
-/// one, or words missing) is refused with an error that says so.
+/// one, or words missing) is refused with an error that says so, and the
+/// marcher it was read into goes on as if nothing had been read.
 #[test]
 fn a_damaged_kept_jacobian_section_is_refused() {
     use veselov::run::{Checkpoint, Words};
@@ -359,11 +360,29 @@ fn a_damaged_kept_jacobian_section_is_refused() {
     assert_eq!(saved[values], -17.0, "the section's tag follows the values");
     let mut wrong_tag = saved.clone();
     wrong_tag[values + 1] = 5.0;
-    let err = new().restore(&mut Words::new(&wrong_tag)).expect_err("not a tag");
+    // Read into a marcher two levels further than the checkpoint.
+    let (mut target, mut untouched) = (new(), new());
+    for _ in 0..6 {
+        target.step().expect("level");
+        untouched.step().expect("level");
+    }
+    let err = target.restore(&mut Words::new(&wrong_tag)).expect_err("not a tag");
     assert!(err.to_string().contains("kept-Jacobian tag"), "{err}");
     let truncated = &saved[..saved.len() - 1];
-    let err = new().restore(&mut Words::new(truncated)).expect_err("truncated");
+    let err = target.restore(&mut Words::new(truncated)).expect_err("truncated");
     assert!(err.to_string().contains("truncated"), "{err}");
+    assert_eq!(target.level(), untouched.level());
+    for _ in 0..3 {
+        target.step().expect("level");
+        untouched.step().expect("level");
+    }
+    let w = target.top_level();
+    let bits = |values: &[SVector<f64, 1>]| -> Vec<u64> { values.iter().map(|y| y[0].to_bits()).collect() };
+    assert_eq!(
+        bits(target.level_values(w).expect("level")),
+        bits(untouched.level_values(w).expect("level")),
+        "a refused checkpoint changed the march"
+    );
     // Without the section (a checkpoint of an earlier version) the march
     // starts with fresh Jacobians and stays on the same field to round-off.
     let mut fresh = new();

@@ -63,29 +63,34 @@ where
                 reason: "not a level number".into(),
             });
         }
-        self.level = level as i64;
-        self.start_level = self.level;
-        self.forces_level = None;
+        // Everything is read before anything is replaced: a damaged
+        // checkpoint leaves the marcher as it was.
+        let level = level as i64;
         let n = self.torus.dimension() as i64;
         let size = self.torus.level_size();
         let mut c = [0.0; 16];
         let k = F::COORDINATES.min(c.len());
-        for w in self.level - n..self.level + n {
-            let slot = self.value_slot(w);
-            for y in &mut self.values[slot * size..(slot + 1) * size] {
-                words.fill(&mut c[..k])?;
-                *y = F::read(&c[..k]);
+        let mut levels = Vec::with_capacity(2 * n as usize * size);
+        for _ in 0..2 * n as usize * size {
+            words.fill(&mut c[..k])?;
+            levels.push(F::read(&c[..k]));
+        }
+        let mut kept = Vec::new();
+        if words.take_tag(KEPT_FACTORS_TAG) {
+            for _ in 0..n as usize * size {
+                kept.push(SmallLu::restore_kept(words)?);
             }
         }
-        let with_factors = words.take_tag(KEPT_FACTORS_TAG);
-        for slot in &mut self.kept {
+        self.level = level;
+        self.start_level = level;
+        self.forces_level = None;
+        for (l, values) in levels.chunks_exact(size).enumerate() {
+            let slot = self.value_slot(level - n + l as i64);
+            self.values[slot * size..(slot + 1) * size].copy_from_slice(values);
+        }
+        for (s, slot) in self.kept.iter_mut().enumerate() {
             slot.clear();
-            if !with_factors {
-                continue;
-            }
-            for _ in 0..size {
-                slot.push(SmallLu::restore_kept(words)?);
-            }
+            slot.extend_from_slice(kept.get(s * size..(s + 1) * size).unwrap_or_default());
         }
         self.fill_gradients();
         Ok(())
