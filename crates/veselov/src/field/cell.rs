@@ -278,7 +278,11 @@ where
 /// y_b into `sum`: ∂L_β/∂y_a, then F^a_β when the Lagrangian has forces,
 /// with their derivative in y_b added into `jacobian` when one is asked for
 /// ([`mixed_block`], [`force_block`]); and their largest entries into
-/// `size`.
+/// `size`. The terms are always [`exact_gradient`]'s and [`vertex_force`]'s,
+/// the ones the momenta are made of, never the values a block evaluation
+/// returns beside its block: those are rounded otherwise (the nested-dual
+/// pass on a Lie group differs in the last bits), and Newton would zero a
+/// neighbouring equation (see [`crate::field::level_solve`]).
 pub(crate) fn add_vertex_terms<F, L, const M: usize>(
     lag: &L,
     cell: &TopCell,
@@ -291,25 +295,17 @@ pub(crate) fn add_vertex_terms<F, L, const M: usize>(
     F: Fibre<M>,
     L: DiscreteLagrangian<F, M> + ?Sized,
 {
-    let g = match jacobian.as_deref_mut() {
-        Some(j) => {
-            let (g, block) = mixed_block::<F, L, M>(lag, cell, y, a, b);
-            *j += block;
-            g
-        }
-        None => exact_gradient::<F, L, M>(lag, cell, y, a),
-    };
+    if let Some(j) = jacobian.as_deref_mut() {
+        *j += mixed_block::<F, L, M>(lag, cell, y, a, b).1;
+    }
+    let g = exact_gradient::<F, L, M>(lag, cell, y, a);
     *sum += g;
     *size += g.amax();
     if lag.has_forces() {
-        let f = match jacobian {
-            Some(j) => {
-                let (f, block) = force_block::<F, L, M>(lag, cell, y, a, b);
-                *j += block;
-                f
-            }
-            None => vertex_force::<F, L, M>(lag, cell, y, a),
-        };
+        if let Some(j) = jacobian {
+            *j += force_block::<F, L, M>(lag, cell, y, a, b).1;
+        }
+        let f = vertex_force::<F, L, M>(lag, cell, y, a);
         *sum += f;
         *size += f.amax();
     }
@@ -516,6 +512,9 @@ where
 ///
 /// The Lagrangian's own evaluation ([`DiscreteLagrangian::analytic_block`])
 /// where it has one, the nested-dual pass ([`mixed_block_dual`]) otherwise.
+/// The gradient it returns beside the block may differ from
+/// [`exact_gradient`]'s in its last bits: the vertex solvers take their
+/// residuals from the latter.
 pub fn mixed_block<F, L, const M: usize>(
     lag: &L,
     cell: &TopCell,
