@@ -488,20 +488,17 @@ where
         }
         let mut c = [0.0; 16];
         let k = F::COORDINATES.min(c.len());
-        // After a step every value of both levels is known (the slaved
-        // node solved as soon as its level is complete).
-        for w in [0, 1] {
-            for node in 0..=self.cross {
-                words.fill(&mut c[..k])?;
-                let y = F::read(&c[..k]);
-                self.marcher.set(self.vertex(w, node), y, true);
-                if w == 1 {
-                    self.marcher.set(self.vertex(2, node), y, false);
-                }
-            }
+        // Every word is read before anything is replaced: a damaged
+        // checkpoint leaves the evolution as it was.
+        let nodes = self.cross + 1;
+        let mut levels = Vec::with_capacity(2 * nodes);
+        for _ in 0..2 * nodes {
+            words.fill(&mut c[..k])?;
+            levels.push(F::read(&c[..k]));
         }
-        for j in &mut self.jacobians {
-            *j = if words.take_tag(0.0) {
+        let mut jacobians = Vec::with_capacity(self.jacobians.len());
+        for _ in 0..self.jacobians.len() {
+            jacobians.push(if words.take_tag(0.0) {
                 words.take(M * M)?;
                 None
             } else if words.take_tag(1.0) {
@@ -513,8 +510,19 @@ where
                 SmallLu::factor(&m).0
             } else {
                 SmallLu::restore_kept(words)?
-            };
+            });
         }
+        // After a step every value of both levels is known (the slaved
+        // node solved as soon as its level is complete).
+        for (w, level_values) in levels.chunks(nodes).enumerate() {
+            for (node, &y) in level_values.iter().enumerate() {
+                self.marcher.set(self.vertex(w, node), y, true);
+                if w == 1 {
+                    self.marcher.set(self.vertex(2, node), y, false);
+                }
+            }
+        }
+        self.jacobians = jacobians;
         self.level = level as usize;
         Ok(())
     }

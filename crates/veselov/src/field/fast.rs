@@ -667,10 +667,42 @@ impl<P> Checkpoint for FastMarcher<P> {
         }
         out.push(f64::from_bits(self.total_iterations));
         out.push(self.energy);
-        for v in self.levels.iter().chain(&self.a_hist) {
+        for v in self.buffers() {
             out.extend_from_slice(v);
         }
-        for v in [
+    }
+
+    fn restore(&mut self, w: &mut Words<'_>) -> Result<()> {
+        // Every word is read before anything is replaced: a damaged
+        // checkpoint leaves the marcher as it was.
+        let counts = [w.count()?, w.count()?, w.count()?, w.count()?];
+        let (total_iterations, energy) = (w.one()?.to_bits(), w.one()?);
+        let [_, filled, a_filled, _] = counts;
+        if filled > self.levels.len() || a_filled > self.a_hist.len().max(1) {
+            return Err(invalid(
+                "checkpoint",
+                filled,
+                "more stored levels than this marcher holds",
+            ));
+        }
+        let mut stored = Vec::with_capacity(self.levels.len() + self.a_hist.len() + 8);
+        for v in self.buffers() {
+            stored.push(w.take(v.len())?);
+        }
+        [self.level, self.filled, self.a_filled, self.last_iterations] = counts;
+        self.total_iterations = total_iterations;
+        self.energy = energy;
+        for (v, words) in self.buffers_mut().zip(stored) {
+            v.copy_from_slice(words);
+        }
+        Ok(())
+    }
+}
+
+impl<P> FastMarcher<P> {
+    /// The buffers a checkpoint holds, in its order.
+    fn buffers(&self) -> impl Iterator<Item = &Vec<f64>> {
+        self.levels.iter().chain(&self.a_hist).chain([
             &self.next,
             &self.prev_a,
             &self.cur_a,
@@ -679,22 +711,12 @@ impl<P> Checkpoint for FastMarcher<P> {
             &self.at,
             &self.base,
             &self.delta,
-        ] {
-            out.extend_from_slice(v);
-        }
+        ])
     }
 
-    fn restore(&mut self, w: &mut Words<'_>) -> Result<()> {
-        self.level = w.count()?;
-        self.filled = w.count()?;
-        self.a_filled = w.count()?;
-        self.last_iterations = w.count()?;
-        self.total_iterations = w.one()?.to_bits();
-        self.energy = w.one()?;
-        for v in self.levels.iter_mut().chain(&mut self.a_hist) {
-            w.fill(v)?;
-        }
-        for v in [
+    /// [`buffers`](Self::buffers), to be written.
+    fn buffers_mut(&mut self) -> impl Iterator<Item = &mut Vec<f64>> {
+        self.levels.iter_mut().chain(&mut self.a_hist).chain([
             &mut self.next,
             &mut self.prev_a,
             &mut self.cur_a,
@@ -703,16 +725,6 @@ impl<P> Checkpoint for FastMarcher<P> {
             &mut self.at,
             &mut self.base,
             &mut self.delta,
-        ] {
-            w.fill(v)?;
-        }
-        if self.filled > self.levels.len() || self.a_filled > self.a_hist.len().max(1) {
-            return Err(invalid(
-                "checkpoint",
-                self.filled,
-                "more stored levels than this marcher holds",
-            ));
-        }
-        Ok(())
+        ])
     }
 }

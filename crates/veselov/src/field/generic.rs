@@ -272,11 +272,15 @@ impl<L, const DIM: usize> Checkpoint for GenericMarcher<L, DIM> {
     }
 
     fn restore(&mut self, w: &mut Words<'_>) -> Result<()> {
-        self.level = w.count()?;
-        self.last_iterations = w.count()?;
+        // Every word is read before anything is replaced: a damaged
+        // checkpoint leaves the marcher as it was.
+        let (level, last_iterations) = (w.count()?, w.count()?);
         let n = self.lattice.nodes();
-        for v in &mut self.values[..2 * n] {
-            w.fill(v.as_mut_slice())?;
+        let values = w.take(2 * n * DIM)?;
+        self.level = level;
+        self.last_iterations = last_iterations;
+        for (v, words) in self.values[..2 * n].iter_mut().zip(values.chunks_exact(DIM)) {
+            v.copy_from_slice(words);
         }
         Ok(())
     }

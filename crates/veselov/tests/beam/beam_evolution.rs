@@ -358,3 +358,74 @@ fn bad_initial_data_are_named() {
     .expect("non-finite data");
     assert!(err.to_string().contains("initial level 1"), "{err}");
 }
+
+/// A checkpoint restores an evolution bit for bit, and a damaged one (cut
+/// short, or with a kept-Jacobian tag it does not know) is refused and
+/// leaves the evolution as it was: it goes on exactly as one never handed
+/// the checkpoint.
+#[test]
+fn a_damaged_checkpoint_leaves_the_evolution_as_it_was() {
+    use veselov::run::{Checkpoint, Words};
+    let a_max = 5;
+    let (g0, g1) = initial_rows(a_max);
+    let beam = || {
+        Beam::new(
+            Direction::Time,
+            lagrangian(DT, DS),
+            &g0,
+            &g1,
+            EndCondition::Natural,
+            EndCondition::Natural,
+            CauchyOptions::default(),
+        )
+        .expect("evolution")
+    };
+    let march = |evo: &mut Beam, levels: usize| {
+        for _ in 0..levels {
+            evo.step().expect("step");
+        }
+    };
+    let bits = |evo: &Beam| -> Vec<u64> {
+        (0..=a_max)
+            .flat_map(|a| {
+                let g = evo.value(0, a);
+                let m = *g.rotation().matrix();
+                m.iter()
+                    .chain(g.translation().iter())
+                    .map(|x| x.to_bits())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let mut saved_from = beam();
+    march(&mut saved_from, 4);
+    let mut saved = Vec::new();
+    saved_from.save(&mut saved);
+    // Restored whole, a fresh evolution goes on as the saved one.
+    let mut resumed = beam();
+    resumed.restore(&mut Words::new(&saved)).expect("restore");
+    march(&mut resumed, 3);
+    march(&mut saved_from, 3);
+    assert_eq!(bits(&resumed), bits(&saved_from), "a restored evolution differs");
+    // Damaged: the last word cut off, or an unknown tag where the kept
+    // Jacobians begin (the level, then 2·(A + 1) values of 12 coordinates).
+    let mut target = beam();
+    march(&mut target, 7);
+    let mut untouched = beam();
+    march(&mut untouched, 7);
+    let mut wrong_tag = saved.clone();
+    wrong_tag[1 + 2 * (a_max + 1) * 12] = 7.0;
+    for damaged in [&saved[..saved.len() - 1], &wrong_tag[..]] {
+        assert!(
+            target.restore(&mut Words::new(damaged)).is_err(),
+            "a damaged checkpoint is accepted"
+        );
+    }
+    march(&mut target, 3);
+    march(&mut untouched, 3);
+    assert_eq!(
+        bits(&target),
+        bits(&untouched),
+        "a refused checkpoint changed the evolution"
+    );
+}

@@ -221,3 +221,68 @@ fn dirichlet_and_free_boundaries() {
     assert!(res <= 1e-9, "{res:e}");
     assert!(ends.iter().any(|&v| v.abs() > 1e-3), "free ends move");
 }
+
+/// Both 1+1 marchers refuse a damaged checkpoint (cut short by one word)
+/// and are left as they were: they go on bit for bit as marchers never
+/// handed it; the whole checkpoint resumes a march bit for bit.
+#[test]
+fn a_damaged_checkpoint_leaves_the_marchers_as_they_were() {
+    use veselov::run::{Checkpoint, Words};
+    let lat = Lattice::periodic(32, 16.0, 4.0).expect("valid");
+    let (y0, y1) = InitialData::Breather { omega: 0.6, x0: 8.0 }
+        .levels(&lat)
+        .expect("data");
+    let rule = RectangleRule {
+        density: NonlinearWave(SineGordon),
+        dt: lat.dt(),
+        dx: lat.dx(),
+        symmetric: true,
+    };
+    let fast = || {
+        FastMarcher::new(
+            SineGordon,
+            Scheme::SymmetricRectangle,
+            lat,
+            &y0,
+            &y1,
+            SolverOptions::default(),
+        )
+        .expect("valid")
+    };
+    let generic = || GenericMarcher::new(rule, lat, lift(&y0), lift(&y1)).expect("valid");
+    fn check<M: Checkpoint>(make: impl Fn() -> M, step: impl Fn(&mut M), bits: impl Fn(&M) -> Vec<u64>) {
+        let march = |m: &mut M, levels: usize| (0..levels).for_each(|_| step(m));
+        let mut saved_from = make();
+        march(&mut saved_from, 5);
+        let mut saved = Vec::new();
+        saved_from.save(&mut saved);
+        let mut resumed = make();
+        resumed.restore(&mut Words::new(&saved)).expect("restore");
+        march(&mut resumed, 4);
+        march(&mut saved_from, 4);
+        assert_eq!(bits(&resumed), bits(&saved_from), "a restored march differs");
+        let (mut target, mut untouched) = (make(), make());
+        march(&mut target, 9);
+        march(&mut untouched, 9);
+        assert!(target.restore(&mut Words::new(&saved[..saved.len() - 1])).is_err());
+        march(&mut target, 3);
+        march(&mut untouched, 3);
+        assert_eq!(
+            bits(&target),
+            bits(&untouched),
+            "a refused checkpoint changed the march"
+        );
+    }
+    check(
+        fast,
+        |m| {
+            m.step().expect("fast step");
+        },
+        |m| m.current().iter().chain(m.previous()).map(|x| x.to_bits()).collect(),
+    );
+    check(
+        generic,
+        |m| m.step().expect("generic step"),
+        |m| m.current().iter().chain(m.previous()).map(|x| x[0].to_bits()).collect(),
+    );
+}
