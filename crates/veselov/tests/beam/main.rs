@@ -3,6 +3,8 @@
 //! One test binary per area: the modules below were separate test files,
 //! and keep their names (`cargo test -p veselov --test beam <module>::`).
 
+#[path = "../support/checkpoints.rs"]
+mod checkpoints;
 #[path = "../support/five_point.rs"]
 mod five_point;
 

@@ -2,6 +2,8 @@
 //! fast paths, and handles Dirichlet and free boundaries.
 
 use nalgebra::SVector;
+
+use crate::checkpoints::check_checkpoint;
 use veselov::field::{
     Boundary, CellLagrangian, FastMarcher, GenericMarcher, InitialData, Lattice, Node, NonlinearWave, Phi4, Potential,
     RectangleRule, ScalarPotential, Scheme, SineGordon, SolverOptions, TriangleRule, Wave, delf_residual, node_value,
@@ -227,7 +229,6 @@ fn dirichlet_and_free_boundaries() {
 /// handed it; the whole checkpoint resumes a march bit for bit.
 #[test]
 fn a_damaged_checkpoint_leaves_the_marchers_as_they_were() {
-    use veselov::run::{Checkpoint, Words};
     let lat = Lattice::periodic(32, 16.0, 4.0).expect("valid");
     let (y0, y1) = InitialData::Breather { omega: 0.6, x0: 8.0 }
         .levels(&lat)
@@ -250,39 +251,19 @@ fn a_damaged_checkpoint_leaves_the_marchers_as_they_were() {
         .expect("valid")
     };
     let generic = || GenericMarcher::new(rule, lat, lift(&y0), lift(&y1)).expect("valid");
-    fn check<M: Checkpoint>(make: impl Fn() -> M, step: impl Fn(&mut M), bits: impl Fn(&M) -> Vec<u64>) {
-        let march = |m: &mut M, levels: usize| (0..levels).for_each(|_| step(m));
-        let mut saved_from = make();
-        march(&mut saved_from, 5);
-        let mut saved = Vec::new();
-        saved_from.save(&mut saved);
-        let mut resumed = make();
-        resumed.restore(&mut Words::new(&saved)).expect("restore");
-        march(&mut resumed, 4);
-        march(&mut saved_from, 4);
-        assert_eq!(bits(&resumed), bits(&saved_from), "a restored march differs");
-        let (mut target, mut untouched) = (make(), make());
-        march(&mut target, 9);
-        march(&mut untouched, 9);
-        assert!(target.restore(&mut Words::new(&saved[..saved.len() - 1])).is_err());
-        march(&mut target, 3);
-        march(&mut untouched, 3);
-        assert_eq!(
-            bits(&target),
-            bits(&untouched),
-            "a refused checkpoint changed the march"
-        );
-    }
-    check(
+    let cut_short = |saved: &[f64]| vec![saved[..saved.len() - 1].to_vec()];
+    check_checkpoint(
         fast,
         |m| {
             m.step().expect("fast step");
         },
         |m| m.current().iter().chain(m.previous()).map(|x| x.to_bits()).collect(),
+        cut_short,
     );
-    check(
+    check_checkpoint(
         generic,
         |m| m.step().expect("generic step"),
         |m| m.current().iter().chain(m.previous()).map(|x| x[0].to_bits()).collect(),
+        cut_short,
     );
 }

@@ -19,6 +19,50 @@ use veselov::field::{
 
 type V1 = SVector<f64, 1>;
 
+/// Marches seed 002's kink–antikink on the complex of `shape` over `lat`
+/// by whole-level solves of `lag` from the linear extrapolation of the two
+/// levels below; after level j + 1 is solved, `after(j, complex, values)`.
+fn march_levels<L: DiscreteLagrangian<Euclidean<1>, 1>>(
+    shape: CellShape,
+    lag: &L,
+    lat: Lattice,
+    levels: usize,
+    mut after: impl FnMut(usize, &SpacetimeLattice, &[V1]),
+) {
+    let data = InitialData::KinkAntikink {
+        epsilon: 1e-6,
+        paper_start: true,
+    };
+    let (y0, y1) = data.levels(&lat).expect("initial data");
+    let complex = SpacetimeLattice::seed002(shape, &lat, levels + 1).expect("complex");
+    let n = lat.nodes();
+    let vertex = |i: usize, j: usize| complex.vertex_at(i as i64, j as i64).expect("node");
+    let mut values = vec![V1::zeros(); complex.vertex_count()];
+    for i in 0..n {
+        values[vertex(i, 0)] = V1::new(y0[i]);
+        values[vertex(i, 1)] = V1::new(y1[i]);
+    }
+    for j in 1..levels {
+        for i in 0..n {
+            values[vertex(i, j + 1)] = values[vertex(i, j)] * 2.0 - values[vertex(i, j - 1)];
+        }
+        let equations: Vec<usize> = (0..n).map(|i| vertex(i, j)).collect();
+        let unknowns: Vec<usize> = (0..n).map(|i| vertex(i, j + 1)).collect();
+        solve_level::<_, Euclidean<1>, _, 1>(
+            &complex,
+            lag,
+            &mut values,
+            &equations,
+            &unknowns,
+            true,
+            &CauchyOptions::default(),
+            j + 1,
+        )
+        .expect("level solve");
+        after(j, &complex, &values);
+    }
+}
+
 fn compare<L: veselov::field::CellLagrangian<1>>(scheme: Scheme, shape: CellShape, rule: &L, levels: usize) -> f64 {
     let lat = Lattice::periodic(48, 24.0, 4.0).expect("lattice");
     let data = InitialData::KinkAntikink {
@@ -31,34 +75,8 @@ fn compare<L: veselov::field::CellLagrangian<1>>(scheme: Scheme, shape: CellShap
         ..SolverOptions::default()
     };
     let mut fast = FastMarcher::new(SineGordon, scheme, lat, &y0, &y1, opts).expect("fast marcher");
-    let complex = SpacetimeLattice::seed002(shape, &lat, levels + 1).expect("complex");
-    let n = lat.nodes();
-    let vertex = |i: usize, j: usize| complex.vertex_at(i as i64, j as i64).expect("node");
-    let mut values = vec![V1::zeros(); complex.vertex_count()];
-    for i in 0..n {
-        values[vertex(i, 0)] = V1::new(y0[i]);
-        values[vertex(i, 1)] = V1::new(y1[i]);
-    }
-    let lag = CoreCell(rule);
     let mut worst: f64 = 0.0;
-    for j in 1..levels {
-        // Start from the linear extrapolation of the two levels below.
-        for i in 0..n {
-            values[vertex(i, j + 1)] = values[vertex(i, j)] * 2.0 - values[vertex(i, j - 1)];
-        }
-        let equations: Vec<usize> = (0..n).map(|i| vertex(i, j)).collect();
-        let unknowns: Vec<usize> = (0..n).map(|i| vertex(i, j + 1)).collect();
-        solve_level::<_, Euclidean<1>, _, 1>(
-            &complex,
-            &lag,
-            &mut values,
-            &equations,
-            &unknowns,
-            true,
-            &CauchyOptions::default(),
-            j + 1,
-        )
-        .expect("level solve");
+    march_levels(shape, &CoreCell(rule), lat, levels, |j, complex, values| {
         fast.step().expect("fast step");
         // Both solve each level to round-off; their difference is round-off
         // carried along the march: bound it per level, relative to the field
@@ -66,10 +84,11 @@ fn compare<L: veselov::field::CellLagrangian<1>>(scheme: Scheme, shape: CellShap
         // 1.2e-14 for the box scheme, whose fast path stops on a 1e-15
         // correction rather than on the residual).
         let size = fast.current().iter().fold(1.0f64, |a, b| a.max(b.abs()));
-        for i in 0..n {
-            worst = worst.max((values[vertex(i, j + 1)][0] - fast.current()[i]).abs() / (size * j as f64));
+        for (i, &y) in fast.current().iter().enumerate() {
+            let v = complex.vertex_at(i as i64, j as i64 + 1).expect("node");
+            worst = worst.max((values[v][0] - y).abs() / (size * j as f64));
         }
-    }
+    });
     worst
 }
 
@@ -133,45 +152,15 @@ fn level_solves_zero_the_residual_the_momenta_are_made_of() {
     };
     let lag = OffGradientBlocks(CoreCell(&rule));
     let lat = Lattice::periodic(24, 12.0, 4.0).expect("lattice");
-    let data = InitialData::KinkAntikink {
-        epsilon: 1e-6,
-        paper_start: true,
-    };
-    let (y0, y1) = data.levels(&lat).expect("initial data");
-    let levels = 20;
-    let complex = SpacetimeLattice::seed002(CellShape::Rectangle, &lat, levels + 1).expect("complex");
-    let n = lat.nodes();
-    let vertex = |i: usize, j: usize| complex.vertex_at(i as i64, j as i64).expect("node");
-    let mut values = vec![V1::zeros(); complex.vertex_count()];
-    for i in 0..n {
-        values[vertex(i, 0)] = V1::new(y0[i]);
-        values[vertex(i, 1)] = V1::new(y1[i]);
-    }
     let options = CauchyOptions::default();
     let (mut star, mut verts) = (Vec::<StarEntry>::new(), [0usize; 4]);
     let mut worst: f64 = 0.0;
-    for j in 1..levels {
-        for i in 0..n {
-            values[vertex(i, j + 1)] = values[vertex(i, j)] * 2.0 - values[vertex(i, j - 1)];
-        }
-        let equations: Vec<usize> = (0..n).map(|i| vertex(i, j)).collect();
-        let unknowns: Vec<usize> = (0..n).map(|i| vertex(i, j + 1)).collect();
-        solve_level::<_, Euclidean<1>, _, 1>(
-            &complex,
-            &lag,
-            &mut values,
-            &equations,
-            &unknowns,
-            true,
-            &options,
-            j + 1,
-        )
-        .expect("level solve");
+    march_levels(CellShape::Rectangle, &lag, lat, 20, |j, complex, values| {
         // The solve's own measure: the largest residual over the largest
         // sum of term sizes of one equation.
         let (mut largest, mut terms): (f64, f64) = (0.0, 0.0);
-        for &e in &equations {
-            complex.star(e, &mut star);
+        for i in 0..lat.nodes() {
+            complex.star(complex.vertex_at(i as i64, j as i64).expect("node"), &mut star);
             let (mut residual, mut size) = (0.0, 0.0);
             for entry in &star {
                 let k = complex.cell_vertices(entry.cell, &mut verts);
@@ -184,7 +173,7 @@ fn level_solves_zero_the_residual_the_momenta_are_made_of() {
             terms = terms.max(size);
         }
         worst = worst.max(largest / terms);
-    }
+    });
     println!("largest relative Euler–Lagrange residual of the solved levels: {worst:.2e}");
     assert!(
         worst <= 100.0 * options.tolerance,

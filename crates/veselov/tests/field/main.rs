@@ -5,6 +5,8 @@
 //! One test binary per area: the modules below were separate test files,
 //! and keep their names (`cargo test -p veselov --test field <module>::`).
 
+#[path = "../support/checkpoints.rs"]
+mod checkpoints;
 #[path = "../common/mod.rs"]
 mod common;
 #[path = "../support/five_point.rs"]
