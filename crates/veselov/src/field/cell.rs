@@ -61,7 +61,9 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// ∂L_β/∂y_a and its derivative with respect to y_b (the block of
     /// [`mixed_block`]) when the Lagrangian computes them itself; `None`
     /// (default) for the nested-dual pass ([`mixed_block_dual`]), which stays
-    /// the reference.
+    /// the reference. The vertex and level solvers use only the block: their
+    /// residuals are [`exact_gradient`]'s, whatever the rounding of the
+    /// gradient returned here.
     fn analytic_block(
         &self,
         _cell: &TopCell,
