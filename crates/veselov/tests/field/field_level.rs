@@ -19,6 +19,15 @@ use veselov::field::{
 
 type V1 = SVector<f64, 1>;
 
+/// The first two levels of seed 002's kink–antikink on `lat`.
+fn kink_antikink(lat: &Lattice) -> (Vec<f64>, Vec<f64>) {
+    let data = InitialData::KinkAntikink {
+        epsilon: 1e-6,
+        paper_start: true,
+    };
+    data.levels(lat).expect("initial data")
+}
+
 /// Marches seed 002's kink–antikink on the complex of `shape` over `lat`
 /// by whole-level solves of `lag` from the linear extrapolation of the two
 /// levels below; after level j + 1 is solved, `after(j, complex, values)`.
@@ -29,11 +38,7 @@ fn march_levels<L: DiscreteLagrangian<Euclidean<1>, 1>>(
     levels: usize,
     mut after: impl FnMut(usize, &SpacetimeLattice, &[V1]),
 ) {
-    let data = InitialData::KinkAntikink {
-        epsilon: 1e-6,
-        paper_start: true,
-    };
-    let (y0, y1) = data.levels(&lat).expect("initial data");
+    let (y0, y1) = kink_antikink(&lat);
     let complex = SpacetimeLattice::seed002(shape, &lat, levels + 1).expect("complex");
     let n = lat.nodes();
     let vertex = |i: usize, j: usize| complex.vertex_at(i as i64, j as i64).expect("node");
@@ -65,11 +70,7 @@ fn march_levels<L: DiscreteLagrangian<Euclidean<1>, 1>>(
 
 fn compare<L: veselov::field::CellLagrangian<1>>(scheme: Scheme, shape: CellShape, rule: &L, levels: usize) -> f64 {
     let lat = Lattice::periodic(48, 24.0, 4.0).expect("lattice");
-    let data = InitialData::KinkAntikink {
-        epsilon: 1e-6,
-        paper_start: true,
-    };
-    let (y0, y1) = data.levels(&lat).expect("initial data");
+    let (y0, y1) = kink_antikink(&lat);
     let opts = SolverOptions {
         rel_tol: 1e-15,
         ..SolverOptions::default()
