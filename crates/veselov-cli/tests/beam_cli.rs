@@ -49,7 +49,9 @@ fn paper_space_evolution_well_posed_reaches_the_end_and_literal_stops_cleanly() 
     let (ok, err, out) = run("literal", &example("beam_paper_space.toml"));
     assert!(!ok && err.starts_with("error: ") && err.contains("(j, a)"), "{err}");
     assert!(!err.contains("panicked"));
-    assert_eq!(summary(&out)["status"], "error");
+    let s = summary(&out);
+    assert_eq!(s["status"], "error", "{s}");
+    assert_eq!(s["failure"]["kind"], "vertex_solve_failure", "{s}");
     assert!(
         !csv(&out.join("momentum.csv")).1.is_empty(),
         "the columns computed are kept"

@@ -102,8 +102,30 @@ fn above_the_step_limit_the_run_is_refused_or_fails_cleanly() {
     assert!(!err.contains("panicked"));
     let s = summary(&out);
     assert_eq!(s["status"], "error", "{s}");
+    // A solver failure, placed at the step the run was taking.
+    assert_eq!(s["failure"]["kind"], "vertex_solve_failure", "{s}");
+    assert_eq!(s["failure"]["step"], s["steps"], "{s}");
+    assert_eq!(s["failure"]["time"], s["t_final"], "{s}");
     let (_, rows) = csv(&out.join("momentum.csv"));
     assert!(rows.iter().flatten().all(|x| x.is_finite()));
+}
+
+/// A rod so long that the terms of its first vertex equation overflow
+/// (Δs = 5e298) stops at that vertex with a NaN residual, not the zero the
+/// solve starts from, and keeps the levels it was given.
+#[test]
+fn an_overflowing_vertex_equation_reports_a_nan_residual() {
+    let long = "[model]\nname = \"cosserat-rod\"\nnodes = 21\nlength = 1e300\nradius = 0.01\n\
+                density = 1000.0\nyoung = 1e5\npoisson = 0.5\n\n[time]\nt_end = 0.05\n";
+    let (ok, err, out) = run("overflow", long);
+    assert!(!ok && !err.contains("panicked"), "{err}");
+    let s = summary(&out);
+    assert_eq!(s["failure"]["kind"], "vertex_solve_failure", "{s}");
+    let message = s["failure"]["message"].as_str().expect("message");
+    assert!(
+        message.contains("residual NaN") && message.contains("non-finite"),
+        "{message}"
+    );
 }
 
 #[test]

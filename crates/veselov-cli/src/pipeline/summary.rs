@@ -18,20 +18,28 @@ pub fn status_name(status: &Status) -> &'static str {
     }
 }
 
-/// `{kind, step, time, message}` of a library failure.
-pub fn failure(e: &veselov::Error) -> Value {
+/// `{kind, step, time, message}` of a library failure that ended a run
+/// after `steps` steps at `t_final`. An error that does not carry its own
+/// step and time (a vertex solve, a singular Jacobian, a Lie-group map, a
+/// bad value met during the run) is placed at the step the run was taking:
+/// `step` = the steps completed (the 0-based index of the failed one) and
+/// `time` = `t_final` (the time at its start), as [`veselov::Error::NewtonFailure`]
+/// reports its own.
+pub fn failure(e: &veselov::Error, steps: u64, t_final: f64) -> Value {
     use veselov::Error as E;
-    let (kind, step, time): (&str, Option<usize>, Option<f64>) = match e {
-        E::NonFiniteState { step, t, .. } => ("non_finite_state", Some(*step), Some(*t)),
-        E::NewtonFailure { step, t, .. } => ("newton_failure", Some(*step), Some(*t)),
-        E::NoStepRoot { step, t, .. } => ("no_step_root", Some(*step), Some(*t)),
-        E::DegenerateStep { step, t, .. } => ("degenerate_step", Some(*step), Some(*t)),
-        E::NegativeStep { step, t, .. } => ("negative_step", Some(*step), Some(*t)),
-        E::LevelSolveFailure { level, t, .. } => ("level_solve_failure", Some(*level), Some(*t)),
-        E::SingularJacobian { .. } => ("singular_jacobian", None, None),
-        E::SingularVelocityHessian { t, .. } => ("singular_velocity_hessian", None, Some(*t)),
-        E::Lie(_) => ("lie_group", None, None),
-        _ => ("invalid_input", None, None),
+    let here = (Some(steps), Some(t_final));
+    let (kind, (step, time)): (&str, (Option<u64>, Option<f64>)) = match e {
+        E::NonFiniteState { step, t, .. } => ("non_finite_state", (Some(*step as u64), Some(*t))),
+        E::NewtonFailure { step, t, .. } => ("newton_failure", (Some(*step as u64), Some(*t))),
+        E::NoStepRoot { step, t, .. } => ("no_step_root", (Some(*step as u64), Some(*t))),
+        E::DegenerateStep { step, t, .. } => ("degenerate_step", (Some(*step as u64), Some(*t))),
+        E::NegativeStep { step, t, .. } => ("negative_step", (Some(*step as u64), Some(*t))),
+        E::LevelSolveFailure { level, t, .. } => ("level_solve_failure", (Some(*level as u64), Some(*t))),
+        E::VertexSolveFailure { .. } => ("vertex_solve_failure", here),
+        E::SingularJacobian { .. } => ("singular_jacobian", here),
+        E::SingularVelocityHessian { t, .. } => ("singular_velocity_hessian", (Some(steps), Some(*t))),
+        E::Lie(_) => ("lie_group", here),
+        _ => ("invalid_input", here),
     };
     json!({ "kind": kind, "step": step, "time": time, "message": e.to_string() })
 }
@@ -39,7 +47,7 @@ pub fn failure(e: &veselov::Error) -> Value {
 /// The common keys, followed by `own` (the kind's keys, which keep their order).
 pub fn common(status: &Status, steps: u64, t_final: f64, wall_seconds: f64, iterations: u64, own: Value) -> Value {
     let fail = match status {
-        Status::Failed(e) => failure(e),
+        Status::Failed(e) => failure(e, steps, t_final),
         _ => Value::Null,
     };
     let mut map = Map::new();

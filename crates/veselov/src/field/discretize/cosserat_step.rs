@@ -307,6 +307,8 @@ pub(crate) fn split_solve<P: RodPotential>(
     // The linear solve's residual, in the body frame.
     let residual_r = largest_abs(&(constants.stiffness * z - rhs));
     if !residual_r.is_finite() || !r2.iter().all(|x| x.is_finite()) {
+        // Reported as a NaN residual, not the default zero.
+        outcome.relative_residual = f64::NAN;
         return fail(Failure::NonFinite, outcome);
     }
     // The b-independent rotation terms: A_β(R₀ᵀg_σ)^C₁ε_σ (and the end
@@ -370,6 +372,8 @@ pub(crate) fn split_solve<P: RodPotential>(
         let terms = (scale + fixed_scale + largest_abs(&value)).max(f64::MIN_POSITIVE);
         outcome.relative_residual = r.max(residual_r) / terms;
         if !r.is_finite() {
+            // f64::max would hide a NaN behind residual_r.
+            outcome.relative_residual = r;
             return fail(Failure::NonFinite, outcome);
         }
         let inverse = jacobian.try_inverse();
