@@ -931,6 +931,19 @@ fn cfk_lattice_fields_run_and_conserve_their_momenta() {
     }
     let err = failing("cfk-unstable", &text("sine-gordon", "pulse", 0.15));
     assert!(err.contains("`lattice`") && err.contains("stability limit"), "{err}");
+    // At the limit exactly: spacing 0.1 and courant 0.4 give dt/dx =
+    // 0.4000000000000001 in floating point, which is not above the limit.
+    let at_limit = text("sine-gordon", "pulse", 0.1)
+        .replace("spacing = 0.3", "spacing = 0.1")
+        .replace("dt = 0.1", "courant = 0.4")
+        .replace("t_end = 3.0", "t_end = 0.2");
+    let out = dir.join("at-limit");
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(scenario(&dir, &at_limit))
+        .assert()
+        .success();
     let err = failing("cfk-initial", &text("sine-gordon", "plane-wave", 0.1));
     assert!(err.contains("`initial.kind`"), "{err}");
 }

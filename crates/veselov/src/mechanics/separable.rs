@@ -70,7 +70,8 @@ pub struct SeparableLagrangian<V, const N: usize> {
 }
 
 impl<V: Potential<N>, const N: usize> SeparableLagrangian<V, N> {
-    /// Build from a mass matrix and a potential; `M` must be symmetric positive definite.
+    /// Build from a mass matrix and a potential; `M` must be symmetric
+    /// positive definite with a finite inverse.
     pub fn new(mass: SMatrix<f64, N, N>, potential: V) -> Result<Self> {
         let bad = || Error::InvalidParameter {
             name: "mass".into(),
@@ -81,9 +82,14 @@ impl<V: Potential<N>, const N: usize> SeparableLagrangian<V, N> {
             return Err(bad());
         }
         let chol = mass.cholesky().ok_or_else(bad)?;
+        // A subnormal pivot passes the factorisation and overflows here.
+        let mass_inverse = chol.inverse();
+        if mass_inverse.iter().any(|x| !x.is_finite()) {
+            return Err(bad());
+        }
         Ok(Self {
             mass,
-            mass_inverse: chol.inverse(),
+            mass_inverse,
             potential,
         })
     }

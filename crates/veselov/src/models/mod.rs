@@ -30,15 +30,16 @@ pub use van_der_pol::VanDerPol;
 
 use crate::error::{Error, Result};
 
-/// Check that a model parameter is finite and strictly positive.
+/// Check that a model parameter is finite, strictly positive and normal.
 pub(crate) fn positive(name: &str, value: f64) -> Result<f64> {
-    if value.is_finite() && value > 0.0 {
+    // Subnormal values are refused too: their reciprocals overflow.
+    if value.is_normal() && value > 0.0 {
         Ok(value)
     } else {
         Err(Error::InvalidParameter {
             name: name.to_string(),
             value: value.to_string(),
-            reason: "must be finite and > 0".to_string(),
+            reason: "must be finite and > 0 (and not subnormal)".to_string(),
         })
     }
 }

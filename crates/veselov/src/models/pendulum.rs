@@ -31,13 +31,37 @@ impl Default for Pendulum {
 }
 
 impl Pendulum {
-    /// Pendulum with positive parameters.
+    /// Pendulum with positive parameters whose inertia m ℓ² and weight
+    /// scale m g ℓ are finite, positive and normal (neither overflows nor
+    /// underflows to zero or below the normal range, where 1/(m ℓ²)
+    /// would overflow).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the parameter (`mass`, `length`,
+    /// `gravity`) or the product (`mass·length²`, `mass·gravity·length`)
+    /// at fault.
     pub fn new(mass: f64, length: f64, gravity: f64) -> Result<Self> {
-        Ok(Self {
+        let p = Self {
             mass: positive("mass", mass)?,
             length: positive("length", length)?,
             gravity: positive("gravity", gravity)?,
-        })
+        };
+        let product = |name: &str, value: f64| {
+            if value.is_normal() && value > 0.0 {
+                Ok(value)
+            } else {
+                Err(Error::InvalidParameter {
+                    name: name.into(),
+                    value: value.to_string(),
+                    reason: format!(
+                        "must be finite, > 0 and not subnormal (mass = {mass}, length = {length}, gravity = {gravity})"
+                    ),
+                })
+            }
+        };
+        product("mass·length²", p.inertia())?;
+        product("mass·gravity·length", mass * gravity * length)?;
+        Ok(p)
     }
     /// Small-oscillation frequency `ω₀ = √(g/ℓ)`.
     pub fn omega0(&self) -> f64 {
@@ -48,6 +72,10 @@ impl Pendulum {
         self.mass * self.length * self.length
     }
     /// The Lagrangian system.
+    ///
+    /// # Panics
+    /// If m ℓ² is not finite and positive, which [`Pendulum::new`] rules
+    /// out (only a pendulum built field by field can have it).
     pub fn system(&self) -> SeparableLagrangian<Self, 1> {
         SeparableLagrangian::new(SMatrix::<f64, 1, 1>::new(self.inertia()), *self).expect("validated parameters")
     }

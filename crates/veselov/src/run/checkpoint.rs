@@ -14,6 +14,17 @@ pub trait Checkpoint {
     fn save(&self, out: &mut Vec<f64>);
     /// Restore from words written by [`Checkpoint::save`] of the same kind of object.
     ///
+    /// Words that do not fit leave the lattice marchers
+    /// ([`FastMarcher`](crate::field::FastMarcher),
+    /// [`GenericMarcher`](crate::field::GenericMarcher),
+    /// [`CauchyMarcher`](crate::field::cauchy::CauchyMarcher)) and seed
+    /// 000's [`Evolution000`](crate::field::evolution::Evolution000) as they
+    /// were: they read every word before replacing anything. Other
+    /// implementations (states, steppers' carries,
+    /// observers) may be left partly restored by an error: restore into a
+    /// fresh object, or discard it on error, as the command line's resume
+    /// does.
+    ///
     /// # Errors
     /// [`Error::InvalidParameter`] (`checkpoint`) if the words run out or do not fit.
     fn restore(&mut self, words: &mut Words<'_>) -> Result<()>;

@@ -65,6 +65,27 @@ fn invalid_method_parameters_are_rejected() {
     assert!(matches!(Kepler::new(1.0), Err(Error::InvalidParameter { ref name, .. }) if name == "eccentricity"));
 }
 
+/// Parameters that are each fine but whose products overflow or vanish are
+/// refused by name, so that `system()` never meets a non-finite or zero
+/// inertia.
+#[test]
+fn pendulum_products_that_overflow_or_vanish_are_rejected() {
+    let name_of = |r: veselov::Result<Pendulum>| match r {
+        Err(Error::InvalidParameter { name, .. }) => name,
+        other => panic!("expected an invalid parameter, got {other:?}"),
+    };
+    assert_eq!(name_of(Pendulum::new(1.0, 1e300, 9.81)), "mass·length²");
+    assert_eq!(name_of(Pendulum::new(1e-300, 1e-20, 1.0)), "mass·length²");
+    // Subnormal (1e-320): 1/(m ℓ²) would overflow.
+    assert_eq!(name_of(Pendulum::new(1e-300, 1e-10, 1.0)), "mass·length²");
+    assert_eq!(name_of(Pendulum::new(1e200, 1e-100, 1e300)), "mass·gravity·length");
+    let fine = Pendulum::new(2.0, 1e100, 1e-100).expect("finite products");
+    assert!(fine.system().mass_inverse().iter().all(|m| m.is_finite() && *m > 0.0));
+    // The system refuses a subnormal mass of its own.
+    let tiny = nalgebra::SMatrix::<f64, 1, 1>::new(1e-320);
+    assert!(veselov::mechanics::SeparableLagrangian::new(tiny, fine).is_err());
+}
+
 /// `L = q v − q²/2` is degenerate: `∂²L/∂v² = 0`.
 struct Degenerate;
 impl Lagrangian<1> for Degenerate {
