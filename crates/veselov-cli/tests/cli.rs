@@ -338,6 +338,7 @@ fn bad_input_gives_one_clear_message() {
         ("dimension", format!("{KEPLER}[initial]\nq = [1.0, 0.0, 0.0]\np = [0.0, 1.0]\n"), &["initial.q", "expected 2 values"]),
         ("non-finite-initial", format!("{KEPLER}[initial]\nq = [1.0, inf]\np = [0.0, 1.0]\n"), &["initial.q[1]", "finite"]),
         ("bad-eccentricity", KEPLER.replace("name = \"kepler\"", "name = \"kepler\"\nparams = { eccentricity = 1.5 }"), &["eccentricity", "[0, 1)"]),
+        ("overflowing-inertia", KEPLER.replace("name = \"kepler\"", "name = \"pendulum\"\nparams = { length = 1e300 }").replace("[time]", "[initial]\nq = [1.0]\np = [0.0]\n[time]"), &["model.params", "mass·length²"]),
         ("stages-on-midpoint", KEPLER.replace("dt = 0.01", "dt = 0.01\nstages = 3"), &["method.stages"]),
         ("too-many-stages", KEPLER.replace("\"midpoint\"", "\"galerkin-gauss\"\nstages = 99"), &["method.stages"]),
         (
