@@ -45,10 +45,10 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use veselov::field::cauchy::CauchyOptions;
 use veselov::models::beam::paper;
-use veselov::models::beam::{BeamProperties, CrossSection, Material, ShearProperty, StepLimit};
+use veselov::models::beam::{BeamProperties, CrossSection, Material, StepLimit};
 
 use crate::error::CliError;
-use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value};
+use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value, shear_from_keys};
 
 /// The model name of the beam kind.
 pub const BEAM_MODEL: &str = "beam";
@@ -203,11 +203,7 @@ impl BeamSetup {
                 ));
             }
         };
-        let shear = match (m.poisson, m.shear_modulus) {
-            (Some(nu), None) => ShearProperty::Poisson(finite_value(path, "model.poisson", nu)?),
-            (None, Some(g)) => ShearProperty::Modulus(positive_value(path, "model.shear_modulus", g)?),
-            _ => return Err(key("model.poisson", "give either `poisson` or `shear_modulus`".into())),
-        };
+        let shear = shear_from_keys(path, m.poisson, m.shear_modulus)?;
         let shear_correction = match m.shear_correction {
             Some(k) => positive_value(path, "model.shear_correction", k)?,
             None => match section {
@@ -219,7 +215,7 @@ impl BeamSetup {
             density: positive_value(path, "model.density", m.density)?,
             young: positive_value(path, "model.young", m.young)?,
             shear,
-            shear_correction,
+            shear_coefficient: shear_correction,
         };
         let properties = BeamProperties::new(&section, &material).map_err(|e| key("model", e.to_string()))?;
         let ds = length / (m.nodes - 1) as f64;

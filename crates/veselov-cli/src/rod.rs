@@ -51,12 +51,12 @@ use veselov::field::discretize::{RodLoads, RodParameters};
 use veselov::field::fibre::Pose;
 use veselov::lie::so3;
 use veselov::models::rod::{
-    CrossSection, EndCondition, Material, RodEnds, RodLattice, Shear, courant_number, largest_step, rod_parameters,
+    CrossSection, EndCondition, Material, RodEnds, RodLattice, courant_number, largest_step, rod_parameters,
 };
 
 use crate::error::CliError;
 use crate::rod_motion::{Centreline, MotionSpec, driven_end, parse_expression};
-use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value};
+use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value, shear_from_keys};
 
 /// The model name of the rod kind.
 pub const ROD_MODEL: &str = "cosserat-rod";
@@ -358,17 +358,7 @@ impl RodSetup {
             }
         };
         let (densities, youngs) = (along("model.density", &m.density)?, along("model.young", &m.young)?);
-        let shear = match (m.poisson, m.shear_modulus) {
-            (Some(nu), None) => {
-                let nu = finite_value(path, "model.poisson", nu)?;
-                if !(-1.0 < nu && nu <= 0.5) {
-                    return Err(key("model.poisson", format!("must lie in (−1, 0.5], got {nu}")));
-                }
-                Shear::Poisson(nu)
-            }
-            (None, Some(g)) => Shear::Modulus(positive_value(path, "model.shear_modulus", g)?),
-            _ => return Err(key("model.poisson", "give either `poisson` or `shear_modulus`".into())),
-        };
+        let shear = shear_from_keys(path, m.poisson, m.shear_modulus)?;
         let given_kappa = match m.shear_coefficient {
             Some(k) => Some(positive_value(path, "model.shear_coefficient", k)?),
             None => None,
@@ -376,16 +366,8 @@ impl RodSetup {
         let profile = (0..m.nodes)
             .map(|k| {
                 let young = youngs[k];
-                let nu = match shear {
-                    Shear::Poisson(nu) => nu,
-                    Shear::Modulus(g) => young / (2.0 * g) - 1.0,
-                };
-                // Cowper's shear coefficients, from ν (clamped into the physical range).
-                let cowper_nu = nu.clamp(-0.99, 0.5);
-                let kappa = given_kappa.unwrap_or(match sections[k] {
-                    CrossSection::Circle { .. } => 6.0 * (1.0 + cowper_nu) / (7.0 + 6.0 * cowper_nu),
-                    CrossSection::Rectangle { .. } => 10.0 * (1.0 + cowper_nu) / (12.0 + 11.0 * cowper_nu),
-                });
+                let kappa =
+                    given_kappa.unwrap_or_else(|| sections[k].cowper_shear_coefficient(shear.poisson_ratio(young)));
                 let material = Material {
                     density: densities[k],
                     young,

@@ -366,6 +366,37 @@ pub fn finite_value(file: &Path, key: &str, v: f64) -> Result<f64, CliError> {
     }
 }
 
+/// The second elastic constant of `[model]` from its keys `poisson`
+/// (−1 < ν ≤ ½) or `shear_modulus` (> 0), exactly one of them given; an
+/// error names the key at fault.
+pub fn shear_from_keys(
+    file: &Path,
+    poisson: Option<f64>,
+    shear_modulus: Option<f64>,
+) -> Result<veselov::models::elastic::Shear, CliError> {
+    use veselov::models::elastic::Shear;
+    match (poisson, shear_modulus) {
+        (Some(nu), None) => {
+            let nu = finite_value(file, "model.poisson", nu)?;
+            if -1.0 < nu && nu <= 0.5 {
+                Ok(Shear::Poisson(nu))
+            } else {
+                Err(key_error(
+                    file,
+                    "model.poisson",
+                    format!("must lie in (−1, 0.5], got {nu}"),
+                ))
+            }
+        }
+        (None, Some(g)) => Ok(Shear::Modulus(positive_value(file, "model.shear_modulus", g)?)),
+        _ => Err(key_error(
+            file,
+            "model.poisson",
+            "give either `poisson` or `shear_modulus`",
+        )),
+    }
+}
+
 /// `v` if it is finite and positive, else an error naming `key`.
 pub fn positive_value(file: &Path, key: &str, v: f64) -> Result<f64, CliError> {
     if v.is_finite() && v > 0.0 {

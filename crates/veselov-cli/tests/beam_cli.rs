@@ -81,6 +81,7 @@ fn bad_beam_input_names_the_key() {
     let cases = [
         (set(&base, "young", "-1.0"), "model.young"),
         (set(&base, "nodes", "2"), "model.nodes"),
+        (set(&base, "poisson", "0.7"), "model.poisson"),
         (base.replace("[time]", "[time]\nsteps = 3"), "steps"),
         (set(&base, "evolution", "\"diagonal\""), "method.evolution"),
         (set(&base, "retraction", "\"quaternion\""), "method.retraction"),
@@ -100,6 +101,10 @@ fn bad_beam_input_names_the_key() {
         assert!(!ok && err.contains(key), "expected an error naming {key}: {err}");
         assert!(!err.contains("panicked"), "{err}");
     }
+    // The incompressible limit ν = ½ is a material like any other, as for
+    // the rod (G = E/3).
+    let (ok, err, _) = run("incompressible", &set(&base, "poisson", "0.5"));
+    assert!(ok, "{err}");
 }
 
 /// `examples/beam_cantilever_damped.toml` as shipped: released straight under

@@ -10,6 +10,7 @@ pub mod beam;
 pub mod damped_kepler;
 pub mod damped_oscillator;
 pub mod double_pendulum;
+pub mod elastic;
 pub mod harmonic;
 pub mod henon_heiles;
 pub mod kepler;

@@ -336,7 +336,7 @@ where
 }
 
 /// A checkpoint whose kept-Jacobian section is damaged (a tag that is not
-/// one, or words missing) is refused with an error that says so, and the
+/// one, or words missing) or whose values are not finite is refused with an error that says so, and the
 /// marcher it was read into goes on as if nothing had been read.
 #[test]
 fn a_damaged_kept_jacobian_section_is_refused() {
@@ -366,6 +366,14 @@ fn a_damaged_kept_jacobian_section_is_refused() {
     }
     let err = target.restore(&mut Words::new(&wrong_tag)).expect_err("not a tag");
     assert!(err.to_string().contains("kept-Jacobian tag"), "{err}");
+    let mut not_finite = saved.clone();
+    not_finite[1 + 2 * torus.level_size() + 3] = f64::NAN;
+    let err = target.restore(&mut Words::new(&not_finite)).expect_err("a NaN value");
+    assert!(
+        err.to_string()
+            .contains("non-finite value of vertex 3 of stored level 2"),
+        "{err}"
+    );
     let truncated = &saved[..saved.len() - 1];
     let err = target.restore(&mut Words::new(truncated)).expect_err("truncated");
     assert!(err.to_string().contains("truncated"), "{err}");

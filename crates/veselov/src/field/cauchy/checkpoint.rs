@@ -71,9 +71,19 @@ where
         let mut c = [0.0; 16];
         let k = F::COORDINATES.min(c.len());
         let mut levels = Vec::with_capacity(2 * n as usize * size);
-        for _ in 0..2 * n as usize * size {
+        for i in 0..2 * n as usize * size {
             words.fill(&mut c[..k])?;
-            levels.push(F::read(&c[..k]));
+            let value = F::read(&c[..k]);
+            // A field value is finite: a NaN would only surface as a failed
+            // vertex solve far from its cause.
+            if !F::is_finite(&value) {
+                return Err(Error::InvalidParameter {
+                    name: "checkpoint".into(),
+                    value: format!("{:?}", &c[..k]),
+                    reason: format!("non-finite value of vertex {} of stored level {}", i % size, i / size),
+                });
+            }
+            levels.push(value);
         }
         let mut kept = Vec::new();
         if words.take_tag(KEPT_FACTORS_TAG) {

@@ -17,4 +17,4 @@ pub mod paper;
 pub mod section;
 
 pub use density::{BeamDensity, BeamLagrangian, CayleyBeam, E6, ExpBeam, beam_lagrangian, left_generators, straight};
-pub use section::{BeamProperties, CrossSection, Material, ShearProperty, StepLimit};
+pub use section::{BeamProperties, CrossSection, Material, Shear, StepLimit};

@@ -4,12 +4,9 @@
 //! 𝕁 = diag(ρI₁, ρI₂, ρ(I₁ + I₂), ρA, ρA, ρA),
 //! ℂ = diag(EI₁, EI₂, GJ_t, kGA, kGA, EA), G = E/(2(1 + ν)) unless given,
 //!
-//! with A, I₁ = ∫x₂² dA, I₂ = ∫x₁² dA and the torsion constant J_t of the
-//! cross-section: rectangle b × h (b along E1, h along E2): A = bh,
-//! I₁ = bh³/12, I₂ = hb³/12, J_t = p q³(1/3 − 0.21 (q/p)(1 − q⁴/(12p⁴)))
-//! with p = max(b, h), q = min(b, h) (Roark's formula; 0.1408 a⁴ for a
-//! square, exact value 0.1406 a⁴); circle of radius R: A = πR², I₁ = I₂ =
-//! πR⁴/4, J_t = πR⁴/2 (exact).
+//! with A, I₁, I₂ and the torsion constant J_t of the cross-section and the
+//! material's constants as in [`elastic`](crate::models::elastic) (the
+//! section's first axis is E1, its second E2).
 //!
 //! Wave speeds of the linearised beam are c_k = √(ℂ_k/𝕁_k) per component
 //! (bending and torsion about E1, E2, E3, shear along E1, E2, axial along
@@ -20,46 +17,8 @@
 //! space evolution Δs ≤ c_min Δt.
 
 use crate::error::{Error, Result};
+pub use crate::models::elastic::{CrossSection, Material, Shear};
 use crate::models::positive;
-
-/// The shape of the cross-section.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum CrossSection {
-    /// A rectangle of width `width` (along E1) and height `height` (along E2).
-    Rectangle {
-        /// Side along E1 (m).
-        width: f64,
-        /// Side along E2 (m).
-        height: f64,
-    },
-    /// A disc of radius `radius` (m).
-    Circle {
-        /// Radius (m).
-        radius: f64,
-    },
-}
-
-/// The second elastic constant: a Poisson ratio or a shear modulus.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ShearProperty {
-    /// Poisson ratio ν ∈ (−1, 0.5); G = E/(2(1 + ν)).
-    Poisson(f64),
-    /// Shear modulus G > 0 (Pa).
-    Modulus(f64),
-}
-
-/// The material.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Material {
-    /// Mass density ρ (kg/m³).
-    pub density: f64,
-    /// Young's modulus E (Pa).
-    pub young: f64,
-    /// Poisson ratio or shear modulus.
-    pub shear: ShearProperty,
-    /// Shear correction factor k (5/6 for rectangles, 0.9 for discs, 1 to switch it off).
-    pub shear_correction: f64,
-}
 
 /// The diagonal 𝕁 (inertia per unit length) and ℂ (stiffness) of a beam.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,57 +38,6 @@ pub enum StepLimit {
     Space,
 }
 
-impl CrossSection {
-    /// (A, I₁, I₂, J_t).
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the non-positive dimension.
-    pub fn geometry(&self) -> Result<(f64, f64, f64, f64)> {
-        match *self {
-            CrossSection::Rectangle { width, height } => {
-                let b = positive("section.width", width)?;
-                let h = positive("section.height", height)?;
-                let (p, q) = (b.max(h), b.min(h));
-                let jt = p * q.powi(3) * (1.0 / 3.0 - 0.21 * (q / p) * (1.0 - q.powi(4) / (12.0 * p.powi(4))));
-                Ok((b * h, b * h.powi(3) / 12.0, h * b.powi(3) / 12.0, jt))
-            }
-            CrossSection::Circle { radius } => {
-                let r = positive("section.radius", radius)?;
-                let pi = std::f64::consts::PI;
-                Ok((
-                    pi * r * r,
-                    pi * r.powi(4) / 4.0,
-                    pi * r.powi(4) / 4.0,
-                    pi * r.powi(4) / 2.0,
-                ))
-            }
-        }
-    }
-}
-
-impl Material {
-    /// The shear modulus G.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming `young`, `poisson` or `shear_modulus`.
-    pub fn shear_modulus(&self) -> Result<f64> {
-        let e = positive("young", self.young)?;
-        match self.shear {
-            ShearProperty::Poisson(nu) => {
-                if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-                    return Err(Error::InvalidParameter {
-                        name: "poisson".into(),
-                        value: nu.to_string(),
-                        reason: "a Poisson ratio must lie in (-1, 0.5)".into(),
-                    });
-                }
-                Ok(e / (2.0 * (1.0 + nu)))
-            }
-            ShearProperty::Modulus(g) => positive("shear_modulus", g),
-        }
-    }
-}
-
 impl BeamProperties {
     /// 𝕁 and ℂ from the section and the material.
     ///
@@ -137,11 +45,9 @@ impl BeamProperties {
     /// [`Error::InvalidParameter`] naming the first non-positive (or, for ν,
     /// out-of-range) input.
     pub fn new(section: &CrossSection, material: &Material) -> Result<Self> {
-        let (a, i1, i2, jt) = section.geometry()?;
-        let rho = positive("density", material.density)?;
-        let e = positive("young", material.young)?;
-        let g = material.shear_modulus()?;
-        let k = positive("shear_correction", material.shear_correction)?;
+        let geometry = section.geometry()?;
+        let (a, i1, i2, jt) = (geometry.area, geometry.i1, geometry.i2, geometry.torsion);
+        let (rho, e, g, k) = material.constants()?;
         Ok(Self {
             inertia: [rho * i1, rho * i2, rho * (i1 + i2), rho * a, rho * a, rho * a],
             stiffness: [e * i1, e * i2, g * jt, k * g * a, k * g * a, e * a],
@@ -227,8 +133,8 @@ mod tests {
         let m = Material {
             density: 7800.0,
             young: 2.1e11,
-            shear: ShearProperty::Poisson(0.3),
-            shear_correction: 5.0 / 6.0,
+            shear: Shear::Poisson(0.3),
+            shear_coefficient: 5.0 / 6.0,
         };
         let p = BeamProperties::new(
             &CrossSection::Rectangle {
@@ -246,7 +152,7 @@ mod tests {
         let err = BeamProperties::new(&CrossSection::Circle { radius: 0.01 }, &bad).expect_err("negative E");
         assert!(err.to_string().contains("young"), "{err}");
         let bad = Material {
-            shear: ShearProperty::Poisson(0.7),
+            shear: Shear::Poisson(0.7),
             ..m
         };
         assert!(BeamProperties::new(&CrossSection::Circle { radius: 0.01 }, &bad).is_err());

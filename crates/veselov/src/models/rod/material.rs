@@ -1,5 +1,6 @@
 //! The rod's material parameters (6.1) from physical inputs: cross-section,
-//! mass density, Young's modulus and shear modulus (or Poisson ratio).
+//! mass density, Young's modulus and shear modulus (or Poisson ratio), as
+//! in [`elastic`](crate::models::elastic) (the section's axes are d₁, d₂).
 //!
 //! The frame's third axis d₃ = R e₃ is the tangent, so the unstressed strain
 //! is e = (0, 0, 1) and, with area A, second moments I₁, I₂, torsion constant
@@ -11,135 +12,25 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::field::discretize::RodParameters;
-use crate::models::positive;
-
-/// The rod's cross-section.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum CrossSection {
-    /// A disc of the given radius.
-    Circle {
-        /// Radius.
-        radius: f64,
-    },
-    /// A rectangle, `width` along d₁, `height` along d₂.
-    Rectangle {
-        /// Extent along d₁.
-        width: f64,
-        /// Extent along d₂.
-        height: f64,
-    },
-}
-
-impl CrossSection {
-    fn validate(&self) -> Result<()> {
-        match *self {
-            CrossSection::Circle { radius } => positive("radius", radius).map(|_| ()),
-            CrossSection::Rectangle { width, height } => {
-                positive("width", width)?;
-                positive("height", height).map(|_| ())
-            }
-        }
-    }
-
-    /// Area A.
-    pub fn area(&self) -> f64 {
-        match *self {
-            CrossSection::Circle { radius } => std::f64::consts::PI * radius * radius,
-            CrossSection::Rectangle { width, height } => width * height,
-        }
-    }
-
-    /// Second moments of area (I₁, I₂) about d₁ and d₂.
-    pub fn second_moments(&self) -> (f64, f64) {
-        match *self {
-            CrossSection::Circle { radius } => {
-                let i = std::f64::consts::PI * radius.powi(4) / 4.0;
-                (i, i)
-            }
-            CrossSection::Rectangle { width, height } => (width * height.powi(3) / 12.0, height * width.powi(3) / 12.0),
-        }
-    }
-
-    /// Saint-Venant torsion constant K: πr⁴/2 for the disc; for a rectangle
-    /// with sides a ≥ b the series approximation
-    /// K ≈ ab³[1/3 − 0.21(b/a)(1 − b⁴/(12a⁴))] (Roark, Table 10.7).
-    pub fn torsion_constant(&self) -> f64 {
-        match *self {
-            CrossSection::Circle { radius } => std::f64::consts::PI * radius.powi(4) / 2.0,
-            CrossSection::Rectangle { width, height } => {
-                let (a, b) = (width.max(height), width.min(height));
-                a * b.powi(3) * (1.0 / 3.0 - 0.21 * (b / a) * (1.0 - b.powi(4) / (12.0 * a.powi(4))))
-            }
-        }
-    }
-}
-
-/// How the shear modulus is given.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Shear {
-    /// G directly.
-    Modulus(f64),
-    /// From the Poisson ratio ν: G = E / (2(1 + ν)), −1 < ν ≤ ½.
-    Poisson(f64),
-}
-
-/// An elastic material.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Material {
-    /// Mass density ρ (mass per volume).
-    pub density: f64,
-    /// Young's modulus E.
-    pub young: f64,
-    /// Shear modulus or Poisson ratio.
-    pub shear: Shear,
-    /// Timoshenko shear coefficient κ in C₁ (1 if not known).
-    pub shear_coefficient: f64,
-}
-
-impl Material {
-    /// The shear modulus G.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming `shear_modulus` or `poisson_ratio`.
-    pub fn shear_modulus(&self) -> Result<f64> {
-        match self.shear {
-            Shear::Modulus(g) => positive("shear_modulus", g),
-            Shear::Poisson(nu) => {
-                if nu.is_finite() && nu > -1.0 && nu <= 0.5 {
-                    Ok(self.young / (2.0 * (1.0 + nu)))
-                } else {
-                    Err(Error::InvalidParameter {
-                        name: "poisson_ratio".into(),
-                        value: nu.to_string(),
-                        reason: "must lie in (−1, 0.5]".into(),
-                    })
-                }
-            }
-        }
-    }
-}
+pub use crate::models::elastic::{CrossSection, Material, Shear};
 
 /// The rod parameters (6.1) of a uniform rod of `section` and `material`.
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] naming the first bad input (`radius`,
-/// `width`, `height`, `density`, `young`, `shear_modulus`, `poisson_ratio`,
-/// `shear_coefficient`).
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) naming the
+/// first bad input (`radius`, `width`, `height`, `density`, `young`,
+/// `shear_modulus`, `poisson`, `shear_coefficient`).
 pub fn rod_parameters(section: &CrossSection, material: &Material) -> Result<RodParameters> {
-    section.validate()?;
-    let rho = positive("density", material.density)?;
-    let e = positive("young", material.young)?;
-    let kappa = positive("shear_coefficient", material.shear_coefficient)?;
-    let g = material.shear_modulus()?;
-    let a = section.area();
-    let (i1, i2) = section.second_moments();
+    let geometry = section.geometry()?;
+    let (a, i1, i2) = (geometry.area, geometry.i1, geometry.i2);
+    let (rho, e, g, kappa) = material.constants()?;
     RodParameters::new(
         rho * a,
         Matrix3::from_diagonal(&Vector3::new(rho * i1, rho * i2, rho * (i1 + i2))),
         Matrix3::from_diagonal(&Vector3::new(kappa * g * a, kappa * g * a, e * a)),
-        Matrix3::from_diagonal(&Vector3::new(e * i1, e * i2, g * section.torsion_constant())),
+        Matrix3::from_diagonal(&Vector3::new(e * i1, e * i2, g * geometry.torsion)),
         Vector3::new(0.0, 0.0, 1.0),
     )
 }
@@ -167,7 +58,7 @@ mod tests {
             ..m
         };
         let err = rod_parameters(&CrossSection::Circle { radius: 0.25 }, &bad).expect_err("invalid input");
-        assert!(err.to_string().contains("poisson_ratio"), "{err}");
+        assert!(err.to_string().contains("poisson"), "{err}");
         let err = rod_parameters(
             &CrossSection::Rectangle {
                 width: 1.0,
