@@ -137,6 +137,7 @@ fn main() -> ExitCode {
                 time_limit,
                 checkpoint_seconds,
                 interrupt: None,
+                scenario: None,
             },
         ),
         Command::Models => {

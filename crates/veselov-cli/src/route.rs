@@ -55,6 +55,10 @@ pub fn run_scenario(path: &Path, job: run::RunJob) -> Result<(), CliError> {
 /// thread of the rayon pool ([`veselov::run::on_pool`]: the lattice
 /// marchers' parallel levels are cheap to hand over from there).
 pub fn run_text(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliError> {
+    let job = run::RunJob {
+        scenario: Some(text.to_owned()),
+        ..job
+    };
     veselov::run::on_pool(|| run_kind(path, text, job))
 }
 

@@ -43,6 +43,10 @@ struct Files {
     compared: &'static [&'static str],
     /// Extra arguments of the interrupted run.
     args: &'static [&'static str],
+    /// A change of the scenario beyond its run length (text, replacement,
+    /// the key named), with which a resume must be refused, leaving the
+    /// files as they were.
+    changed: Option<(&'static str, &'static str, &'static str)>,
 }
 
 const TRAJECTORY: Files = Files {
@@ -51,6 +55,7 @@ const TRAJECTORY: Files = Files {
     paired: ("trajectory.csv", "trajectory.npy", 0),
     compared: &["trajectory.csv", "trajectory.npy"],
     args: &[],
+    changed: None,
 };
 
 /// Run `text` to the end in one go, and again killed with SIGTERM once
@@ -106,6 +111,31 @@ fn interrupt_and_resume(name: &str, text: &str, files: &Files) {
     let width = if width == 0 { table.header.len() } else { width };
     assert_eq!(data, rows * width * 8);
 
+    if let Some((text_from, text_to, key)) = files.changed {
+        assert!(text.contains(text_from), "{name}: no `{text_from}` to change");
+        let other = dir.join("other.toml");
+        std::fs::write(&other, text.replacen(text_from, text_to, 1)).expect("scenario");
+        let before: Vec<Vec<u8>> = files
+            .compared
+            .iter()
+            .map(|f| std::fs::read(part.join(f)).expect("file"))
+            .collect();
+        let refused = Command::new(binary())
+            .args(["run", "--quiet", "--resume"])
+            .arg(&part)
+            .arg(&other)
+            .output()
+            .expect("resume with another scenario");
+        let err = String::from_utf8_lossy(&refused.stderr);
+        assert!(!refused.status.success() && err.contains(key), "{name}: {err}");
+        for (f, b) in files.compared.iter().zip(&before) {
+            assert!(
+                &std::fs::read(part.join(f)).expect("file") == b,
+                "{name}: {f} touched by a refused resume"
+            );
+        }
+        assert_eq!(summary(&part)["status"], "interrupted");
+    }
     let status = Command::new(binary())
         .args(["run", "--quiet", "--resume"])
         .arg(&part)
@@ -178,6 +208,7 @@ const LATTICE: Files = Files {
     paired: ("snapshot_times.csv", "snapshots.npy", 64),
     compared: &["energy.csv", "snapshots.npy", "snapshot_times.csv", "energy_blocks.csv"],
     args: &[],
+    changed: None,
 };
 
 #[test]
@@ -272,6 +303,7 @@ plots = false
             paired: ("snapshot_times.csv", "snapshots.npy", 12 * 12 * 2),
             compared: &["energy.csv", "momentum.csv", "snapshots.npy", "snapshot_times.csv"],
             args: &[],
+            changed: Some(("amplitude = 0.5", "amplitude = 0.6", "initial.amplitude")),
         },
     );
 }
@@ -284,6 +316,7 @@ fn checkpoints_by_wall_time_resume_bit_for_bit() {
         DOUBLE_PENDULUM,
         &Files {
             args: &["--checkpoint-seconds", "0.2"],
+            changed: Some(("dt = 0.001", "dt = 0.002", "method.dt")),
             ..TRAJECTORY
         },
     );
@@ -326,6 +359,7 @@ plots = false
             paired: ("momentum.csv", "centerline.npy", 31 * 3),
             compared: &["momentum.csv", "energy.csv", "centerline.npy", "frames.npy"],
             args: &[],
+            changed: Some(("young = 1e5", "young = 2e5", "model.young")),
         },
     );
 }
@@ -364,6 +398,7 @@ plots = false
             paired: ("momentum.csv", "frames.npy", 21 * 12),
             compared: &["momentum.csv", "energy.csv", "frames.npy"],
             args: &[],
+            changed: None,
         },
     );
 }

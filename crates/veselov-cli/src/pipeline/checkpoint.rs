@@ -36,6 +36,9 @@ pub struct Saved {
     pub stepper: Vec<f64>,
     /// Observer words.
     pub observer: Vec<f64>,
+    /// The run's scenario ([`identity`](super::identity)), absent from
+    /// checkpoints written before it was recorded.
+    pub scenario: Option<String>,
 }
 
 fn hex(words: &[f64]) -> String {
@@ -59,14 +62,14 @@ fn unhex(path: &Path, text: &str) -> Result<Vec<f64>, CliError> {
         .collect()
 }
 
-/// Write the checkpoint of `state` after `outcome` in `dir`.
+/// Write the checkpoint of the `stepper`'s `state` and the `observer`
+/// after `outcome` in `dir`, with the run's `scenario` identity.
 pub fn write<S: Stepper + Checkpoint, O: Resumable + ?Sized>(
     dir: &Path,
-    stepper: &S,
-    state: &S::State,
-    observer: &mut O,
+    (stepper, state, observer): (&S, &S::State, &mut O),
     outcome: &Outcome,
     wall_seconds: f64,
+    scenario: Option<&str>,
 ) -> Result<(), CliError>
 where
     S::State: Checkpoint,
@@ -85,6 +88,7 @@ where
         "state": hex(&s),
         "stepper": hex(&c),
         "observer": hex(&o),
+        "scenario": scenario,
     });
     let tmp = dir.join(format!("{FILE}.tmp"));
     crate::output::write_json(&tmp, &value)?;
@@ -124,6 +128,7 @@ impl Saved {
             state: words("state")?,
             stepper: words("stepper")?,
             observer: words("observer")?,
+            scenario: v["scenario"].as_str().map(str::to_owned),
         })
     }
 }

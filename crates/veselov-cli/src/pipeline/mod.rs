@@ -19,6 +19,7 @@
 
 pub mod checkpoint;
 pub mod finish;
+pub mod identity;
 pub mod readback;
 pub mod stream;
 pub mod summary;
@@ -65,6 +66,10 @@ pub struct RunJob {
     /// command); when given, no signal handler is installed and setting the
     /// flag ends the run as SIGINT would.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// The scenario's text (set by [`run_text`](crate::route::run_text)):
+    /// checkpoints record it ([`identity`]) and a resume with a scenario
+    /// that differs beyond [`identity::RESUMABLE_KEYS`] is refused.
+    pub scenario: Option<String>,
 }
 
 /// What a run will do, known before it starts.
@@ -152,6 +157,8 @@ pub struct Session {
     pub checkpoint_seconds: Option<Duration>,
     /// The checkpoint resumed from, if any.
     pub resumed: Option<Saved>,
+    /// The scenario's [`identity`], recorded in checkpoints.
+    scenario: Option<String>,
     progress: Progress,
 }
 
@@ -170,10 +177,28 @@ impl Session {
         kind: &str,
     ) -> Result<Self, CliError> {
         plan.check(file, job.force_large)?;
+        let scenario = job.scenario.as_deref().and_then(identity::identity);
         let (dir, resumed) = match &job.resume {
             Some(d) => (d.clone(), Some(Saved::read(d, kind)?)),
             None => (prepare_dir(&dir, job.force)?, None),
         };
+        // Before anything in the directory is touched: a checkpoint of
+        // another scenario is refused (one written before checkpoints
+        // recorded their scenario is taken as it is).
+        if let (Some(saved), Some(current)) = (resumed.as_ref().and_then(|r| r.scenario.as_deref()), &scenario)
+            && let Some((key, there, here)) = identity::first_difference(saved, current)
+        {
+            return Err(CliError::Key {
+                file: file.to_path_buf(),
+                key,
+                message: format!(
+                    "is {here} here but {there} in the run in {} being resumed: a resumed run continues its own \
+                     scenario, in which only {} may change",
+                    dir.display(),
+                    identity::RESUMABLE_KEYS.join(", ")
+                ),
+            });
+        }
         let interrupt = match &job.interrupt {
             Some(flag) => flag.clone(),
             None => {
@@ -220,6 +245,7 @@ impl Session {
             checkpoint_every,
             checkpoint_seconds: checkpoint_seconds.filter(|_| checkpoint_every.is_some()),
             resumed,
+            scenario,
             progress: Progress::new(
                 Measure::Count {
                     total: plan.whole_steps(),
@@ -330,7 +356,13 @@ impl Session {
                 || stop.steps.is_some_and(|n| total.last_step >= n)
                 || stop.t_end.is_some_and(|t| stepper.time(state) >= t);
             if self.checkpoint_every.is_some() && total.status != Status::Stopped && total.failure().is_none() {
-                checkpoint::write(&self.dir, stepper, state, observer, &total, self.wall_seconds())?;
+                checkpoint::write(
+                    &self.dir,
+                    (stepper, state, observer),
+                    &total,
+                    self.wall_seconds(),
+                    self.scenario.as_deref(),
+                )?;
             }
             if done {
                 break;

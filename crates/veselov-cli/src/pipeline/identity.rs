@@ -1,0 +1,98 @@
+//! The scenario a checkpoint belongs to. A checkpoint records its run's
+//! scenario without the keys a resumed run may change ([`RESUMABLE_KEYS`]:
+//! the run's length, where and how often checkpoints and plots are made);
+//! `--resume` with a scenario that differs anywhere else (a material
+//! constant, a step, an initial value, an output cadence) is refused
+//! naming the first key that differs, since its continuation would be
+//! neither run.
+
+/// The keys a resumed run may change.
+pub const RESUMABLE_KEYS: [&str; 5] = [
+    "time.t_end",
+    "time.steps",
+    "output.checkpoint_every",
+    "output.dir",
+    "output.plots",
+];
+
+/// The scenario `text` without [`RESUMABLE_KEYS`], as TOML (`None` if it
+/// does not parse: such a scenario never reaches a checkpoint).
+pub fn identity(text: &str) -> Option<String> {
+    let mut table: toml::Table = toml::from_str(text).ok()?;
+    for key in RESUMABLE_KEYS {
+        if let Some((section, name)) = key.split_once('.')
+            && let Some(toml::Value::Table(t)) = table.get_mut(section)
+        {
+            t.remove(name);
+        }
+    }
+    toml::to_string(&table).ok()
+}
+
+/// The first key (in sorted order) whose value differs between the
+/// identities `saved` and `current`, with its value in each (`absent` where
+/// it is missing); `None` if they agree or one does not parse.
+pub fn first_difference(saved: &str, current: &str) -> Option<(String, String, String)> {
+    let saved: toml::Value = toml::from_str::<toml::Table>(saved).ok()?.into();
+    let current: toml::Value = toml::from_str::<toml::Table>(current).ok()?.into();
+    difference("", &saved, &current)
+}
+
+fn difference(path: &str, a: &toml::Value, b: &toml::Value) -> Option<(String, String, String)> {
+    match (a, b) {
+        (toml::Value::Table(x), toml::Value::Table(y)) => {
+            let mut keys: Vec<&String> = x.keys().chain(y.keys()).collect();
+            keys.sort();
+            keys.dedup();
+            keys.into_iter().find_map(|k| {
+                let key = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                match (x.get(k), y.get(k)) {
+                    (Some(u), Some(v)) => difference(&key, u, v),
+                    (u, v) => Some((key, shown(u), shown(v))),
+                }
+            })
+        }
+        _ if a == b => None,
+        _ => Some((path.to_string(), a.to_string(), b.to_string())),
+    }
+}
+
+fn shown(v: Option<&toml::Value>) -> String {
+    v.map_or_else(|| "absent".to_string(), toml::Value::to_string)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const RUN: &str = "[model]\nname = \"cosserat-rod\"\nyoung = 1e5 # Pa\n\n[time]\nt_end = 2.0\n\n\
+                       [output]\nevery = 10\n";
+
+    #[test]
+    fn only_the_resumable_keys_may_change() {
+        let saved = identity(RUN).expect("parses");
+        let longer = RUN
+            .replace("t_end = 2.0", "t_end = 5.0\n# a comment")
+            .replace("every = 10", "every = 10\nplots = false\ncheckpoint_every = 7");
+        assert_eq!(first_difference(&saved, &identity(&longer).expect("parses")), None);
+        let stiffer = RUN.replace("young = 1e5", "young = 2e5");
+        assert_eq!(
+            first_difference(&saved, &identity(&stiffer).expect("parses")),
+            Some(("model.young".into(), "100000.0".into(), "200000.0".into()))
+        );
+        let denser = RUN.replace("every = 10", "every = 5");
+        assert_eq!(
+            first_difference(&saved, &identity(&denser).expect("parses")).map(|d| d.0),
+            Some("output.every".into())
+        );
+        let with_dt = RUN.replace("t_end = 2.0", "t_end = 2.0\ndt = 0.001");
+        assert_eq!(
+            first_difference(&saved, &identity(&with_dt).expect("parses")),
+            Some(("time.dt".into(), "absent".into(), "0.001".into()))
+        );
+    }
+}
