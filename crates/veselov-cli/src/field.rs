@@ -476,6 +476,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     let mut lattice = loaded.lattice()?;
     let initial = loaded.initial(lattice.length())?;
     let t_end = loaded.positive("time.t_end", s.time.t_end)?;
+    crate::scenario::note_lattice_end(t_end, lattice.dt(), job.quiet);
     let mut session = open_session(&loaded, &job, &lattice, t_end)?;
     let progress = &mut session;
     let initial_error = |e: veselov::Error| loaded.key_error("initial", e.to_string());

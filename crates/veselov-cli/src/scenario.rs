@@ -485,6 +485,19 @@ pub fn note_step_length(requested: f64, taken: f64, quiet: bool) {
     }
 }
 
+/// Say when a lattice run, whose time step `dt` belongs to the lattice,
+/// ends after `t_end`: it stops at the first level at or after `t_end`,
+/// `ceil(t_end/dt)·dt` (unless within a relative 1e-12 of `t_end`).
+pub fn note_lattice_end(t_end: f64, dt: f64, quiet: bool) {
+    let end = (t_end / dt).ceil() * dt;
+    if !quiet && (end - t_end).abs() > 1e-12 * t_end {
+        eprintln!(
+            "note: the lattice's time step dt = {dt:e} does not divide t_end = {t_end:e}: the run ends at \
+             t = {end:e}, the first step at or after t_end"
+        );
+    }
+}
+
 /// The step count of [`step_count`] as a float, not saturated: what the
 /// preflight reports and checks (`t_end = 2e18` is 2e21 steps of 1e-3, not `u64::MAX`).
 pub fn planned_steps(time: &TimeSpec, dt: f64) -> f64 {

@@ -679,6 +679,42 @@ fn verify_measures_the_order_of_the_lie_group_integrator() {
     assert!(out.join("convergence.csv").exists());
 }
 
+/// A lattice's time step is the lattice's: a t_end it does not divide ends
+/// the run at the next level, and the run says so (1+1 and 2+1 alike).
+#[test]
+fn lattice_runs_say_when_they_end_after_t_end() {
+    let dir = Scratch::new("field-end");
+    let cases = [
+        (
+            "one",
+            "[model]\nname = \"wave\"\n[lattice]\nnodes = 64\nlength = 8.0\ncourant = 0.5\n\
+             [method]\nscheme = \"triangle\"\n[initial]\nkind = \"dalembert\"\n[time]\nt_end = 1.03\n[output]\nplots = false\n",
+            1.0625,
+        ),
+        (
+            "two",
+            "[model]\nname = \"wave\"\n[lattice]\nkind = \"cfk\"\nspace_dimension = 2\nnodes = [8, 8]\n\
+             spacing = 0.3\ndt = 0.1\n[initial]\nkind = \"standing-wave\"\n[time]\nt_end = 1.03\n\
+             [output]\nplots = false\n",
+            1.1,
+        ),
+    ];
+    for (name, text, end) in cases {
+        let out = dir.join(name);
+        let run = veselov()
+            .arg("run")
+            .arg(scenario(&dir, text))
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success();
+        let err = String::from_utf8_lossy(&run.get_output().stderr).into_owned();
+        assert!(err.contains("does not divide t_end"), "{name}: {err}");
+        let t_final = summary(&out)["t_final"].as_f64().expect("t_final");
+        assert!((t_final - end).abs() < 1e-12, "{name}: t_final = {t_final}");
+    }
+}
+
 #[test]
 fn lattice_field_run_reports_energy_and_charges() {
     let dir = Scratch::new("field-wave");

@@ -406,6 +406,7 @@ where
     let marcher = CauchyMarcher::new(rule, torus.clone(), 0, &data, setup.options)
         .map_err(|e| setup.key("initial", e.to_string()))?;
     let steps = setup.steps();
+    crate::scenario::note_lattice_end(setup.t_end, setup.dt, job.quiet);
     let cells = (setup.nodes[0] * setup.nodes[1] * M) as f64;
     let snapshots = match s.output.snapshot_every {
         0 => 2.0,
