@@ -46,18 +46,16 @@ impl Pendulum {
             length: positive("length", length)?,
             gravity: positive("gravity", gravity)?,
         };
+        // The products' checks, with the factors in the message.
         let product = |name: &str, value: f64| {
-            if value.is_normal() && value > 0.0 {
-                Ok(value)
-            } else {
-                Err(Error::InvalidParameter {
-                    name: name.into(),
-                    value: value.to_string(),
-                    reason: format!(
-                        "must be finite, > 0 and not subnormal (mass = {mass}, length = {length}, gravity = {gravity})"
-                    ),
-                })
-            }
+            positive(name, value).map_err(|e| match e {
+                Error::InvalidParameter { name, value, reason } => Error::InvalidParameter {
+                    name,
+                    value,
+                    reason: format!("{reason} (mass = {mass}, length = {length}, gravity = {gravity})"),
+                },
+                other => other,
+            })
         };
         product("mass·length²", p.inertia())?;
         product("mass·gravity·length", mass * gravity * length)?;
