@@ -324,6 +324,7 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         bytes: rows as f64 * (cross as f64 * 12.0 * 8.0 + 11.0 * CSV_BYTES_PER_VALUE),
         bytes_key: "output.every",
         unit: "levels",
+        step: Some(setup.dt),
     };
     let (mut session, resumed) = open_lattice_run::<3>(
         &setup.path,

@@ -605,6 +605,7 @@ fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f6
             "output.energy_every"
         },
         unit: "levels",
+        step: Some(lattice.dt()),
     };
     Session::open(
         &loaded.path,

@@ -561,7 +561,7 @@ where
         &job,
         &loaded.path,
         (&s.time, &s.output),
-        planned_steps(&s.time, s.method.dt),
+        (planned_steps(&s.time, s.method.dt), Some(dt)),
         header.len(),
         "rigid-body",
     )?;

@@ -397,6 +397,7 @@ where
         bytes: rows as f64 * (nodes as f64 * 12.0 * 8.0 + 9.0 * CSV_BYTES_PER_VALUE),
         bytes_key: "output.every",
         unit: "levels",
+        step: Some(setup.dt),
     };
     let (mut session, resumed) = open_lattice_run::<4>(
         &setup.path,

@@ -245,7 +245,7 @@ where
         job,
         &scenario.path,
         (&scenario.scenario.time, &scenario.scenario.output),
-        planned_steps(&scenario.scenario.time, dt),
+        (planned_steps(&scenario.scenario.time, dt), Some(dt)),
         header.len(),
         "mechanics",
     )?;
@@ -387,7 +387,7 @@ fn run_variable<const N: usize>(
         job,
         &scenario.path,
         (&s.time, &s.output),
-        planned,
+        (planned, None),
         header.len(),
         "mechanics",
     )?;

@@ -427,3 +427,59 @@ fn run_time_dimension_run_survives_sigterm_and_resumes_bit_for_bit() {
     );
     interrupt_and_resume("run-time-dimension", &text, &TRAJECTORY);
 }
+
+/// A finished run is extended by a longer `t_end` that keeps its step: the
+/// files then equal those of one run to the longer end. A `t_end` that
+/// would land with another step (t_end/round(t_end/dt)) is refused naming
+/// `time.t_end`, and the files stay as they were.
+#[test]
+fn a_finished_run_extends_with_its_own_step() {
+    let dir = Scratch::new("extend");
+    let text = |t_end: &str| {
+        format!(
+            "[model]\nname = \"kepler\"\n[method]\nname = \"midpoint\"\ndt = 0.01\n[time]\nt_end = {t_end}\n\
+             [output]\nformats = [\"csv\", \"npy\"]\nplots = false\n"
+        )
+    };
+    let run = |name: &str, t_end: &str, args: &[&str]| {
+        let file = dir.join(format!("{name}.toml"));
+        std::fs::write(&file, text(t_end)).expect("scenario");
+        Command::new(binary())
+            .args(["run", "--quiet"])
+            .args(args)
+            .arg(&file)
+            .output()
+            .expect("run")
+    };
+    let (whole, part) = (dir.join("whole"), dir.join("part"));
+    let path = |p: &Path| p.to_str().expect("utf-8 path").to_owned();
+    assert!(run("whole", "2.0", &["--out", &path(&whole)]).status.success());
+    assert!(run("part", "1.0", &["--out", &path(&part)]).status.success());
+    let files = ["trajectory.csv", "trajectory.npy"];
+    let before: Vec<Vec<u8>> = files
+        .iter()
+        .map(|f| std::fs::read(part.join(f)).expect("file"))
+        .collect();
+    let refused = run("odd", "2.005", &["--resume", &path(&part)]);
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && err.contains("time.t_end") && err.contains("dt"),
+        "{err}"
+    );
+    for (f, b) in files.iter().zip(&before) {
+        assert!(
+            &std::fs::read(part.join(f)).expect("file") == b,
+            "{f} touched by a refused resume"
+        );
+    }
+    assert!(run("longer", "2.0", &["--resume", &path(&part)]).status.success());
+    assert_eq!(summary(&part)["t_final"], summary(&whole)["t_final"]);
+    for f in files {
+        let (a, b) = (
+            std::fs::read(whole.join(f)).expect("whole"),
+            std::fs::read(part.join(f)).expect("extended"),
+        );
+        assert!(a == b, "{f} differs after the extension");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -418,6 +418,7 @@ where
         bytes: snapshots * cells * 8.0 + (steps + 1.0) * 7.0 * CSV_BYTES_PER_VALUE,
         bytes_key: "output.snapshot_every",
         unit: "levels",
+        step: Some(setup.dt),
     };
     let (mut session, resumed) = open_lattice_run::<4>(
         &setup.path,

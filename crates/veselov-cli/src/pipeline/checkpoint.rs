@@ -39,6 +39,9 @@ pub struct Saved {
     /// The run's scenario ([`identity`](super::identity)), absent from
     /// checkpoints written before it was recorded.
     pub scenario: Option<String>,
+    /// The run's fixed time step ([`Plan::step`](super::Plan::step)), where
+    /// it has one and the checkpoint records it.
+    pub step_length: Option<f64>,
 }
 
 fn hex(words: &[f64]) -> String {
@@ -63,13 +66,14 @@ fn unhex(path: &Path, text: &str) -> Result<Vec<f64>, CliError> {
 }
 
 /// Write the checkpoint of the `stepper`'s `state` and the `observer`
-/// after `outcome` in `dir`, with the run's `scenario` identity.
+/// after `outcome` in `dir`, with the run's scenario identity and fixed
+/// time step (`run`).
 pub fn write<S: Stepper + Checkpoint, O: Resumable + ?Sized>(
     dir: &Path,
     (stepper, state, observer): (&S, &S::State, &mut O),
     outcome: &Outcome,
     wall_seconds: f64,
-    scenario: Option<&str>,
+    (scenario, step_length): (Option<&str>, Option<f64>),
 ) -> Result<(), CliError>
 where
     S::State: Checkpoint,
@@ -89,6 +93,7 @@ where
         "stepper": hex(&c),
         "observer": hex(&o),
         "scenario": scenario,
+        "step_length": step_length,
     });
     let tmp = dir.join(format!("{FILE}.tmp"));
     crate::output::write_json(&tmp, &value)?;
@@ -129,6 +134,7 @@ impl Saved {
             stepper: words("stepper")?,
             observer: words("observer")?,
             scenario: v["scenario"].as_str().map(str::to_owned),
+            step_length: v["step_length"].as_f64(),
         })
     }
 }

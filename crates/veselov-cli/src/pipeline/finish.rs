@@ -49,13 +49,14 @@ where
 pub type Opened = (Session, Option<(Position, Position)>, Vec<f64>);
 
 /// The session of a run of `kind` from the scenario `file` whose main table
-/// (`trajectory.*`) has `columns` columns, with the positions of its files
-/// and the rest of the observer words when resuming.
+/// (`trajectory.*`) has `columns` columns, planned to take `steps` steps of
+/// the fixed length `step` (`None`: variable steps), with the positions of
+/// its files and the rest of the observer words when resuming.
 pub fn open_table_session(
     job: &RunJob,
     file: &Path,
     (time, output): (&TimeSpec, &OutputSpec),
-    steps: f64,
+    (steps, step): (f64, Option<f64>),
     columns: usize,
     kind: &str,
 ) -> Result<Opened, CliError> {
@@ -70,6 +71,7 @@ pub fn open_table_session(
         bytes: table_bytes(rows, columns, &output.formats),
         bytes_key: "output.every",
         unit: "steps",
+        step,
     };
     let session = Session::open(
         file,

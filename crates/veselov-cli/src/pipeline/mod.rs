@@ -85,6 +85,11 @@ pub struct Plan {
     pub bytes_key: &'static str,
     /// What one step is called on the progress bar (`steps`, `levels`).
     pub unit: &'static str,
+    /// The fixed time step of the run's discretization (`None` for
+    /// variable steps): recorded in checkpoints, and a resume whose
+    /// scenario gives another (a `t_end` a kind lands on by adjusting dt)
+    /// is refused.
+    pub step: Option<f64>,
 }
 
 impl Plan {
@@ -159,6 +164,8 @@ pub struct Session {
     pub resumed: Option<Saved>,
     /// The scenario's [`identity`], recorded in checkpoints.
     scenario: Option<String>,
+    /// [`Plan::step`], recorded in checkpoints.
+    step: Option<f64>,
     progress: Progress,
 }
 
@@ -196,6 +203,20 @@ impl Session {
                      scenario, in which only {} may change",
                     dir.display(),
                     identity::RESUMABLE_KEYS.join(", ")
+                ),
+            });
+        }
+        if let (Some(saved), Some(current)) = (resumed.as_ref().and_then(|r| r.step_length), plan.step)
+            && (saved - current).abs() > 1e-12 * saved.abs()
+        {
+            return Err(CliError::Key {
+                file: file.to_path_buf(),
+                key: plan.steps_key.to_string(),
+                message: format!(
+                    "gives the time step dt = {current:e} here, but the run in {} being resumed steps with \
+                     dt = {saved:e}: a resumed run keeps its step (a t_end a whole number of those steps \
+                     from the start keeps it)",
+                    dir.display()
                 ),
             });
         }
@@ -246,6 +267,7 @@ impl Session {
             checkpoint_seconds: checkpoint_seconds.filter(|_| checkpoint_every.is_some()),
             resumed,
             scenario,
+            step: plan.step,
             progress: Progress::new(
                 Measure::Count {
                     total: plan.whole_steps(),
@@ -361,7 +383,7 @@ impl Session {
                     (stepper, state, observer),
                     &total,
                     self.wall_seconds(),
-                    self.scenario.as_deref(),
+                    (self.scenario.as_deref(), self.step),
                 )?;
             }
             if done {
