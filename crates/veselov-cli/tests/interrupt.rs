@@ -431,7 +431,7 @@ fn run_time_dimension_run_survives_sigterm_and_resumes_bit_for_bit() {
 /// A finished run is extended by a longer `t_end` that keeps its step: the
 /// files then equal those of one run to the longer end. A `t_end` that
 /// would land with another step (t_end/round(t_end/dt)) is refused naming
-/// `time.t_end`, and the files stay as they were.
+/// `time.t_end`, and the files stay as they were; so is a shorter one.
 #[test]
 fn a_finished_run_extends_with_its_own_step() {
     let dir = Scratch::new("extend");
@@ -473,6 +473,12 @@ fn a_finished_run_extends_with_its_own_step() {
         );
     }
     assert!(run("longer", "2.0", &["--resume", &path(&part)]).status.success());
+    let shorter = run("shorter", "0.5", &["--resume", &path(&part)]);
+    let err = String::from_utf8_lossy(&shorter.stderr);
+    assert!(
+        !shorter.status.success() && err.contains("time.t_end") && err.contains("shorten"),
+        "{err}"
+    );
     assert_eq!(summary(&part)["t_final"], summary(&whole)["t_final"]);
     for f in files {
         let (a, b) = (

@@ -220,6 +220,24 @@ impl Session {
                 ),
             });
         }
+        // With fixed steps the plan counts them exactly (up to the last
+        // partial one): a run already beyond it cannot be resumed to it.
+        if let (Some(saved), Some(_)) = (&resumed, plan.step)
+            && saved.step as f64 > plan.steps.ceil() + 0.5
+        {
+            return Err(CliError::Key {
+                file: file.to_path_buf(),
+                key: plan.steps_key.to_string(),
+                message: format!(
+                    "asks for {:.0} {unit}, but the run in {} being resumed already stands at {} {unit}: a \
+                     resume continues a run, it cannot shorten it",
+                    plan.steps.ceil(),
+                    dir.display(),
+                    saved.step,
+                    unit = plan.unit
+                ),
+            });
+        }
         let interrupt = match &job.interrupt {
             Some(flag) => flag.clone(),
             None => {
