@@ -269,7 +269,7 @@ impl BeamSetup {
         {
             return Err(key(
                 "initial.curvature",
-                format!("|curvature|·length = {:.3} must stay below π", (k * length).abs()),
+                format!("|curvature|·length = {:e} must stay below π", (k * length).abs()),
             ));
         }
         let (dt, dt_requested, levels) = if space {

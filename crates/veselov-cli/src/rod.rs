@@ -464,7 +464,7 @@ impl RodSetup {
             return Err(key(
                 "initial.curvature",
                 format!(
-                    "|curvature|·length = {:.3} must stay below π",
+                    "|curvature|·length = {:e} must stay below π",
                     (curvature * length).abs()
                 ),
             ));
