@@ -1,10 +1,18 @@
-//! The scenario a checkpoint belongs to. A checkpoint records its run's
+//! The run a checkpoint belongs to. A checkpoint records its run's
 //! scenario without the keys a resumed run may change ([`RESUMABLE_KEYS`]:
-//! the run's length, where and how often checkpoints and plots are made);
-//! `--resume` with a scenario that differs anywhere else (a material
-//! constant, a step, an initial value, an output cadence) is refused
-//! naming the first key that differs, since its continuation would be
-//! neither run.
+//! the run's length, where and how often checkpoints and plots are made)
+//! and its fixed time step, if it has one. `--resume` ([`check_resume`])
+//! refuses a scenario that differs anywhere else (a material constant, a
+//! step, an initial value, an output cadence), naming the first key that
+//! differs, since its continuation would be neither run; and, with fixed
+//! steps, a `t_end` that would change the step (the kinds that land on
+//! `t_end` take `t_end/n`) or that the checkpoint is already beyond.
+
+use std::path::Path;
+
+use super::Plan;
+use super::checkpoint::Saved;
+use crate::error::CliError;
 
 /// The keys a resumed run may change.
 pub const RESUMABLE_KEYS: [&str; 5] = [
@@ -14,6 +22,73 @@ pub const RESUMABLE_KEYS: [&str; 5] = [
     "output.dir",
     "output.plots",
 ];
+
+/// Whether the run `saved` in `dir` may be resumed with the scenario
+/// `file`, of [`identity`] `scenario` and plan `plan`. A checkpoint written
+/// before checkpoints recorded their scenario or step is taken as it is.
+///
+/// # Errors
+/// [`CliError::Key`] naming the first key that differs, or the plan's
+/// step-count key (`time.t_end`, `time.steps`) for another step or a
+/// shorter run.
+pub fn check_resume(
+    file: &Path,
+    dir: &Path,
+    saved: &Saved,
+    scenario: Option<&str>,
+    plan: &Plan,
+) -> Result<(), CliError> {
+    let refuse = |key: String, message: String| CliError::Key {
+        file: file.to_path_buf(),
+        key,
+        message,
+    };
+    if let (Some(there), Some(here)) = (saved.scenario.as_deref(), scenario)
+        && let Some((key, there, here)) = first_difference(there, here)
+    {
+        return Err(refuse(
+            key,
+            format!(
+                "is {here} here but {there} in the run in {} being resumed: a resumed run continues its own \
+                 scenario, in which only {} may change",
+                dir.display(),
+                RESUMABLE_KEYS.join(", ")
+            ),
+        ));
+    }
+    let Some(current) = plan.step else {
+        return Ok(());
+    };
+    if let Some(before) = saved.step_length
+        && (before - current).abs() > 1e-12 * before.abs()
+    {
+        return Err(refuse(
+            plan.steps_key.to_string(),
+            format!(
+                "gives the time step dt = {current:e} here, but the run in {} being resumed steps with \
+                 dt = {before:e}: a resumed run keeps its step (a t_end a whole number of those steps from \
+                 the start keeps it)",
+                dir.display()
+            ),
+        ));
+    }
+    // With fixed steps the plan counts them exactly (up to the last
+    // partial one): a run already beyond it cannot be resumed to it.
+    if saved.step as f64 > plan.steps.ceil() + 0.5 {
+        return Err(refuse(
+            plan.steps_key.to_string(),
+            format!(
+                "asks for {:.0} {unit}, but the run in {} being resumed already stands at {} {unit}: a resume \
+                 continues a run, it cannot shorten it",
+                plan.steps.ceil(),
+                dir.display(),
+                saved.step,
+                unit = plan.unit
+            ),
+        ));
+    }
+    Ok(())
+}
 
 /// The scenario `text` without [`RESUMABLE_KEYS`], as TOML (`None` if it
 /// does not parse: such a scenario never reaches a checkpoint).

@@ -189,54 +189,9 @@ impl Session {
             Some(d) => (d.clone(), Some(Saved::read(d, kind)?)),
             None => (prepare_dir(&dir, job.force)?, None),
         };
-        // Before anything in the directory is touched: a checkpoint of
-        // another scenario is refused (one written before checkpoints
-        // recorded their scenario is taken as it is).
-        if let (Some(saved), Some(current)) = (resumed.as_ref().and_then(|r| r.scenario.as_deref()), &scenario)
-            && let Some((key, there, here)) = identity::first_difference(saved, current)
-        {
-            return Err(CliError::Key {
-                file: file.to_path_buf(),
-                key,
-                message: format!(
-                    "is {here} here but {there} in the run in {} being resumed: a resumed run continues its own \
-                     scenario, in which only {} may change",
-                    dir.display(),
-                    identity::RESUMABLE_KEYS.join(", ")
-                ),
-            });
-        }
-        if let (Some(saved), Some(current)) = (resumed.as_ref().and_then(|r| r.step_length), plan.step)
-            && (saved - current).abs() > 1e-12 * saved.abs()
-        {
-            return Err(CliError::Key {
-                file: file.to_path_buf(),
-                key: plan.steps_key.to_string(),
-                message: format!(
-                    "gives the time step dt = {current:e} here, but the run in {} being resumed steps with \
-                     dt = {saved:e}: a resumed run keeps its step (a t_end a whole number of those steps \
-                     from the start keeps it)",
-                    dir.display()
-                ),
-            });
-        }
-        // With fixed steps the plan counts them exactly (up to the last
-        // partial one): a run already beyond it cannot be resumed to it.
-        if let (Some(saved), Some(_)) = (&resumed, plan.step)
-            && saved.step as f64 > plan.steps.ceil() + 0.5
-        {
-            return Err(CliError::Key {
-                file: file.to_path_buf(),
-                key: plan.steps_key.to_string(),
-                message: format!(
-                    "asks for {:.0} {unit}, but the run in {} being resumed already stands at {} {unit}: a \
-                     resume continues a run, it cannot shorten it",
-                    plan.steps.ceil(),
-                    dir.display(),
-                    saved.step,
-                    unit = plan.unit
-                ),
-            });
+        // Before anything in the directory is touched.
+        if let Some(saved) = &resumed {
+            identity::check_resume(file, &dir, saved, scenario.as_deref(), plan)?;
         }
         let interrupt = match &job.interrupt {
             Some(flag) => flag.clone(),
