@@ -39,7 +39,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::cell::{DiscreteLagrangian, exact_gradient};
 use super::complex::{SpacetimeLattice, TopCell, TopCells};
-use super::fibre::Fibre;
+use super::fibre::{Fibre, read_points};
 use super::flow::{CheckedPair, FlowMarcher};
 use super::legendre::{CauchyOptions, LevelReport, VertexOutcome};
 use crate::run::{Checkpoint, StepStats, Stepper, Words};
@@ -486,16 +486,12 @@ where
                 reason: "not a level number".into(),
             });
         }
-        let mut c = [0.0; 16];
-        let k = F::COORDINATES.min(c.len());
         // Every word is read before anything is replaced: a damaged
         // checkpoint leaves the evolution as it was.
         let nodes = self.cross + 1;
-        let mut levels = Vec::with_capacity(2 * nodes);
-        for _ in 0..2 * nodes {
-            words.fill(&mut c[..k])?;
-            levels.push(F::read(&c[..k]));
-        }
+        let levels = read_points::<F, M>(words, 2 * nodes, |i| {
+            format!("node {} of stored level {}", i % nodes, i / nodes)
+        })?;
         let mut jacobians = Vec::with_capacity(self.jacobians.len());
         for _ in 0..self.jacobians.len() {
             jacobians.push(if words.take_tag(0.0) {

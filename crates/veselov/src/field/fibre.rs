@@ -94,6 +94,38 @@ pub trait Fibre<const M: usize>: Copy + Debug + Send + Sync + 'static {
     fn read(c: &[f64]) -> Self::Point<f64>;
 }
 
+/// `count` points of the fibre `F` read from checkpoint words (each its
+/// [`Fibre::COORDINATES`] coordinates, as [`Fibre::write`] gave them). A
+/// field value is finite: a non-finite one is refused, `describe(i)` naming
+/// the i-th point, rather than surfacing later as a failed solve far from
+/// its cause.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter)
+/// (`checkpoint`) if the words run out or a point is not finite.
+pub(crate) fn read_points<F: Fibre<M>, const M: usize>(
+    words: &mut crate::run::Words<'_>,
+    count: usize,
+    describe: impl Fn(usize) -> String,
+) -> crate::Result<Vec<F::Point<f64>>> {
+    let mut c = [0.0; 16];
+    let k = F::COORDINATES.min(c.len());
+    let mut points = Vec::with_capacity(count);
+    for i in 0..count {
+        words.fill(&mut c[..k])?;
+        let point = F::read(&c[..k]);
+        if !F::is_finite(&point) {
+            return Err(crate::Error::InvalidParameter {
+                name: "checkpoint".into(),
+                value: format!("{:?}", &c[..k]),
+                reason: format!("non-finite value of {}", describe(i)),
+            });
+        }
+        points.push(point);
+    }
+    Ok(points)
+}
+
 /// ℝ^M with the chart y + ξ.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Euclidean<const M: usize>;

@@ -358,12 +358,15 @@ fn a_damaged_checkpoint_leaves_the_evolution_as_it_was() {
             })
             .collect()
     };
-    // Cut short by one word, or an unknown tag where the kept Jacobians
-    // begin (after the level and 2·(A + 1) values of 12 coordinates).
+    // Cut short by one word, an unknown tag where the kept Jacobians
+    // begin (after the level and 2·(A + 1) values of 12 coordinates), or a
+    // NaN among the values.
     let damage = |saved: &[f64]| {
         let mut wrong_tag = saved.to_vec();
         wrong_tag[1 + 2 * (a_max + 1) * 12] = 7.0;
-        vec![saved[..saved.len() - 1].to_vec(), wrong_tag]
+        let mut not_finite = saved.to_vec();
+        not_finite[1 + 12 + 3] = f64::NAN;
+        vec![saved[..saved.len() - 1].to_vec(), wrong_tag, not_finite]
     };
     check_checkpoint(
         beam,

@@ -2,7 +2,7 @@
 
 use super::CauchyMarcher;
 use crate::field::cell::DiscreteLagrangian;
-use crate::field::fibre::Fibre;
+use crate::field::fibre::{Fibre, read_points};
 use crate::run::{Checkpoint, Words};
 use crate::solve::SmallLu;
 use crate::{Error, Result};
@@ -68,23 +68,9 @@ where
         let level = level as i64;
         let n = self.torus.dimension() as i64;
         let size = self.torus.level_size();
-        let mut c = [0.0; 16];
-        let k = F::COORDINATES.min(c.len());
-        let mut levels = Vec::with_capacity(2 * n as usize * size);
-        for i in 0..2 * n as usize * size {
-            words.fill(&mut c[..k])?;
-            let value = F::read(&c[..k]);
-            // A field value is finite: a NaN would only surface as a failed
-            // vertex solve far from its cause.
-            if !F::is_finite(&value) {
-                return Err(Error::InvalidParameter {
-                    name: "checkpoint".into(),
-                    value: format!("{:?}", &c[..k]),
-                    reason: format!("non-finite value of vertex {} of stored level {}", i % size, i / size),
-                });
-            }
-            levels.push(value);
-        }
+        let levels = read_points::<F, M>(words, 2 * n as usize * size, |i| {
+            format!("vertex {} of stored level {}", i % size, i / size)
+        })?;
         let mut kept = Vec::new();
         if words.take_tag(KEPT_FACTORS_TAG) {
             for _ in 0..n as usize * size {
