@@ -12,7 +12,7 @@
 //! density = 7800.0              # kg/m³
 //! young = 2.1e11                # Pa
 //! poisson = 0.3                 # or shear_modulus = … (Pa)
-//! shear_correction = 0.8333     # k (default 5/6 rectangle, 0.9 disc)
+//! shear_coefficient = 0.85      # κ (default: Cowper's, 6(1+ν)/(7+6ν) disc, 10(1+ν)/(12+11ν) rectangle)
 //! [method]
 //! evolution = "time"            # time | space
 //! retraction = "cayley"         # cayley | exp
@@ -87,7 +87,9 @@ pub(crate) struct BeamModelSpec {
     pub young: f64,
     pub poisson: Option<f64>,
     pub shear_modulus: Option<f64>,
-    pub shear_correction: Option<f64>,
+    /// κ; `shear_correction`, its former name, is still read.
+    #[serde(alias = "shear_correction")]
+    pub shear_coefficient: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -204,18 +206,17 @@ impl BeamSetup {
             }
         };
         let shear = shear_from_keys(path, m.poisson, m.shear_modulus)?;
-        let shear_correction = match m.shear_correction {
-            Some(k) => positive_value(path, "model.shear_correction", k)?,
-            None => match section {
-                CrossSection::Rectangle { .. } => 5.0 / 6.0,
-                CrossSection::Circle { .. } => 0.9,
-            },
+        // Cowper's coefficient by default, as for the rod: one rule for
+        // both models.
+        let shear_coefficient = match m.shear_coefficient {
+            Some(k) => positive_value(path, "model.shear_coefficient", k)?,
+            None => section.cowper_shear_coefficient(shear.poisson_ratio(m.young)),
         };
         let material = Material {
             density: positive_value(path, "model.density", m.density)?,
             young: positive_value(path, "model.young", m.young)?,
             shear,
-            shear_coefficient: shear_correction,
+            shear_coefficient,
         };
         let properties = BeamProperties::new(&section, &material).map_err(|e| key("model", e.to_string()))?;
         let ds = length / (m.nodes - 1) as f64;

@@ -325,6 +325,7 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         bytes_key: "output.every",
         unit: "levels",
         step: Some(setup.dt),
+        t_end: None,
     };
     let (mut session, resumed) = open_lattice_run::<3>(
         &setup.path,

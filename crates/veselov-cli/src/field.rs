@@ -606,6 +606,7 @@ fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f6
         },
         unit: "levels",
         step: Some(lattice.dt()),
+        t_end: None,
     };
     Session::open(
         &loaded.path,

@@ -312,6 +312,17 @@ fn non_negative(path: &Path, key: &str, v: Option<f64>) -> Result<f64, CliError>
     Ok(v)
 }
 
+/// The step number (Courant number) for a message: three decimals, in
+/// exponent form when it is large (a stiff rod at a given dt can have a
+/// step number of 150 digits).
+pub fn step_number_text(courant: f64) -> String {
+    if courant < 1e6 {
+        format!("{courant:.3}")
+    } else {
+        format!("{courant:.3e}")
+    }
+}
+
 impl RodSetup {
     pub fn key(&self, key: &str, message: impl Into<String>) -> CliError {
         key_error(&self.path, key, message)
@@ -417,8 +428,9 @@ impl RodSetup {
                 "time.dt",
                 format!(
                     "dt = {dt:e} exceeds the stability limit {dt_limit:e} of the rod's march (step number \
-                     {courant:.3} > 1: the lattice waves would grow without bound); lower dt, or set \
-                     [method] allow_unstable = true to run anyway"
+                     {} > 1: the lattice waves would grow without bound); lower dt, or set \
+                     [method] allow_unstable = true to run anyway",
+                    step_number_text(courant)
                 ),
             ));
         }

@@ -170,7 +170,9 @@ impl RodObserver<'_> {
         let e = energy(m, &self.lag)?;
         if !e.is_finite() {
             return Err(veselov::Error::NonFiniteState {
-                step: m.level() as usize,
+                // The run's step (levels since the first cut), as the
+                // driver counts them: 0 for the initial data.
+                step: usize::try_from(m.level() - FIRST_CUT).unwrap_or(0),
                 t: stepper_t,
                 what: "energy".into(),
             });
@@ -317,9 +319,11 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     // Always shown, --quiet or not: the run is expected to blow up.
     if setup.courant > 1.0 {
         eprintln!(
-            "warning: dt = {:e} exceeds the stability limit {:e} (step number {:.3}); running because \
+            "warning: dt = {:e} exceeds the stability limit {:e} (step number {}); running because \
              [method] allow_unstable = true",
-            setup.dt, setup.dt_limit, setup.courant
+            setup.dt,
+            setup.dt_limit,
+            crate::rod::step_number_text(setup.courant)
         );
     }
     if let Some(requested) = setup.dt_requested
@@ -398,6 +402,7 @@ where
         bytes_key: "output.every",
         unit: "levels",
         step: Some(setup.dt),
+        t_end: None,
     };
     let (mut session, resumed) = open_lattice_run::<4>(
         &setup.path,

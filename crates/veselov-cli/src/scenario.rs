@@ -397,12 +397,22 @@ pub fn shear_from_keys(
     }
 }
 
-/// `v` if it is finite and positive, else an error naming `key`.
+/// `v` if it is finite, positive and not subnormal, else an error naming `key`.
 pub fn positive_value(file: &Path, key: &str, v: f64) -> Result<f64, CliError> {
-    if v.is_finite() && v > 0.0 {
+    // Subnormal values are refused as the library's parameter checks
+    // refuse them: their reciprocals overflow.
+    if v.is_normal() && v > 0.0 {
         Ok(v)
     } else {
-        Err(key_error(file, key, format!("expected a finite number > 0, got {v}")))
+        Err(key_error(
+            file,
+            key,
+            if v.is_subnormal() {
+                format!("expected a finite number > 0, got the subnormal {v:e}")
+            } else {
+                format!("expected a finite number > 0, got {v}")
+            },
+        ))
     }
 }
 

@@ -128,12 +128,14 @@ fn damped_cantilever_settles_under_gravity() {
         (last - before).abs() <= 1e-9 * last.abs(),
         "not settled: {before} → {last}"
     );
-    // The example's data: L = 1, 0.05 m square, ρ = 1000, E = 1.18e8, ν = 0.3, k = 5/6.
+    // The example's data: L = 1, 0.05 m square, ρ = 1000, E = 1.18e8,
+    // ν = 0.3, and the default shear coefficient, Cowper's 10(1+ν)/(12+11ν).
     let (length, side, density, young, poisson) = (1.0_f64, 0.05_f64, 1000.0, 1.18e8, 0.3);
     let area = side * side;
     let inertia = side.powi(4) / 12.0;
     let q = density * area * 9.81;
-    let k_g_a = 5.0 / 6.0 * young / (2.0 * (1.0 + poisson)) * area;
+    let kappa = 10.0 * (1.0 + poisson) / (12.0 + 11.0 * poisson);
+    let k_g_a = kappa * young / (2.0 * (1.0 + poisson)) * area;
     let timoshenko = q * length.powi(4) / (8.0 * young * inertia) + q * length * length / (2.0 * k_g_a);
     let ratio = -last / timoshenko;
     eprintln!("settled tip deflection {last:.6} m, Timoshenko {timoshenko:.6} m, ratio {ratio:.4}");
@@ -170,4 +172,30 @@ fn the_current_through_the_whole_domain_vanishes_for_any_ends() {
     assert!(ok, "{err}");
     let domain = summary(&out)["domain_current_max"].as_f64().expect("number");
     assert!(domain > 1e-6, "gravity breaks the symmetry, yet 𝒥 = {domain:e}");
+}
+
+/// The default shear coefficient is Cowper's, 10(1+ν)/(12+11ν) for the
+/// rectangle, the rod's rule: a run without the key gives the bytes of one
+/// that gives that value, under its name or its former name
+/// `shear_correction`, and not those of k = 5/6.
+#[test]
+fn the_default_shear_coefficient_is_cowpers() {
+    let base = set(&example("beam_cantilever.toml"), "t_end", "0.02");
+    let kappa = 10.0 * (1.0 + 0.3) / (12.0 + 11.0 * 0.3_f64);
+    let with = |line: String| base.replace("poisson = 0.3", &format!("poisson = 0.3\n{line}"));
+    let frames = |name: &str, text: &str| {
+        let (ok, err, out) = run(name, text);
+        assert!(ok, "{name}: {err}");
+        std::fs::read(out.join("frames.npy")).expect("frames")
+    };
+    let default = frames("kappa-default", &base);
+    assert!(default == frames("kappa-given", &with(format!("shear_coefficient = {kappa:?}"))));
+    assert!(default == frames("kappa-former", &with(format!("shear_correction = {kappa:?}"))));
+    assert!(
+        default
+            != frames(
+                "kappa-five-sixths",
+                &with("shear_coefficient = 0.8333333333333334".into())
+            )
+    );
 }

@@ -489,3 +489,54 @@ fn a_finished_run_extends_with_its_own_step() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A variable-step run (SEM), stopped by time, resumed: to a `t_end` before
+/// the checkpoint's time it is refused naming `time.t_end`, with its files
+/// untouched; to its own `t_end` (its last step may pass it) and to a later
+/// one it is taken, and the extension gives the bytes of one run to the
+/// later `t_end`.
+#[test]
+fn a_variable_step_run_cannot_be_resumed_to_an_earlier_end() {
+    let dir = Scratch::new("variable-end");
+    let text = |t_end: &str| {
+        format!(
+            "[model]\nname = \"kepler\"\nparams = {{ eccentricity = 0.5 }}\n[method]\nname = \"sem-averaged\"\n\
+             stages = 2\ndt = 0.01\n[time]\nt_end = {t_end}\n[output]\nformats = [\"csv\"]\nplots = false\n"
+        )
+    };
+    let run = |name: &str, t_end: &str, args: &[&str]| {
+        let file = dir.join(format!("{name}.toml"));
+        std::fs::write(&file, text(t_end)).expect("scenario");
+        Command::new(binary())
+            .args(["run", "--quiet"])
+            .args(args)
+            .arg(&file)
+            .output()
+            .expect("run")
+    };
+    let (whole, part) = (dir.join("whole"), dir.join("part"));
+    let path = |p: &Path| p.to_str().expect("utf-8 path").to_owned();
+    assert!(run("whole", "2.0", &["--out", &path(&whole)]).status.success());
+    assert!(run("part", "1.0", &["--out", &path(&part)]).status.success());
+    let before = std::fs::read(part.join("trajectory.csv")).expect("file");
+    let shorter = run("shorter", "0.5", &["--resume", &path(&part)]);
+    let err = String::from_utf8_lossy(&shorter.stderr);
+    assert!(
+        !shorter.status.success() && err.contains("time.t_end") && err.contains("shorten"),
+        "{err}"
+    );
+    assert!(
+        std::fs::read(part.join("trajectory.csv")).expect("file") == before,
+        "trajectory.csv touched by a refused resume"
+    );
+    let same = run("same", "1.0", &["--resume", &path(&part)]);
+    assert!(same.status.success(), "{}", String::from_utf8_lossy(&same.stderr));
+    assert!(run("longer", "2.0", &["--resume", &path(&part)]).status.success());
+    assert_eq!(summary(&part)["t_final"], summary(&whole)["t_final"]);
+    assert!(
+        std::fs::read(whole.join("trajectory.csv")).expect("whole")
+            == std::fs::read(part.join("trajectory.csv")).expect("extended"),
+        "trajectory.csv differs after the extension"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

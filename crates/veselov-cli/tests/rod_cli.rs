@@ -152,12 +152,17 @@ fn bad_rod_input_names_the_key() {
             "ends.start",
         ),
         (set(&base, "curvature", "10.0"), "initial.curvature"),
+        // Subnormal, as the library's parameter checks refuse them.
+        (set(&base, "length", "1e-310"), "model.length"),
     ];
     for (text, key) in cases {
         let (ok, err, _) = run("bad", &text);
         assert!(!ok && err.contains(key), "expected an error naming {key}: {err}");
         assert!(!err.contains("panicked"), "{err}");
     }
+    // The subnormal value is printed in exponent form, not as 300 digits.
+    let (_, err, _) = run("bad", &set(&base, "length", "1e-310"));
+    assert!(err.contains("subnormal 1e-310"), "{err}");
 }
 
 /// A straight rod, free at s = L, whose start is driven sideways,
@@ -392,6 +397,34 @@ fn material_varying_along_the_rod() {
     let (ok, err, _) = run("profile_symmetric", &symmetric);
     assert!(
         !ok && err.contains("`method.quadrature`") && err.contains("uniform"),
+        "{err}"
+    );
+}
+
+/// Initial data whose energy overflows (a velocity of 1e200 m/s) fail the
+/// run at its first state: `summary.json` reports the failure at step 0
+/// and t = 0, where the run stood (not at the lattice level the march
+/// starts from). A rod stiff enough for a step number of 150 digits, run
+/// anyway, is warned about with that number in exponent form.
+#[test]
+fn an_overflowing_start_fails_at_step_zero() {
+    let base = example("rod_free_tumbling.toml");
+    let text = set(&set(&base, "velocity", "[1e200, 0.0, 0.0]"), "t_end", "0.01");
+    let (ok, err, out) = run("overflowing-start", &text);
+    assert!(!ok && err.contains("energy"), "{err}");
+    let s = summary(&out);
+    assert_eq!(s["failure"]["kind"], "non_finite_state", "{s}");
+    assert_eq!(s["failure"]["step"], 0, "{s}");
+    assert_eq!(s["failure"]["time"], 0.0, "{s}");
+    let stiff = set(
+        &set(&base, "young", "1e306"),
+        "t_end",
+        "0.01\ndt = 0.001\n[method]\nallow_unstable = true",
+    );
+    let (_, err, _) = run("stiff-unstable", &stiff);
+    let warning = err.lines().find(|l| l.starts_with("warning:")).unwrap_or_default();
+    assert!(
+        warning.contains("step number 9.87") && warning.contains("e149"),
         "{err}"
     );
 }

@@ -419,6 +419,7 @@ where
         bytes_key: "output.snapshot_every",
         unit: "levels",
         step: Some(setup.dt),
+        t_end: None,
     };
     let (mut session, resumed) = open_lattice_run::<4>(
         &setup.path,

@@ -42,6 +42,11 @@ pub struct Saved {
     /// The run's fixed time step ([`Plan::step`](super::Plan::step)), where
     /// it has one and the checkpoint records it.
     pub step_length: Option<f64>,
+    /// The time of the saved state, where the checkpoint records it.
+    pub time: Option<f64>,
+    /// The final time of a variable-step run stopped by time
+    /// ([`Plan::t_end`](super::Plan::t_end)), where recorded.
+    pub t_end: Option<f64>,
 }
 
 fn hex(words: &[f64]) -> String {
@@ -66,14 +71,14 @@ fn unhex(path: &Path, text: &str) -> Result<Vec<f64>, CliError> {
 }
 
 /// Write the checkpoint of the `stepper`'s `state` and the `observer`
-/// after `outcome` in `dir`, with the run's scenario identity and fixed
-/// time step (`run`).
+/// after `outcome` in `dir`, with the run's scenario identity, fixed
+/// time step and (variable steps) final time (`run`), and the state's time.
 pub fn write<S: Stepper + Checkpoint, O: Resumable + ?Sized>(
     dir: &Path,
     (stepper, state, observer): (&S, &S::State, &mut O),
     outcome: &Outcome,
     wall_seconds: f64,
-    (scenario, step_length): (Option<&str>, Option<f64>),
+    (scenario, step_length, t_end): (Option<&str>, Option<f64>, Option<f64>),
 ) -> Result<(), CliError>
 where
     S::State: Checkpoint,
@@ -94,6 +99,8 @@ where
         "observer": hex(&o),
         "scenario": scenario,
         "step_length": step_length,
+        "time": finite(stepper.time(state)),
+        "t_end": t_end,
     });
     let tmp = dir.join(format!("{FILE}.tmp"));
     crate::output::write_json(&tmp, &value)?;
@@ -101,6 +108,11 @@ where
         path: dir.join(FILE),
         message: e.to_string(),
     })
+}
+
+/// `x` if finite (JSON has no NaN or infinity), else `None`.
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
 }
 
 impl Saved {
@@ -135,6 +147,8 @@ impl Saved {
             observer: words("observer")?,
             scenario: v["scenario"].as_str().map(str::to_owned),
             step_length: v["step_length"].as_f64(),
+            time: v["time"].as_f64(),
+            t_end: v["t_end"].as_f64(),
         })
     }
 }

@@ -72,6 +72,11 @@ pub fn open_table_session(
         bytes_key: "output.every",
         unit: "steps",
         step,
+        t_end: if step.is_none() && time.steps.is_none() {
+            time.t_end
+        } else {
+            None
+        },
     };
     let session = Session::open(
         file,

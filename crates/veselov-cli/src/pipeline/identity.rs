@@ -6,7 +6,9 @@
 //! step, an initial value, an output cadence), naming the first key that
 //! differs, since its continuation would be neither run; and, with fixed
 //! steps, a `t_end` that would change the step (the kinds that land on
-//! `t_end` take `t_end/n`) or that the checkpoint is already beyond.
+//! `t_end` take `t_end/n`) or that the checkpoint is already beyond; with
+//! variable steps, a `t_end` before both the checkpoint's time and the
+//! run's own `t_end`.
 
 use std::path::Path;
 
@@ -57,7 +59,7 @@ pub fn check_resume(
         ));
     }
     let Some(current) = plan.step else {
-        return Ok(());
+        return check_variable_end(file, dir, saved, plan);
     };
     if let Some(before) = saved.step_length
         && (before - current).abs() > 1e-12 * before.abs()
@@ -88,6 +90,45 @@ pub fn check_resume(
         ));
     }
     Ok(())
+}
+
+/// The part of [`check_resume`] for a variable-step run. Stopped by time,
+/// its step count is an estimate: a resume is refused when its `t_end` is
+/// before both the checkpoint's time and the run's own `t_end` (a finished
+/// run whose last step passed its `t_end` may still be resumed to that
+/// `t_end`). Stopped by a step count, the count is exact and the rule of
+/// fixed steps holds.
+fn check_variable_end(file: &Path, dir: &Path, saved: &Saved, plan: &Plan) -> Result<(), CliError> {
+    let shorter = match plan.t_end {
+        Some(t_end) => match (saved.time, saved.t_end) {
+            (Some(time), Some(before)) => t_end < time && t_end < before,
+            // A checkpoint of a run stopped by a step count, or written
+            // before times were recorded.
+            (Some(time), None) => t_end < time,
+            _ => false,
+        },
+        None => saved.step as f64 > plan.steps.ceil() + 0.5,
+    };
+    if !shorter {
+        return Ok(());
+    }
+    let here = match plan.t_end {
+        Some(t_end) => format!("asks to end at t = {t_end}"),
+        None => format!("asks for {:.0} {}", plan.steps.ceil(), plan.unit),
+    };
+    let there = match saved.time {
+        Some(time) => format!("t = {time} (step {})", saved.step),
+        None => format!("step {}", saved.step),
+    };
+    Err(CliError::Key {
+        file: file.to_path_buf(),
+        key: plan.steps_key.to_string(),
+        message: format!(
+            "{here}, but the run in {} being resumed already stands at {there}: a resume continues a run, \
+             it cannot shorten it",
+            dir.display()
+        ),
+    })
 }
 
 /// The scenario `text` without [`RESUMABLE_KEYS`], as TOML (`None` if it

@@ -90,6 +90,11 @@ pub struct Plan {
     /// scenario gives another (a `t_end` a kind lands on by adjusting dt)
     /// is refused.
     pub step: Option<f64>,
+    /// The final time of a variable-step run stopped by time (`None`
+    /// otherwise: a fixed-step plan counts its steps exactly): recorded in
+    /// checkpoints, and a resume to a `t_end` both before the checkpoint's
+    /// time and before the run's own `t_end` is refused.
+    pub t_end: Option<f64>,
 }
 
 impl Plan {
@@ -166,6 +171,8 @@ pub struct Session {
     scenario: Option<String>,
     /// [`Plan::step`], recorded in checkpoints.
     step: Option<f64>,
+    /// [`Plan::t_end`], recorded in checkpoints.
+    t_end: Option<f64>,
     progress: Progress,
 }
 
@@ -241,6 +248,7 @@ impl Session {
             resumed,
             scenario,
             step: plan.step,
+            t_end: plan.t_end,
             progress: Progress::new(
                 Measure::Count {
                     total: plan.whole_steps(),
@@ -356,7 +364,7 @@ impl Session {
                     (stepper, state, observer),
                     &total,
                     self.wall_seconds(),
-                    (self.scenario.as_deref(), self.step),
+                    (self.scenario.as_deref(), self.step, self.t_end),
                 )?;
             }
             if done {
