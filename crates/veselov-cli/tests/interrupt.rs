@@ -428,6 +428,18 @@ fn run_time_dimension_run_survives_sigterm_and_resumes_bit_for_bit() {
     interrupt_and_resume("run-time-dimension", &text, &TRAJECTORY);
 }
 
+/// Runs the scenario `text`, written to `dir/name.toml`, with `args`.
+fn run_to(dir: &Scratch, name: &str, text: &str, args: &[&str]) -> std::process::Output {
+    let file = dir.join(format!("{name}.toml"));
+    std::fs::write(&file, text).expect("scenario");
+    Command::new(binary())
+        .args(["run", "--quiet"])
+        .args(args)
+        .arg(&file)
+        .output()
+        .expect("run")
+}
+
 /// A finished run is extended by a longer `t_end` that keeps its step: the
 /// files then equal those of one run to the longer end. A `t_end` that
 /// would land with another step (t_end/round(t_end/dt)) is refused naming
@@ -435,21 +447,16 @@ fn run_time_dimension_run_survives_sigterm_and_resumes_bit_for_bit() {
 #[test]
 fn a_finished_run_extends_with_its_own_step() {
     let dir = Scratch::new("extend");
-    let text = |t_end: &str| {
-        format!(
-            "[model]\nname = \"kepler\"\n[method]\nname = \"midpoint\"\ndt = 0.01\n[time]\nt_end = {t_end}\n\
-             [output]\nformats = [\"csv\", \"npy\"]\nplots = false\n"
-        )
-    };
     let run = |name: &str, t_end: &str, args: &[&str]| {
-        let file = dir.join(format!("{name}.toml"));
-        std::fs::write(&file, text(t_end)).expect("scenario");
-        Command::new(binary())
-            .args(["run", "--quiet"])
-            .args(args)
-            .arg(&file)
-            .output()
-            .expect("run")
+        run_to(
+            &dir,
+            name,
+            &format!(
+                "[model]\nname = \"kepler\"\n[method]\nname = \"midpoint\"\ndt = 0.01\n[time]\nt_end = {t_end}\n\
+                 [output]\nformats = [\"csv\", \"npy\"]\nplots = false\n"
+            ),
+            args,
+        )
     };
     let (whole, part) = (dir.join("whole"), dir.join("part"));
     let path = |p: &Path| p.to_str().expect("utf-8 path").to_owned();
@@ -498,21 +505,16 @@ fn a_finished_run_extends_with_its_own_step() {
 #[test]
 fn a_variable_step_run_cannot_be_resumed_to_an_earlier_end() {
     let dir = Scratch::new("variable-end");
-    let text = |t_end: &str| {
-        format!(
-            "[model]\nname = \"kepler\"\nparams = {{ eccentricity = 0.5 }}\n[method]\nname = \"sem-averaged\"\n\
-             stages = 2\ndt = 0.01\n[time]\nt_end = {t_end}\n[output]\nformats = [\"csv\"]\nplots = false\n"
-        )
-    };
     let run = |name: &str, t_end: &str, args: &[&str]| {
-        let file = dir.join(format!("{name}.toml"));
-        std::fs::write(&file, text(t_end)).expect("scenario");
-        Command::new(binary())
-            .args(["run", "--quiet"])
-            .args(args)
-            .arg(&file)
-            .output()
-            .expect("run")
+        run_to(
+            &dir,
+            name,
+            &format!(
+                "[model]\nname = \"kepler\"\nparams = {{ eccentricity = 0.5 }}\n[method]\nname = \"sem-averaged\"\n\
+                 stages = 2\ndt = 0.01\n[time]\nt_end = {t_end}\n[output]\nformats = [\"csv\"]\nplots = false\n"
+            ),
+            args,
+        )
     };
     let (whole, part) = (dir.join("whole"), dir.join("part"));
     let path = |p: &Path| p.to_str().expect("utf-8 path").to_owned();
