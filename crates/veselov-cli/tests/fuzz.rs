@@ -5,6 +5,13 @@
 //! outputs are all finite; a run may also end as interrupted by its time
 //! limit, never hang past it.
 //!
+//! A quarter of the runs that leave a checkpoint are then resumed
+//! (`--resume`) with the same scenario, with its `t_end` doubled, or with a
+//! further mutation of it. The same outcomes are allowed, and a resume
+//! refused because its scenario is not the run's own (its message says
+//! "being resumed") must leave every file of the run byte for byte as it
+//! was.
+//!
 //! The default suite runs a fast seeded subset; the long run is
 //!
 //! ```sh
@@ -148,14 +155,34 @@ fn outputs_finite(dir: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// Run one mutated scenario; `Err` describes a forbidden outcome.
-fn run_case(work: &Path, text: &str, limit: f64) -> Result<&'static str, String> {
+/// The bytes of every file in `dir`, by name.
+fn files(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .filter_map(|e| e.ok())
+        .filter_map(|e| {
+            let bytes = std::fs::read(e.path()).ok()?;
+            Some((e.file_name().to_string_lossy().into_owned(), bytes))
+        })
+        .collect()
+}
+
+/// Run one mutated scenario into `work/out` (resuming the run there when
+/// `resume`); `Err` describes a forbidden outcome.
+fn run_case(work: &Path, text: &str, limit: f64, resume: bool) -> Result<&'static str, String> {
     let file = work.join("case.toml");
     std::fs::write(&file, text).map_err(|e| e.to_string())?;
     let out = work.join("out");
-    let _ = std::fs::remove_dir_all(&out);
+    let before = if resume {
+        files(&out)
+    } else {
+        let _ = std::fs::remove_dir_all(&out);
+        Default::default()
+    };
+    let mode = if resume { "--resume" } else { "--out" };
     let mut child = Command::new(env!("CARGO_BIN_EXE_veselov"))
-        .args(["run", "--quiet", "--force", "--time-limit", &limit.to_string(), "--out"])
+        .args(["run", "--quiet", "--force", "--time-limit", &limit.to_string(), mode])
         .arg(&out)
         .arg(&file)
         .stdout(Stdio::null())
@@ -197,11 +224,35 @@ fn run_case(work: &Path, text: &str, limit: f64) -> Result<&'static str, String>
     if !stderr.starts_with("error: ") {
         return Err(format!("unclean error: {stderr}"));
     }
+    if resume && stderr.contains("being resumed") && files(&out) != before {
+        return Err(format!("a refused resume changed the run's files: {stderr}"));
+    }
+    if resume && stderr.contains("being resumed") {
+        return Ok("refused resume");
+    }
     Ok(if stderr.contains("interrupted") {
         "interrupted"
     } else {
         "error"
     })
+}
+
+/// `text` with its `t_end` doubled (as it is when it has none).
+fn longer(text: &str) -> String {
+    text.lines()
+        .map(|l| match l.split_once('=') {
+            Some((key, value)) if key.trim() == "t_end" => {
+                let value = value.split('#').next().unwrap_or_default().trim();
+                match value.parse::<f64>() {
+                    Ok(t) => format!("{key}= {:?}", 2.0 * t),
+                    Err(_) => l.to_string(),
+                }
+            }
+            _ => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
 }
 
 fn fuzz(cases: usize, seed: u64, limit: f64) {
@@ -216,9 +267,22 @@ fn fuzz(cases: usize, seed: u64, limit: f64) {
         if rng.below(3) == 0 {
             mutated = mutate(&mutated, &mut rng);
         }
-        match run_case(&work, &mutated, limit) {
+        let first = run_case(&work, &mutated, limit, false);
+        let resumable = matches!(first, Ok("completed" | "interrupted")) && work.join("out/checkpoint.json").exists();
+        match first {
             Ok(kind) => *counts.entry(kind).or_insert(0usize) += 1,
             Err(why) => failures.push(format!("case {case} ({name}):\n{mutated}\n=> {why}")),
+        }
+        if resumable && rng.below(4) == 0 {
+            let again = match rng.below(3) {
+                0 => mutated.clone(),
+                1 => longer(&mutated),
+                _ => mutate(&mutated, &mut rng),
+            };
+            match run_case(&work, &again, limit, true) {
+                Ok(kind) => *counts.entry(kind).or_insert(0usize) += 1,
+                Err(why) => failures.push(format!("case {case} ({name}), resumed:\n{again}\n=> {why}")),
+            }
         }
     }
     eprintln!(
