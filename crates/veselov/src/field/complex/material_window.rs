@@ -99,8 +99,8 @@ impl MaterialWindow {
     /// point lies in 0 ≤ p < 2N: the coordinates a position-dependent
     /// Lagrangian reads s from.
     pub fn unwrap(&self, v: &[i64; MAX_LATTICE_DIMENSION]) -> [i64; MAX_LATTICE_DIMENSION] {
-        let p = v[0] - v[1];
-        let k = (p.rem_euclid(self.wrap) - p) / self.wrap;
+        // p − k·wrap ∈ [0, 2N) for k = ⌊p/wrap⌋: one division.
+        let k = -(v[0] - v[1]).div_euclid(self.wrap);
         let mut out = *v;
         out[0] += k * self.period;
         out[1] -= k * self.period;
