@@ -23,6 +23,38 @@ pub struct Param {
     pub doc: &'static str,
 }
 
+/// A structural model (a field on a lattice, with its own tables of keys
+/// rather than `params`) as listed by `veselov models`.
+pub struct StructureInfo {
+    /// Value of `[model] name`.
+    pub name: &'static str,
+    /// One-line description.
+    pub summary: &'static str,
+    /// Its tables and main keys.
+    pub keys: &'static str,
+    /// Where its scenarios are shown.
+    pub examples: &'static str,
+}
+
+/// The beam and the rod.
+pub const STRUCTURES: &[StructureInfo] = &[
+    StructureInfo {
+        name: "beam",
+        summary: "geometrically exact beam on SE(3) (seed 000), marched in time or in space",
+        keys: "[model] length, nodes, radius | width + height, density, young, poisson | shear_modulus, \
+               shear_coefficient; [method] evolution, retraction; [ends]; [loads] gravity, damping; [initial] shape",
+        examples: "examples/beam_*.toml",
+    },
+    StructureInfo {
+        name: "cosserat-rod",
+        summary: "Cosserat rod on the leapfrog lattice (seed 003 §6): conserved discrete momenta, loads and damping",
+        keys: "[model] length, nodes, radius | width + height, density, young (numbers or expressions in s), \
+               poisson | shear_modulus, shear_coefficient; [ends] free | clamped | driven; [loads] gravity, damping, \
+               end_force, end_torque, ramp; [initial] shape = straight | bent | helix | curve",
+        examples: "examples/rod_*.toml",
+    },
+];
+
 /// A built-in model as listed by `veselov models`.
 pub struct ModelInfo {
     /// Scenario name.

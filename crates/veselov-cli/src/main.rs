@@ -80,36 +80,41 @@ enum Command {
 
 fn list_models() {
     for m in catalog::MODELS {
-        println!("{}\n    {}", m.name, m.summary);
+        veselov_cli::say!("{}\n    {}", m.name, m.summary);
         if !m.coordinates.is_empty() {
-            println!("    coordinates: {}", m.coordinates.join(", "));
+            veselov_cli::say!("    coordinates: {}", m.coordinates.join(", "));
         }
         for p in m.params {
-            println!("    params.{} = {} ({})", p.name, p.default, p.doc);
+            veselov_cli::say!("    params.{} = {} ({})", p.name, p.default, p.doc);
         }
-        println!("    default initial: {}", m.default_initial);
+        veselov_cli::say!("    default initial: {}", m.default_initial);
         if !m.symmetries.is_empty() {
-            println!("    momentum maps: {}", m.symmetries.join(", "));
+            veselov_cli::say!("    momentum maps: {}", m.symmetries.join(", "));
         }
-        println!("    verify reference: {}", m.reference);
+        veselov_cli::say!("    verify reference: {}", m.reference);
+    }
+    for m in catalog::STRUCTURES {
+        veselov_cli::say!("{}\n    {}", m.name, m.summary);
+        veselov_cli::say!("    keys: {}", m.keys);
+        veselov_cli::say!("    examples: {}", m.examples);
     }
 }
 
 fn list_methods() {
     for m in catalog::METHODS {
-        println!("{}\n    keys: {}\n    {}", m.name, m.keys, m.properties);
+        veselov_cli::say!("{}\n    keys: {}\n    {}", m.name, m.keys, m.properties);
     }
-    println!("\nSeparable built-in models (harmonic, pendulum, kepler, henon-heiles) use fixed-point stage");
-    println!("iteration with a Newton fallback; other systems use Newton with the exact Jacobian.");
+    veselov_cli::say!("\nSeparable built-in models (harmonic, pendulum, kepler, henon-heiles) use fixed-point stage");
+    veselov_cli::say!("iteration with a Newton fallback; other systems use Newton with the exact Jacobian.");
 }
 
 fn plot_dir(dir: &std::path::Path, format: &str) -> Result<(), CliError> {
     let written = redraw::redraw(dir, format)?;
     if written.is_empty() {
-        println!("{}: nothing to draw", dir.display());
+        veselov_cli::say!("{}: nothing to draw", dir.display());
     }
     for path in written {
-        println!("wrote {}", path.display());
+        veselov_cli::say!("wrote {}", path.display());
     }
     Ok(())
 }
@@ -149,7 +154,8 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Expressions => {
-            print!("{}", catalog::expressions_reference());
+            let text = catalog::expressions_reference();
+            veselov_cli::say!("{}", text.strip_suffix('\n').unwrap_or(&text));
             Ok(())
         }
         Command::Verify {

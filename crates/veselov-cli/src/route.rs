@@ -40,8 +40,40 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
         Some(n) if crate::field::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
         Some(crate::rod::ROD_MODEL) => ScenarioKind::Rod,
         Some(crate::beam::BEAM_MODEL) => ScenarioKind::Beam,
+        Some(n) if !model_names().contains(&n) => {
+            // Named before the file is read against a kind's schema, which
+            // would otherwise report that kind's missing keys first.
+            return Err(unknown_model(path, n));
+        }
+        // A name that is not a string is named by the mechanics schema.
         _ => ScenarioKind::Mechanics,
     })
+}
+
+/// Every model name the command knows, of every kind (those `veselov
+/// models` lists).
+pub fn model_names() -> Vec<&'static str> {
+    let catalog = crate::catalog::MODELS.iter().map(|m| m.name);
+    catalog
+        .chain(crate::catalog::STRUCTURES.iter().map(|m| m.name))
+        .collect()
+}
+
+/// The error for an unknown `model.name`: every known name, and the one
+/// meant when `name` differs from it only in case or in `_` for `-`.
+fn unknown_model(path: &Path, name: &str) -> CliError {
+    let names = model_names();
+    let plain = |s: &str| s.to_lowercase().replace(['_', ' '], "-");
+    let hint = names
+        .iter()
+        .find(|k| plain(k) == plain(name))
+        .map(|k| format!(" (did you mean `{k}`?)"))
+        .unwrap_or_default();
+    crate::scenario::key_error(
+        path,
+        "model.name",
+        format!("unknown model `{name}`{hint}, expected one of: {}", names.join(", ")),
+    )
 }
 
 /// Run the scenario file at `path` (the entry point of `veselov run`).

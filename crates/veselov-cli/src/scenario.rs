@@ -170,7 +170,7 @@ impl OutputSpec {
             let k = ((t - t0) / dt).round().clamp(0.0, steps as f64) as u64;
             let on_grid = t0 + k as f64 * dt;
             if !quiet && (on_grid - t).abs() > 1e-9 * dt {
-                println!("note: output.times: {t} written at the nearest step, t = {on_grid}");
+                crate::say!("note: output.times: {t} written at the nearest step, t = {on_grid}");
             }
             out.push(k);
         }
@@ -491,7 +491,7 @@ pub fn step_length(time: &TimeSpec, dt: f64) -> f64 {
 /// Say when [`step_length`] changed the requested `dt` (by more than a relative 1e-12).
 pub fn note_step_length(requested: f64, taken: f64, quiet: bool) {
     if !quiet && (taken - requested).abs() > 1e-12 * requested.abs() {
-        println!("note: dt = {requested:e} adjusted to {taken:.12e} so that the run ends at t_end");
+        crate::say!("note: dt = {requested:e} adjusted to {taken:.12e} so that the run ends at t_end");
     }
 }
 

@@ -125,8 +125,8 @@ impl Study {
             rows: Vec::new(),
         };
         if !quiet {
-            println!("reference: {}; method {} (order {order})", self.reference, self.method);
-            println!("{:>14} {:>10} {:>14} {:>8}", "dt", "steps", "error", "rate");
+            crate::say!("reference: {}; method {} (order {order})", self.reference, self.method);
+            crate::say!("{:>14} {:>10} {:>14} {:>8}", "dt", "steps", "error", "rate");
         }
         let mut previous: Option<(f64, f64)> = None;
         for (&dt, &n) in dts.iter().zip(steps) {
@@ -134,7 +134,7 @@ impl Study {
                 Ok(e) => e,
                 Err(e) => {
                     if !quiet {
-                        println!("{dt:>14.6e} {n:>10} failed: {e}");
+                        crate::say!("{dt:>14.6e} {n:>10} failed: {e}");
                     }
                     f64::NAN
                 }
@@ -142,7 +142,7 @@ impl Study {
             let rate = previous.map(|(h, e)| (e / err).ln() / (h / dt).ln());
             if !quiet {
                 let rate = rate.map(|r| format!("{r:8.3}")).unwrap_or_default();
-                println!("{dt:>14.6e} {n:>10} {err:>14.6e} {rate}");
+                crate::say!("{dt:>14.6e} {n:>10} {err:>14.6e} {rate}");
             }
             previous = Some((dt, err));
             table.rows.push(vec![dt, n as f64, err]);
@@ -163,24 +163,24 @@ impl Study {
         if !quiet {
             match (&fit, range) {
                 (Some(f), Some((coarse, fine))) => {
-                    println!(
+                    crate::say!(
                         "fitted order {:.3} over {} points, dt from {coarse:.4e} to {fine:.4e} (claimed {order})",
                         f.order,
                         f.used.len()
                     );
                     if !reached {
-                        println!(
+                        crate::say!(
                             "warning: the claimed order {order} is not reached; smaller steps may be needed to \
                              reach the asymptotic range (or the error is at its round-off floor)"
                         );
                     } else if f.order > order as f64 + 0.5 {
-                        println!(
+                        crate::say!(
                             "warning: the fitted order is above the claimed {order}: the steps may not be in the \
                              asymptotic range yet (or the error superconverges at t_end)"
                         );
                     }
                 }
-                _ => println!("warning: too few points above the round-off floor to fit an order"),
+                _ => crate::say!("warning: too few points above the round-off floor to fit an order"),
             }
         }
         table.write_csv(&dir.join("convergence.csv"))?;
@@ -202,7 +202,7 @@ impl Study {
         )?;
         draw_convergence(&dir.join("convergence.svg"), &dts, &errs, order, fit.map(|f| f.order))?;
         if !quiet {
-            println!("outputs in {}", dir.display());
+            crate::say!("outputs in {}", dir.display());
         }
         Ok(())
     }

@@ -327,7 +327,9 @@ const KEPLER: &str = "[model]\nname = \"kepler\"\n[method]\nname = \"midpoint\"\
 fn bad_input_gives_one_clear_message() {
     let cases: &[(&str, String, &[&str])] = &[
         ("unknown-key", format!("{KEPLER}[output]\ncolour = \"red\"\n"), &["scenario.toml", "colour"]),
-        ("unknown-model", KEPLER.replace("\"kepler\"", "\"kepplr\""), &["model.name", "kepplr", "expected one of"]),
+        ("unknown-model", KEPLER.replace("\"kepler\"", "\"kepplr\""), &["model.name", "kepplr", "expected one of", "cosserat-rod"]),
+        // Named before the missing tables of the kind it looks like.
+        ("near-model-name", "[model]\nname = \"Cosserat_Rod\"\nlength = 1.0\n".into(), &["model.name", "did you mean `cosserat-rod`"]),
         ("unknown-method", KEPLER.replace("\"midpoint\"", "\"rk4\""), &["method.name", "rk4"]),
         ("unknown-param", KEPLER.replace("name = \"kepler\"", "name = \"kepler\"\nparams = { ecc = 0.2 }"), &["model.params.ecc", "eccentricity"]),
         ("wrong-type", KEPLER.replace("dt = 0.01", "dt = \"small\""), &["dt", "scenario.toml"]),
@@ -1519,4 +1521,30 @@ fn verify_works_on_every_shipped_mechanics_example() {
         count += 1;
     }
     assert!(count >= 14, "only {count} examples verified");
+}
+
+/// `veselov models` lists the structures (beam, rod) with the other
+/// models, and a listing whose reader closes the pipe early
+/// (`veselov models | head -3`) ends quietly, without a panic.
+#[test]
+fn listings_name_every_model_and_survive_a_closed_pipe() {
+    let listing = veselov().arg("models").output().expect("models");
+    let text = String::from_utf8_lossy(&listing.stdout);
+    for name in ["kepler", "rigid-body", "sine-gordon", "beam", "cosserat-rod"] {
+        assert!(text.lines().any(|l| l == name), "`veselov models` lacks {name}");
+    }
+    for command in ["models", "methods", "expressions"] {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_veselov"))
+            .arg(command)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("spawn");
+        // The reading end closed before the listing is written.
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("wait");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{command}: {err}");
+        assert!(out.status.success(), "{command}: {:?} {err}", out.status);
+    }
 }

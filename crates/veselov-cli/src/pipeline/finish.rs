@@ -125,7 +125,7 @@ pub fn finish<S: Clone>(
         figures::draw_all(dir, &data, &out.plot_format)?;
     }
     if !session.quiet {
-        println!("{}; outputs in {}", report(&table), dir.display());
+        crate::say!("{}; outputs in {}", report(&table), dir.display());
     }
     conclude(status, dir)
 }
@@ -188,7 +188,7 @@ pub fn close_run(
         draw()?;
     }
     if !session.quiet {
-        println!("{}; outputs in {}", report(), dir.display());
+        crate::say!("{}; outputs in {}", report(), dir.display());
     }
     conclude(ending.status, dir)
 }
