@@ -224,6 +224,33 @@ pub fn push_number(out: &mut String, x: f64) {
     };
 }
 
+/// Whether [`say`] has reported a write error (it reports one).
+static STDOUT_FAILED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Writes `args` and a newline to standard output, as `println!` does, but
+/// a closed pipe (`veselov models | head -3`) is not an error: the rest of
+/// the text is dropped, where `println!` would panic. Another write error
+/// is reported once, on standard error.
+pub fn say(args: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n"))
+        && e.kind() != std::io::ErrorKind::BrokenPipe
+        && !STDOUT_FAILED.swap(true, std::sync::atomic::Ordering::Relaxed)
+    {
+        eprintln!("warning: could not write to standard output: {e}");
+    }
+}
+
+/// `println!` through [`say`](crate::output::say): a closed standard output
+/// does not panic.
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::output::say(format_args!($($arg)*))
+    };
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -319,31 +346,4 @@ mod tests {
             assert_eq!(s.parse::<f64>().expect("parses").to_bits(), x.to_bits(), "{s}");
         }
     }
-}
-
-/// Whether [`say`] has reported a write error (it reports one).
-static STDOUT_FAILED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Writes `args` and a newline to standard output, as `println!` does, but
-/// a closed pipe (`veselov models | head -3`) is not an error: the rest of
-/// the text is dropped, where `println!` would panic. Another write error
-/// is reported once, on standard error.
-pub fn say(args: std::fmt::Arguments<'_>) {
-    use std::io::Write;
-    let mut out = std::io::stdout().lock();
-    if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n"))
-        && e.kind() != std::io::ErrorKind::BrokenPipe
-        && !STDOUT_FAILED.swap(true, std::sync::atomic::Ordering::Relaxed)
-    {
-        eprintln!("warning: could not write to standard output: {e}");
-    }
-}
-
-/// `println!` through [`say`](crate::output::say): a closed standard output
-/// does not panic.
-#[macro_export]
-macro_rules! say {
-    ($($arg:tt)*) => {
-        $crate::output::say(format_args!($($arg)*))
-    };
 }
