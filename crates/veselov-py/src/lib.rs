@@ -232,6 +232,16 @@ fn models() -> Vec<ModelRow> {
         .collect()
 }
 
+/// The structural models (the beam, the rod), with their own tables of
+/// keys: `(name, summary, keys, examples)`.
+#[pyfunction]
+fn structures() -> Vec<(&'static str, &'static str, &'static str, &'static str)> {
+    catalog::STRUCTURES
+        .iter()
+        .map(|m| (m.name, m.summary, m.keys, m.examples))
+        .collect()
+}
+
 /// The command's method catalogue: `(name, keys, properties)`.
 #[pyfunction]
 fn methods() -> Vec<(&'static str, &'static str, &'static str)> {
@@ -247,6 +257,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(verify, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(models, m)?)?;
+    m.add_function(wrap_pyfunction!(structures, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -211,6 +211,9 @@ def test_a_signal_interrupts_a_run(signum, tmp_path):
 def test_catalogues_and_verify():
     names = {m["name"] for m in veselov.models()}
     assert {"kepler", "van-der-pol", "rigid-body"} <= names
+    structures = {m["name"]: m for m in veselov.structures()}
+    assert set(structures) == {"beam", "cosserat-rod"}
+    assert "shear_coefficient" in structures["cosserat-rod"]["keys"]
     assert any(m["name"] == "midpoint" for m in veselov.methods())
     r = veselov.verify(EXAMPLES / "harmonic.toml", dt=[0.1, 0.05, 0.025])
     assert r.status == "ok"

@@ -35,6 +35,7 @@ __all__ = [
     "ensemble",
     "verify",
     "models",
+    "structures",
     "methods",
     "read_dir",
 ]
@@ -319,7 +320,8 @@ def verify(
 
 
 def models() -> list:
-    """The built-in models (as ``veselov models`` lists them)."""
+    """The built-in models with ``params`` (as ``veselov models`` lists them
+    first); the beam and the rod are in :func:`structures`."""
     return [
         {
             "name": name,
@@ -331,6 +333,16 @@ def models() -> list:
             "verify_reference": reference,
         }
         for name, summary, coords, params, initial, symmetries, reference in _native.models()
+    ]
+
+
+def structures() -> list:
+    """The structural models, the beam and the Cosserat rod, with their tables
+    of keys and their example scenarios (as ``veselov models`` lists them
+    last)."""
+    return [
+        {"name": n, "summary": s, "keys": k, "examples": e}
+        for n, s, k, e in _native.structures()
     ]
 
 
