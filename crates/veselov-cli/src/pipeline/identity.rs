@@ -58,10 +58,7 @@ pub fn check_resume(
             ),
         ));
     }
-    let Some(current) = plan.step else {
-        return check_variable_end(file, dir, saved, plan);
-    };
-    if let Some(before) = saved.step_length
+    if let (Some(current), Some(before)) = (plan.step, saved.step_length)
         && (before - current).abs() > 1e-12 * before.abs()
     {
         return Err(refuse(
@@ -74,31 +71,17 @@ pub fn check_resume(
             ),
         ));
     }
-    // With fixed steps the plan counts them exactly (up to the last
-    // partial one): a run already beyond it cannot be resumed to it.
-    if saved.step as f64 > plan.steps.ceil() + 0.5 {
-        return Err(refuse(
-            plan.steps_key.to_string(),
-            format!(
-                "asks for {:.0} {unit}, but the run in {} being resumed already stands at {} {unit}: a resume \
-                 continues a run, it cannot shorten it",
-                plan.steps.ceil(),
-                dir.display(),
-                saved.step,
-                unit = plan.unit
-            ),
-        ));
-    }
-    Ok(())
+    check_not_shorter(file, dir, saved, plan)
 }
 
-/// The part of [`check_resume`] for a variable-step run. Stopped by time,
-/// its step count is an estimate: a resume is refused when its `t_end` is
-/// before both the checkpoint's time and the run's own `t_end` (a finished
-/// run whose last step passed its `t_end` may still be resumed to that
-/// `t_end`). Stopped by a step count, the count is exact and the rule of
-/// fixed steps holds.
-fn check_variable_end(file: &Path, dir: &Path, saved: &Saved, plan: &Plan) -> Result<(), CliError> {
+/// The part of [`check_resume`] that refuses a shorter run. A plan that
+/// counts its steps exactly (fixed steps, up to the last partial one; or a
+/// variable-step run stopped by a step count) refuses a count the run is
+/// already beyond. A variable-step run stopped by time only estimates its
+/// count: it refuses a `t_end` before both the checkpoint's time and the
+/// run's own `t_end` (a finished run whose last step passed its `t_end` may
+/// still be resumed to that `t_end`).
+fn check_not_shorter(file: &Path, dir: &Path, saved: &Saved, plan: &Plan) -> Result<(), CliError> {
     let shorter = match plan.t_end {
         Some(t_end) => match (saved.time, saved.t_end) {
             (Some(time), Some(before)) => t_end < time && t_end < before,
