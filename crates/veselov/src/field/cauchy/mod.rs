@@ -121,11 +121,13 @@ const SMALL_STAR: usize = 6;
 /// Vertices of a cell of a gathered star (n + 1 ≤ 4).
 const SMALL_CELL: usize = 4;
 
+/// Where the values of n + 1 consecutive levels start in the value ring
+/// ([`CauchyMarcher::level_rows`]).
+type LevelRows = [usize; MAX_LATTICE_DIMENSION + 1];
+
 /// A vertex (w, i) as the base of its cells ([`CauchyMarcher::base`]).
 #[derive(Clone, Copy)]
 struct Base {
-    /// The value slot of level w.
-    slot: usize,
     /// The in-level index i.
     index: usize,
     /// Canonical coordinates (the window's representative).
@@ -180,6 +182,12 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     up: Vec<u32>,
     /// In-level index of v − e_{σ(0)} − … − e_{σ(l−1)}: `down[(i·n! + σ)·(n+1) + l]`.
     down: Vec<u32>,
+    /// Where μ_v of v = (·, i) finds its terms ([`momentum`](Self::momentum)):
+    /// the term of the cell (u, σ) whose vertex j ≥ 1 is v sits at
+    /// `momentum_terms[(i·n + j − 1)·n! + σ]` = down(i, σ, j)·stride + σ·(n + 1) + j
+    /// in the gradient slot of level w − j (the gather needs no index
+    /// arithmetic).
+    momentum_terms: Vec<u32>,
     /// Canonical coordinates of each in-level vertex at level 0.
     origins: Vec<[i64; MAX_LATTICE_DIMENSION]>,
     /// The finite body the march is confined to, if any.
@@ -327,9 +335,24 @@ where
             grads.push(slot);
         }
         let next_grads = grads.pop().unwrap_or_default();
+        // u32 offsets: a slot of more than 2³² vectors would not fit in
+        // memory anyway.
+        if u32::try_from(grad_count).is_err() {
+            return Err(too_large("cell gradients"));
+        }
+        let mut momentum_terms = Vec::with_capacity(size * n * cells);
+        for i in 0..size {
+            for j in 1..=n {
+                for sigma in 0..cells {
+                    let u = down[(i * cells + sigma) * (n + 1) + j] as usize;
+                    momentum_terms.push((u * stride + sigma * (n + 1) + j) as u32);
+                }
+            }
+        }
         let mut marcher = Self {
             up,
             down,
+            momentum_terms,
             origins,
             perms,
             values,
@@ -374,10 +397,11 @@ where
         let n = self.torus.dimension();
         let mut y = [self.values[self.value_slot(w) * self.torus.level_size()]; MAX_LATTICE_DIMENSION + 1];
         let vertices = (0..self.torus.level_size()).filter(|&i| self.is_active(w, i));
+        let rows = self.level_rows(self.value_slot(w));
         for i in vertices.take(CHECKED_VERTICES) {
             let at = self.base(w, i);
             for sigma in (0..self.perms.len()).filter(|&s| self.cell_active_at(&at, s)) {
-                let cell = self.cell_values_at(&at, sigma, None, &mut y);
+                let cell = self.cell_values_at(&rows, &at, sigma, None, &mut y);
                 check_closed_form::<F, L, M>(&self.lag, &cell, &y[..=n], || {
                     format!("cell {sigma} based at vertex {i} of level {w}")
                 })?;
@@ -454,12 +478,11 @@ where
             .is_none_or(|m| m.contains_cell(&base.origin, &self.perms[sigma]))
     }
 
-    /// The vertex (w, i) as the base of its cells: its value slot and
+    /// The vertex (w, i) as the base of its cells: its index and
     /// canonical coordinates, computed once for all of them.
     #[inline]
     fn base(&self, w: i64, i: usize) -> Base {
         Base {
-            slot: self.value_slot(w),
             index: i,
             origin: self.origin(w, i),
         }
@@ -528,26 +551,39 @@ where
         self.values[self.value_slot(w) * self.torus.level_size() + i]
     }
 
+    /// Where the values of the levels w … w + n start in the value ring,
+    /// `slot` being level w's: slot(w + l)·(level size) at index l. The
+    /// vertices of a level share them: gathered once, not per cell.
+    #[inline(always)]
+    fn level_rows(&self, slot: usize) -> LevelRows {
+        let (n, size) = (self.torus.dimension(), self.torus.level_size());
+        let ring = 2 * n + 1;
+        let mut rows = [0; MAX_LATTICE_DIMENSION + 1];
+        for (l, row) in rows.iter_mut().enumerate().take(n + 1) {
+            *row = if slot + l >= ring { slot + l - ring } else { slot + l } * size;
+        }
+        rows
+    }
+
     /// The cell (v, σ) based at v ([`base`](Self::base)) and its vertex values
-    /// written into `y[..=n]`, the last one replaced by `top` if given.
+    /// written into `y[..=n]`, the last one replaced by `top` if given;
+    /// `rows` are the [`level_rows`](Self::level_rows) of v's level.
     #[inline(always)]
     fn cell_values_at(
         &self,
+        rows: &LevelRows,
         base: &Base,
         sigma: usize,
         top: Option<F::Point<f64>>,
         y: &mut [F::Point<f64>],
     ) -> TopCell {
         let n = self.torus.dimension();
-        let size = self.torus.level_size();
-        let ring = 2 * n + 1;
-        let (first, i) = (base.slot, base.index);
+        let i = base.index;
         let y = &mut y[..=n];
         let up = &self.up[(i * self.perms.len() + sigma) * (n + 1)..][..=n];
-        y[0] = self.values[first * size + i];
+        y[0] = self.values[rows[0] + i];
         for l in 1..=n {
-            let level_slot = if first + l >= ring { first + l - ring } else { first + l };
-            y[l] = self.values[level_slot * size + up[l] as usize];
+            y[l] = self.values[rows[l] + up[l] as usize];
         }
         if let Some(z) = top {
             y[n] = z;
@@ -567,6 +603,7 @@ where
     fn solve_vertex(
         &self,
         w: i64,
+        rows: &LevelRows,
         i: usize,
         terms: &mut [SVector<f64, M>],
         factors: &mut Option<SmallLu<M>>,
@@ -590,7 +627,7 @@ where
             if sigma >= self.perms.len() || !self.cell_active_at(&base, sigma) {
                 return None;
             }
-            Some(self.cell_values_at(&base, sigma, None, out))
+            Some(self.cell_values_at(rows, &base, sigma, None, out))
         };
         if let Some(solved) = self
             .lag
@@ -607,7 +644,7 @@ where
             .get(self.down(i, 0, n))
             .copied()
             .flatten();
-        let (z, outcome) = self.solve_vertex_generic(&base, &mu, mu_scale, &previous, factors);
+        let (z, outcome) = self.solve_vertex_generic(rows, &base, &mu, mu_scale, &previous, factors);
         (z, outcome, Written::default())
     }
 
@@ -620,6 +657,7 @@ where
     #[inline(never)]
     fn solve_vertex_generic(
         &self,
+        rows: &LevelRows,
         base: &Base,
         mu: &SVector<f64, M>,
         mu_scale: f64,
@@ -628,7 +666,7 @@ where
     ) -> (F::Point<f64>, VertexOutcome) {
         let n = self.torus.dimension();
         let base = *base;
-        let z = F::extrapolate(previous, &self.values[base.slot * self.torus.level_size() + base.index]);
+        let z = F::extrapolate(previous, &self.values[rows[0] + base.index]);
         // A star of up to SMALL_STAR cells gathers its cells' known values
         // once: an iterate only replaces the top vertex. Larger stars gather
         // a cell's values at every evaluation.
@@ -638,7 +676,7 @@ where
             for (sigma, slot) in gathered.iter_mut().enumerate().take(self.perms.len()) {
                 if self.cell_active_at(&base, sigma) {
                     let mut y = [z; SMALL_CELL];
-                    *slot = Some((self.cell_values_at(&base, sigma, None, &mut y), y));
+                    *slot = Some((self.cell_values_at(rows, &base, sigma, None, &mut y), y));
                 }
             }
         }
@@ -657,7 +695,7 @@ where
                     y[n] = *z;
                     *cell
                 } else if self.cell_active_at(&base, sigma) {
-                    self.cell_values_at(&base, sigma, Some(*z), &mut y)
+                    self.cell_values_at(rows, &base, sigma, Some(*z), &mut y)
                 } else {
                     continue;
                 };
@@ -693,6 +731,7 @@ where
     fn store_vertex(
         &self,
         w: i64,
+        rows: &LevelRows,
         i: usize,
         (z, outcome, written): (F::Point<f64>, VertexOutcome, Written),
         terms: &mut [SVector<f64, M>],
@@ -700,7 +739,7 @@ where
     ) {
         result.outcome = outcome;
         if outcome.failure.is_none() {
-            self.cell_terms(w, i, Some(z), written, terms);
+            self.cell_terms(w, rows, i, Some(z), written, terms);
             if self.lag.has_forces() && self.is_active(w, i) {
                 result.force = self.vertex_force(w, i, terms);
             }
@@ -714,6 +753,7 @@ where
     fn solve_lanes(
         &self,
         w: i64,
+        rows: &LevelRows,
         first: usize,
         values: &mut [F::Point<f64>],
         terms: &mut [SVector<f64, M>],
@@ -737,7 +777,7 @@ where
             lane.previous = self.value(w - n as i64, self.down(i, 0, n));
         }
         let star = |l: usize, sigma: usize, out: &mut [F::Point<f64>]| {
-            (sigma < self.perms.len()).then(|| self.cell_values_at(&bases[l], sigma, None, out))
+            (sigma < self.perms.len()).then(|| self.cell_values_at(rows, &bases[l], sigma, None, out))
         };
         let mut solved = [SolvedVertex {
             value: placeholder,
@@ -763,7 +803,7 @@ where
             };
             *value = s.value;
             result.factors = None;
-            self.store_vertex(w, first + l, (s.value, s.outcome, written), terms, result);
+            self.store_vertex(w, rows, first + l, (s.value, s.outcome, written), terms, result);
         }
         true
     }
@@ -805,18 +845,20 @@ where
         let started = std::time::Instant::now();
         let chunk = self.parallel_chunk(size);
         let parallel = chunk < size;
+        // The level's rows in the value ring, shared by all its vertices.
+        let rows = self.level_rows(self.value_slot(w));
         {
             let this = &*self;
             let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {
-                let (z, o, written) = this.solve_vertex(w, i, terms, &mut result.factors);
+                let (z, o, written) = this.solve_vertex(w, &rows, i, terms, &mut result.factors);
                 *value = z;
-                this.store_vertex(w, i, (z, o, written), terms, result);
+                this.store_vertex(w, &rows, i, (z, o, written), terms, result);
             };
             let lanes = self.vertex_lanes();
             if lanes > 1 {
                 let solve_lanes = |(g, ((values, terms), results)): LaneSlot<'_, F::Point<f64>, M>| {
                     let first = g * lanes;
-                    if !this.solve_lanes(w, first, values, terms, results) {
+                    if !this.solve_lanes(w, &rows, first, values, terms, results) {
                         for (l, ((value, terms), result)) in values
                             .iter_mut()
                             .zip(terms.chunks_mut(stride))

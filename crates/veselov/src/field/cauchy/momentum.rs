@@ -55,6 +55,7 @@ where
         };
         let mut values = [[blank; MAX_LATTICE_DIMENSION + 1]; GATHERED_CELLS];
         let mut gathered: [Option<TopCell>; GATHERED_CELLS] = [None; GATHERED_CELLS];
+        let rows = self.level_rows(self.value_slot(w));
         for i in vertices {
             let at = self.base(w, i);
             for first in (0..cells).step_by(GATHERED_CELLS) {
@@ -63,7 +64,7 @@ where
                     let sigma = first + k;
                     *cell = self
                         .cell_active_at(&at, sigma)
-                        .then(|| self.cell_values_at(&at, sigma, None, &mut y[..=n]));
+                        .then(|| self.cell_values_at(&rows, &at, sigma, None, &mut y[..=n]));
                 }
                 for (y, cell) in values.iter().zip(&gathered).take(count) {
                     if let Some(cell) = cell {

@@ -5,7 +5,7 @@
 
 use nalgebra::SVector;
 
-use super::CauchyMarcher;
+use super::{CauchyMarcher, LevelRows};
 use crate::field::cell::{DiscreteLagrangian, later_gradients, vertex_gradient};
 use crate::field::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::field::fibre::Fibre;
@@ -35,8 +35,9 @@ where
         let mut out = vec![SVector::zeros(); stride];
         for base in self.level - n as i64..self.level {
             let slot = self.grad_slot(base);
+            let rows = self.level_rows(self.value_slot(base));
             for i in 0..size {
-                self.cell_terms(base, i, None, Written::default(), &mut out);
+                self.cell_terms(base, &rows, i, None, Written::default(), &mut out);
                 self.grads[slot][i * stride..(i + 1) * stride].copy_from_slice(&out);
             }
         }
@@ -59,10 +60,12 @@ where
     /// 1 … n ([`cell_gradients`](Self::cell_gradients)), then their forces
     /// at every position ([`DiscreteLagrangian::cell_forces`]; zero for a
     /// cell outside the window), with the last vertex `top` if given; the
-    /// parts a model's solve `written` already are skipped.
+    /// parts a model's solve `written` already are skipped. `rows` are the
+    /// [`level_rows`](Self::level_rows) of level w.
     pub(super) fn cell_terms(
         &self,
         w: i64,
+        rows: &LevelRows,
         i: usize,
         top: Option<F::Point<f64>>,
         written: Written,
@@ -77,11 +80,11 @@ where
         }
         // Each cell's values are gathered once for both its terms.
         let base = self.base(w, i);
-        let mut y = [self.values[base.slot * self.torus.level_size() + i]; MAX_LATTICE_DIMENSION + 1];
+        let mut y = [self.values[rows[0] + i]; MAX_LATTICE_DIMENSION + 1];
         for sigma in 0..self.perms.len() {
             let g = &mut grads[sigma * width..(sigma + 1) * width];
             let active = self.cell_active_at(&base, sigma);
-            let cell = active.then(|| self.cell_values_at(&base, sigma, top, &mut y));
+            let cell = active.then(|| self.cell_values_at(rows, &base, sigma, top, &mut y));
             if !written.gradients {
                 match &cell {
                     Some(cell) => self.cell_gradients(cell, &y[..=n], g),
@@ -125,20 +128,20 @@ where
     /// stored gradients and forces of the cells.
     pub(super) fn momentum(&self, w: i64, i: usize) -> (SVector<f64, M>, f64) {
         let n = self.torus.dimension();
-        let per_vertex = self.perms.len() * (n + 1);
-        let stride = self.stride();
+        let cells = self.perms.len();
+        let per_vertex = cells * (n + 1);
         let mut mu = SVector::zeros();
         let mut scale = 0.0;
-        for j in 1..=n {
+        let terms = &self.momentum_terms[i * n * cells..(i + 1) * n * cells];
+        for (j, at) in (1..=n).zip(terms.chunks_exact(cells)) {
             let slot = &self.grads[self.grad_slot(w - j as i64)];
             let forced = self.lag.has_force_at(j);
-            for sigma in 0..self.perms.len() {
-                let at = self.down(i, sigma, j) * stride + sigma * (n + 1) + j;
-                let g = &slot[at];
+            for &at in at {
+                let g = &slot[at as usize];
                 mu -= g;
                 scale += largest_abs(g);
                 if forced {
-                    let f = &slot[at + per_vertex];
+                    let f = &slot[at as usize + per_vertex];
                     mu -= f;
                     scale += largest_abs(f);
                 }

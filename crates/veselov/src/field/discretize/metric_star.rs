@@ -8,7 +8,7 @@
 //! ∂L_β/∂y₀ = vol_β·(Σ_a η_a φ_{·a}(z) c_{0a} + ∇V(x̄_β, ȳ_β(z))/(N + 1)),
 //!
 //! with φ_{ka}(z) = φ̃_{ka} + (z − y₀)_k c_{Na} and ȳ_β(z) = (s_β + z)/(N + 1)
-//! (φ̃ and s_β the known vertices' parts, [`PartialFrame`]), and
+//! (φ̃ and s_β the known vertices' parts, `PartialFrame`), and
 //!
 //! ∂²L_β/∂y₀∂z = vol_β·(b_β I + ∇²V(ȳ_β(z))/(N + 1)²),  b_β = Σ_a η_a c_{0a} c_{Na}.
 //!
@@ -34,7 +34,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
-use super::affine_chain::{AffineFrame, PartialFrame, metric_coefficients, metric_gradient_from, metric_product};
+use super::affine_chain::{AffineFrame, metric_coefficients, metric_gradient_from, metric_product};
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;
 use crate::field::cell::SolvedVertex;
@@ -58,11 +58,10 @@ pub(super) struct MetricStar<const M: usize> {
     pub(super) start: SVector<f64, M>,
 }
 
-/// A star cell's geometry ((T^X)⁻¹, vol_β, x̄) and its weights: η_a c_{la}
-/// of each vertex and vol_β Σ_a η_a c_{0a} c_{Na}.
+/// A star cell's geometry (vol_β, x̄, the last row of (T^X)⁻¹) and its
+/// weights: η_a c_{la} of each vertex and vol_β Σ_a η_a c_{0a} c_{Na}.
 #[derive(Clone, Copy)]
 pub(super) struct CellWeights<const N: usize> {
-    inverse: SMatrix<f64, N, N>,
     volume: f64,
     centre: SVector<f64, N>,
     /// c_{Na} = (T^X)⁻¹_{N−1,a}.
@@ -89,7 +88,6 @@ impl<const N: usize> CellWeights<N> {
             }
         });
         Self {
-            inverse,
             volume,
             centre,
             last_row: SVector::from_fn(|a, _| inverse[(N - 1, a)]),
@@ -149,17 +147,12 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
         self.full = lanes == METRIC_LANES && self.active.iter().flatten().all(|&a| a);
     }
 
-    /// Cell c of lane l with the last vertex value `z`.
-    fn complete(&self, g: &CellWeights<N>, c: usize, l: usize, z: &SVector<f64, M>) -> AffineFrame<M, N> {
-        PartialFrame {
-            inverse: g.inverse,
-            volume: g.volume,
-            centre: g.centre,
-            sum: self.sum[c][l],
-            jet: SMatrix::from_fn(|k, a| self.jet[c][a][l][k]),
-            first: self.first[l],
-        }
-        .complete(z)
+    /// φ of cell c of lane l with the last vertex value `z`: the entries of
+    /// the completed frame (`PartialFrame::jet_entry`), with (T^X)⁻¹'s last
+    /// row from the cell's weights.
+    #[inline]
+    fn jet_at(&self, g: &CellWeights<N>, c: usize, l: usize, z: &SVector<f64, M>) -> SMatrix<f64, M, N> {
+        SMatrix::from_fn(|k, a| self.jet[c][a][l][k] + (z[k] - self.first[l][k]) * g.last_row[a])
     }
 
     /// Σ_cells vol_β(Σ_a η_a φ_{·a}(z) c_{0a} + ∇V/(N + 1)) of every lane
@@ -237,9 +230,12 @@ where
                 }
             }
             let hessians = second.then_some(out.hessian.as_flattened_mut());
-            for c in 0..C {
-                for l in 0..METRIC_LANES {
-                    out.centres[c][l] = geometry.at(c, l).centre;
+            // A shape's weights have no centre: the centres stay zero.
+            if let StarGeometry::Cells(cells) = geometry {
+                for c in 0..C {
+                    for l in 0..METRIC_LANES {
+                        out.centres[c][l] = cells[c][l].centre;
+                    }
                 }
             }
             self.jet_free_batch(
@@ -390,10 +386,10 @@ where
             for c in (0..C).filter(|&c| frames.active[c][l]) {
                 // `metric_gradient` with the cell's weights formed once.
                 let t = geometry.at(c, l);
-                let frame = frames.complete(t, c, l, &z[l]);
+                let jet = frames.jet_at(t, c, l, &z[l]);
                 let dv = &potentials.gradient[c][l];
                 for (k, g) in out[c * width..(c + 1) * width].iter_mut().enumerate().skip(1) {
-                    *g = metric_gradient_from(|i, a| frame.jet[(i, a)], &t.coefficients[k], dv, frame.volume);
+                    *g = metric_gradient_from(|i, a| jet[(i, a)], &t.coefficients[k], dv, t.volume);
                 }
             }
         }
