@@ -125,6 +125,13 @@ pub(super) struct LaneOutput<'a, const M: usize> {
     pub(super) solved: &'a mut [SolvedVertex<SVector<f64, M>>],
 }
 
+/// Where the solved lanes' cell gradients go: lane l's at
+/// `gradients[l·stride..]`.
+pub(super) struct LaneGradients<'a, const M: usize> {
+    gradients: &'a mut [SVector<f64, M>],
+    stride: usize,
+}
+
 /// The known vertices' sums of the star cells of up to [`METRIC_LANES`]
 /// vertices, cell by cell, then lane by lane (the lanes' numbers side by
 /// side for the Newton rounds' sums).
@@ -153,6 +160,34 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
     #[inline]
     fn jet_at(&self, g: &CellWeights<N>, c: usize, l: usize, z: &SVector<f64, M>) -> SMatrix<f64, M, N> {
         SMatrix::from_fn(|k, a| self.jet[c][a][l][k] + (z[k] - self.first[l][k]) * g.last_row[a])
+    }
+
+    /// The cells' gradients at positions 1 … N of every lane l with
+    /// `written[l]`, at its solved z (∇V of the cells there in `dv`), into
+    /// `out` (the marcher's layout: N + 1 per cell, zero at the base vertex
+    /// and for cells outside the action): `metric_gradient` with the cells'
+    /// weights `weights(c, l)` formed once.
+    #[inline(always)]
+    fn write_gradients<'g>(
+        &self,
+        z: &[SVector<f64, M>; METRIC_LANES],
+        dv: &[[SVector<f64, M>; METRIC_LANES]; C],
+        written: &[bool; METRIC_LANES],
+        out: LaneGradients<'_, M>,
+        weights: impl Fn(usize, usize) -> &'g CellWeights<N>,
+    ) {
+        let width = N + 1;
+        for l in (0..METRIC_LANES).filter(|&l| written[l]) {
+            let lane = &mut out.gradients[l * out.stride..l * out.stride + C * width];
+            lane.fill(SVector::zeros());
+            for c in (0..C).filter(|&c| self.active[c][l]) {
+                let t = weights(c, l);
+                let jet = self.jet_at(t, c, l, &z[l]);
+                for (k, g) in lane[c * width..(c + 1) * width].iter_mut().enumerate().skip(1) {
+                    *g = metric_gradient_from(|i, a| jet[(i, a)], &t.coefficients[k], &dv[c][l], t.volume);
+                }
+            }
+        }
     }
 
     /// Σ_cells vol_β(Σ_a η_a φ_{·a}(z) c_{0a} + ∇V/(N + 1)) of every lane
@@ -376,21 +411,14 @@ where
             }
         }
         self.lane_potentials(frames, geometry, &z, &again, false, &mut potentials);
-        let width = N + 1;
-        for l in 0..lanes {
-            if !solved[l].gradients_written {
-                continue;
+        let written: [bool; METRIC_LANES] = std::array::from_fn(|l| l < lanes && solved[l].gradients_written);
+        let out = LaneGradients { gradients, stride };
+        match geometry {
+            StarGeometry::Shapes(shapes) => {
+                frames.write_gradients(&z, &potentials.gradient, &written, out, |c, _| &shapes[c])
             }
-            let out = &mut gradients[l * stride..l * stride + C * width];
-            out.fill(SVector::zeros());
-            for c in (0..C).filter(|&c| frames.active[c][l]) {
-                // `metric_gradient` with the cell's weights formed once.
-                let t = geometry.at(c, l);
-                let jet = frames.jet_at(t, c, l, &z[l]);
-                let dv = &potentials.gradient[c][l];
-                for (k, g) in out[c * width..(c + 1) * width].iter_mut().enumerate().skip(1) {
-                    *g = metric_gradient_from(|i, a| jet[(i, a)], &t.coefficients[k], dv, t.volume);
-                }
+            StarGeometry::Cells(cells) => {
+                frames.write_gradients(&z, &potentials.gradient, &written, out, |c, l| &cells[c][l])
             }
         }
     }
