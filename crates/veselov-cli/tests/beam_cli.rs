@@ -191,6 +191,16 @@ fn the_default_shear_coefficient_is_cowpers() {
     let default = frames("kappa-default", &base);
     assert!(default == frames("kappa-given", &with(format!("shear_coefficient = {kappa:?}"))));
     assert!(default == frames("kappa-former", &with(format!("shear_correction = {kappa:?}"))));
+    // Both names at once: refused, naming both.
+    let (ok, err, _) = run(
+        "kappa-both",
+        &with(format!("shear_coefficient = {kappa:?}\nshear_correction = {kappa:?}")),
+    );
+    assert!(!ok, "both names were taken");
+    assert!(
+        err.contains("`shear_correction` is the former name of `shear_coefficient`"),
+        "{err}"
+    );
     assert!(
         default
             != frames(
