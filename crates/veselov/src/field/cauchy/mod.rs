@@ -739,7 +739,11 @@ where
     ) {
         result.outcome = outcome;
         if outcome.failure.is_none() {
-            self.cell_terms(w, rows, i, Some(z), written, terms);
+            // Checked here, not only in `cell_terms`: its stack frame alone
+            // cost 100 instructions per vertex.
+            if !written.covers(self.lag.has_forces()) {
+                self.cell_terms(w, rows, i, Some(z), written, terms);
+            }
             if self.lag.has_forces() && self.is_active(w, i) {
                 result.force = self.vertex_force(w, i, terms);
             }

@@ -19,6 +19,15 @@ pub(super) struct Written {
     pub(super) forces: bool,
 }
 
+impl Written {
+    /// Whether every stored term is written: the gradients and, when the
+    /// Lagrangian has `forces`, the forces.
+    #[inline]
+    pub(super) fn covers(&self, forces: bool) -> bool {
+        self.gradients && (self.forces || !forces)
+    }
+}
+
 impl<F, L, const M: usize> CauchyMarcher<F, L, M>
 where
     F: Fibre<M>,
@@ -74,10 +83,10 @@ where
         let n = self.torus.dimension();
         let width = n + 1;
         let (grads, forces) = out.split_at_mut(self.perms.len() * width);
-        let with_forces = !forces.is_empty() && !written.forces;
-        if written.gradients && !with_forces {
+        if written.covers(!forces.is_empty()) {
             return;
         }
+        let with_forces = !forces.is_empty() && !written.forces;
         // Each cell's values are gathered once for both its terms.
         let base = self.base(w, i);
         let mut y = [self.values[rows[0] + i]; MAX_LATTICE_DIMENSION + 1];
