@@ -740,7 +740,7 @@ where
         result.outcome = outcome;
         if outcome.failure.is_none() {
             // Checked here, not only in `cell_terms`: its stack frame alone
-            // cost 100 instructions per vertex.
+            // cost about 50 instructions per vertex.
             if !written.covers(self.lag.has_forces()) {
                 self.cell_terms(w, rows, i, Some(z), written, terms);
             }
