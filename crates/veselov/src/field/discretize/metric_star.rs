@@ -206,17 +206,21 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
         let mut scale = [0.0; METRIC_LANES];
         let d: [SVector<f64, M>; METRIC_LANES] = std::array::from_fn(|l| z[l] - self.first[l]);
         for c in 0..C {
-            for l in 0..METRIC_LANES {
+            // All the lanes' terms first, then their sums: straight-line
+            // arithmetic over the lanes, which the compiler vectorises.
+            let g: [SVector<f64, M>; METRIC_LANES] = std::array::from_fn(|l| {
                 let t = weights(c, l);
-                let g = SVector::<f64, M>::from_fn(|k, _| {
+                SVector::<f64, M>::from_fn(|k, _| {
                     let kinetic = (0..N).fold(0.0, |acc, a| {
                         acc + (self.jet[c][a][l][k] + d[l][k] * t.last_row[a]) * t.coefficients[0][a]
                     });
                     (kinetic + dv[c][l][k] * w) * t.volume
-                });
-                if self.active[c][l] {
-                    leg[l] += g;
-                    scale[l] += g.amax();
+                })
+            });
+            for l in 0..METRIC_LANES {
+                if self.full || self.active[c][l] {
+                    leg[l] += g[l];
+                    scale[l] += g[l].amax();
                 }
             }
         }
