@@ -707,7 +707,11 @@ where
             sum: [[SVector::zeros(); METRIC_LANES]; C],
             jet: [[[SVector::zeros(); METRIC_LANES]; N]; C],
         };
-        let mut shapes: [Option<(usize, CellWeights<N>)>; C] = [None; C];
+        // Each position's shape and, once seen, its weights (`blank` for a
+        // position no lane has a cell at).
+        let blank = CellWeights::new(SMatrix::zeros(), 0.0, SVector::zeros(), eta);
+        let mut shapes: [Option<usize>; C] = [None; C];
+        let mut table = [blank; C];
         let position = self.density.depends_on_position();
         let mut uniform = !position;
         for (l, (lane, s)) in lanes.iter().zip(stars.iter_mut()).enumerate() {
@@ -730,10 +734,10 @@ where
                         if uniform {
                             match shapes[c] {
                                 None => {
-                                    shapes[c] =
-                                        Some((cell.shape, CellWeights::new(*inverse, *volume, SVector::zeros(), eta)));
+                                    shapes[c] = Some(cell.shape);
+                                    table[c] = CellWeights::new(*inverse, *volume, SVector::zeros(), eta);
                                 }
-                                Some((shape, _)) if shape == cell.shape => {}
+                                Some(shape) if shape == cell.shape => {}
                                 Some(_) => uniform = false,
                             }
                         }
@@ -763,9 +767,7 @@ where
         }
         let count = lanes.len().min(METRIC_LANES);
         frames.seal(count);
-        let blank = CellWeights::new(SMatrix::zeros(), 0.0, SVector::zeros(), eta);
         if uniform {
-            let table: [CellWeights<N>; C] = std::array::from_fn(|c| shapes[c].map_or(blank, |(_, g)| g));
             let geometry = StarGeometry::Shapes(&table);
             self.solve_metric_stars(&frames, geometry, &stars[..count], options, out);
             return true;
