@@ -226,6 +226,32 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
         }
         (leg, scale)
     }
+
+    /// Σ_cells vol_β(b_β I + ∇²V/(N + 1)²) of every lane l with
+    /// `asked[l]` (zero for the others), from the cells' ∇²V, lanes side by
+    /// side with the cells' geometry `weights(c, l)`.
+    #[inline(always)]
+    fn jacobians<'g>(
+        &self,
+        asked: &[bool; METRIC_LANES],
+        hessians: &[[SMatrix<f64, M, M>; METRIC_LANES]; C],
+        weights: impl Fn(usize, usize) -> &'g CellWeights<N>,
+    ) -> [SMatrix<f64, M, M>; METRIC_LANES] {
+        let w = AffineFrame::<M, N>::mean_weight();
+        let mut jacobian = [SMatrix::<f64, M, M>::zeros(); METRIC_LANES];
+        for c in 0..C {
+            let terms: [SMatrix<f64, M, M>; METRIC_LANES] = std::array::from_fn(|l| {
+                let t = weights(c, l);
+                SMatrix::<f64, M, M>::identity() * t.slope + hessians[c][l] * (w * w * t.volume)
+            });
+            for l in 0..METRIC_LANES {
+                if asked[l] && (self.full || self.active[c][l]) {
+                    jacobian[l] += terms[l];
+                }
+            }
+        }
+        jacobian
+    }
 }
 
 /// ∇V (and ∇²V) at every active cell of the lanes, by cell then lane, and
@@ -343,7 +369,6 @@ where
             solved,
         } = out;
         let lanes = stars.len().min(METRIC_LANES);
-        let w = AffineFrame::<M, N>::mean_weight();
         let mut newton: [Option<LegendreNewton<Euclidean<M>, M>>; METRIC_LANES] = std::array::from_fn(|_| None);
         for (slot, star) in newton.iter_mut().zip(&stars[..lanes]) {
             *slot = Some(LegendreNewton::new(star.mu, star.mu_scale, star.start, *options, None));
@@ -380,15 +405,11 @@ where
             };
             let mut jacobian = [SMatrix::<f64, M, M>::zeros(); METRIC_LANES];
             if wanted.contains(&Some(true)) {
-                for c in 0..C {
-                    for l in 0..METRIC_LANES {
-                        if frames.active[c][l] && wanted[l] == Some(true) {
-                            let t = geometry.at(c, l);
-                            jacobian[l] += SMatrix::<f64, M, M>::identity() * t.slope
-                                + potentials.hessian[c][l] * (w * w * t.volume);
-                        }
-                    }
-                }
+                let asked: [bool; METRIC_LANES] = std::array::from_fn(|l| wanted[l] == Some(true));
+                jacobian = match geometry {
+                    StarGeometry::Shapes(shapes) => frames.jacobians(&asked, &potentials.hessian, |c, _| &shapes[c]),
+                    StarGeometry::Cells(cells) => frames.jacobians(&asked, &potentials.hessian, |c, l| &cells[c][l]),
+                };
             }
             for l in 0..lanes {
                 if let (Some(jac), Some(n)) = (wanted[l], newton[l].as_mut()) {
