@@ -336,17 +336,13 @@ pub fn key_error(file: &Path, key: &str, message: impl Into<String>) -> CliError
     }
 }
 
-/// Keys also read under a former name (a `serde(alias)` of the scenario
-/// structs): (name, former name).
-const FORMER_NAMES: &[(&str, &str)] = &[("shear_coefficient", "shear_correction")];
-
 /// Parse scenario text of any schema, attributing errors to `file`. A key
 /// given under both its name and its former name is reported as such (the
 /// parser alone says only "duplicate field").
 pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Result<T, CliError> {
     toml::from_str(text).map_err(|e| {
         let mut message = clip_lines(&e.to_string(), 200);
-        for (name, former) in FORMER_NAMES {
+        for (name, former) in crate::beam::FORMER_NAMES {
             if message.contains(&format!("duplicate field `{name}`")) {
                 message.push_str(&format!(
                     " (`{former}` is the former name of `{name}`: give one of them)"

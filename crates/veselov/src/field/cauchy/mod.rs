@@ -397,7 +397,7 @@ where
         let n = self.torus.dimension();
         let mut y = [self.values[self.value_slot(w) * self.torus.level_size()]; MAX_LATTICE_DIMENSION + 1];
         let vertices = (0..self.torus.level_size()).filter(|&i| self.is_active(w, i));
-        let rows = self.level_rows(self.value_slot(w));
+        let rows = self.level_rows(w);
         for i in vertices.take(CHECKED_VERTICES) {
             let at = self.base(w, i);
             for sigma in (0..self.perms.len()).filter(|&s| self.cell_active_at(&at, s)) {
@@ -551,12 +551,13 @@ where
         self.values[self.value_slot(w) * self.torus.level_size() + i]
     }
 
-    /// Where the values of the levels w … w + n start in the value ring,
-    /// `slot` being level w's: slot(w + l)·(level size) at index l. The
-    /// vertices of a level share them: gathered once, not per cell.
+    /// Where the values of the levels w … w + n start in the value ring:
+    /// slot(w + l)·(level size) at index l. The vertices of a level share
+    /// them: gathered once, not per cell.
     #[inline(always)]
-    fn level_rows(&self, slot: usize) -> LevelRows {
+    fn level_rows(&self, w: i64) -> LevelRows {
         let (n, size) = (self.torus.dimension(), self.torus.level_size());
+        let slot = self.value_slot(w);
         let ring = 2 * n + 1;
         let mut rows = [0; MAX_LATTICE_DIMENSION + 1];
         for (l, row) in rows.iter_mut().enumerate().take(n + 1) {
@@ -850,7 +851,7 @@ where
         let chunk = self.parallel_chunk(size);
         let parallel = chunk < size;
         // The level's rows in the value ring, shared by all its vertices.
-        let rows = self.level_rows(self.value_slot(w));
+        let rows = self.level_rows(w);
         {
             let this = &*self;
             let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {

@@ -55,7 +55,7 @@ where
         };
         let mut values = [[blank; MAX_LATTICE_DIMENSION + 1]; GATHERED_CELLS];
         let mut gathered: [Option<TopCell>; GATHERED_CELLS] = [None; GATHERED_CELLS];
-        let rows = self.level_rows(self.value_slot(w));
+        let rows = self.level_rows(w);
         for i in vertices {
             let at = self.base(w, i);
             for first in (0..cells).step_by(GATHERED_CELLS) {

@@ -44,7 +44,7 @@ where
         let mut out = vec![SVector::zeros(); stride];
         for base in self.level - n as i64..self.level {
             let slot = self.grad_slot(base);
-            let rows = self.level_rows(self.value_slot(base));
+            let rows = self.level_rows(base);
             for i in 0..size {
                 self.cell_terms(base, &rows, i, None, Written::default(), &mut out);
                 self.grads[slot][i * stride..(i + 1) * stride].copy_from_slice(&out);
@@ -69,8 +69,9 @@ where
     /// 1 … n ([`cell_gradients`](Self::cell_gradients)), then their forces
     /// at every position ([`DiscreteLagrangian::cell_forces`]; zero for a
     /// cell outside the window), with the last vertex `top` if given; the
-    /// parts a model's solve `written` already are skipped. `rows` are the
-    /// [`level_rows`](Self::level_rows) of level w.
+    /// parts a model's solve `written` already are skipped (its caller
+    /// skips the call when they are all written, [`Written::covers`]).
+    /// `rows` are the [`level_rows`](Self::level_rows) of level w.
     pub(super) fn cell_terms(
         &self,
         w: i64,
@@ -83,9 +84,6 @@ where
         let n = self.torus.dimension();
         let width = n + 1;
         let (grads, forces) = out.split_at_mut(self.perms.len() * width);
-        if written.covers(!forces.is_empty()) {
-            return;
-        }
         let with_forces = !forces.is_empty() && !written.forces;
         // Each cell's values are gathered once for both its terms.
         let base = self.base(w, i);
