@@ -398,6 +398,11 @@ impl<const N: usize> SmallLu<N> {
         }
     }
 
+    /// A⁻¹ if [`keep_inverse`](Self::keep_inverse) has computed it.
+    pub fn inverse(&self) -> Option<nalgebra::SMatrix<f64, N, N>> {
+        self.inverse
+    }
+
     /// x with A x = b: A⁻¹b when [`keep_inverse`](Self::keep_inverse) holds
     /// it, else the forward and back substitutions.
     pub fn solve(&self, b: &nalgebra::SVector<f64, N>) -> nalgebra::SVector<f64, N> {
