@@ -261,7 +261,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let cells = &mut cells[..count];
     // Both cells are based at v: its material point's parameters.
     let s0 = lag.material_coordinate(&cells[0].cell);
-    let p = *lag.parameters_at(s0);
+    let p = lag.parameters_at(s0);
     let y0 = y[0];
     let r0m = *y0.rotation.matrix();
     let constants = lag.constants_at(s0);
@@ -377,9 +377,9 @@ pub(crate) fn split_solve<P: RodPotential>(
             return fail(Failure::NonFinite, outcome);
         }
         let inverse = jacobian.try_inverse();
-        let jacobian_scale = largest_abs(&jacobian) * (1.0 + largest_abs(&b));
+        // The size of the Jacobian's terms only where the stall test needs it.
         let stalled = r > 0.5 * previous
-            && (r <= 100.0 * options.tolerance * (terms + jacobian_scale)
+            && (r <= 100.0 * options.tolerance * (terms + largest_abs(&jacobian) * (1.0 + largest_abs(&b)))
                 || last_step <= 64.0 * f64::EPSILON * (1.0 + largest_abs(&b)));
         if r <= options.tolerance * terms || stalled {
             // One last correction with the Jacobian at hand (no further
