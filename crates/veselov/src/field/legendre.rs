@@ -98,7 +98,9 @@ impl Failure {
 /// residual fourfold at an iterate the stopping tests below do not accept,
 /// so most iterations cost one gradient pass (and one solve with the kept LU
 /// factors, [`SmallLu`]: from their second right-hand side on, one product
-/// with the inverse they keep). Stops when
+/// with the inverse they keep; after a step with them that reduces the
+/// residual less than 100-fold, with that inverse corrected by Broyden's
+/// update from each step). Stops when
 /// max|Leg − μ| ≤ tolerance × (size of Leg's terms + `mu_scale`), or when it
 /// stalls at round-off (the residual stops halving) within 100 × tolerance ×
 /// (that size + |∂Leg/∂ζ|·(1 + |z|) from the latest Jacobian), or after a
@@ -122,8 +124,8 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
 
 /// [`solve_legendre`] starting from the factors of a Jacobian `kept` from an
 /// earlier solve (the same vertex equation one level before, say), used
-/// until an iteration fails to reduce the residual fourfold, then
-/// refreshed; the factors in use at the end are left in `kept` for the next
+/// (with Broyden's update where they converge slowly) until an iteration
+/// fails to reduce the residual fourfold, then refreshed; the factors in use at the end are left in `kept` for the next
 /// solve (and dropped on failure). The root, its tolerance and the stall
 /// tests are those of [`solve_legendre`]: only the number of exact Jacobians
 /// changes.

@@ -15,7 +15,9 @@
 //! vertex itself (a model without a solve of its own), Newton starts from the
 //! factors of the Jacobian the solve at the same point kept one flow step
 //! before and evaluates a fresh one only when an iteration contracts less
-//! than fourfold ([`CauchyMarcher::with_jacobian_reuse`]).
+//! than fourfold; from a step that contracts less than 100-fold on, the
+//! inverse is corrected by Broyden's update at each step
+//! ([`CauchyMarcher::with_jacobian_reuse`]).
 //!
 //! Each cell's vertex gradients are computed once, when its last vertex is
 //! solved, and kept in a ring of n + 1 base levels; μ_v gathers them in a
@@ -161,7 +163,8 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     /// `kept[w mod n][i]`, and the solve at the same point n levels later,
     /// the vertex (w + n, up(i, 0, n)), starts from them
     /// ([`solve_legendre_from`]: refreshed when an iteration contracts less
-    /// than fourfold). Per vertex, so the same bits on any thread count;
+    /// than fourfold; a solve's Broyden corrections stay with that solve,
+    /// the factors kept are the evaluated Jacobian's). Per vertex, so the same bits on any thread count;
     /// saved in checkpoints, so a restored march continues bit for bit. A
     /// slot is empty while its level kept nothing (a model that solves its
     /// vertices itself never fills one); its room is reserved at build.
@@ -436,8 +439,10 @@ where
     /// Whether the marcher's own vertex solves (for a model without a solve
     /// of its own) start from the factors of the Newton Jacobian that the
     /// solve at the same point kept n levels before, refreshing them only
-    /// when an iteration contracts less than fourfold (`true`, the
-    /// default: far fewer Jacobians for a little more iterations), or
+    /// when an iteration contracts less than fourfold, and correcting their
+    /// inverse by Broyden's update from each step once one contracts less
+    /// than 100-fold (`true`, the default: far fewer Jacobians for a little
+    /// more iterations), or
     /// evaluate a Jacobian at every vertex (`false`). The equations and the
     /// tolerance are the same either way; the bits are not. A solve that
     /// ends on an old Jacobian converges linearly, so its last iterate lies
