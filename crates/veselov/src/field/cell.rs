@@ -637,27 +637,38 @@ mod tests {
         }
     }
 
+    /// The cell the tests evaluate [`Scalar1`] on (which ignores it).
+    const CELL: TopCell = TopCell {
+        index: 0,
+        shape: 0,
+        origin: [0; crate::field::complex::MAX_LATTICE_DIMENSION],
+    };
+
+    /// 50 random scalar cells of each size from 2 to `largest` vertices.
+    fn random_cells(seed: u64, largest: usize) -> Vec<Vec<SVector<f64, 1>>> {
+        let mut uniform = crate::test_support::uniform(seed);
+        let mut cells = Vec::new();
+        for k in 2..=largest {
+            for _ in 0..50 {
+                cells.push((0..k).map(|_| SVector::from([3.0 * uniform()])).collect());
+            }
+        }
+        cells
+    }
+
     /// [`later_gradients`]' pass of exactly (k − 1)M directions gives the
     /// bits of the widest pass, for cells of 2 to 4 vertices.
     #[test]
     fn later_gradients_narrow_pass_has_the_bits_of_the_wide_one() {
-        let mut uniform = crate::test_support::uniform(0x2d35_8dcc_aa6c_78a5);
-        let cell = TopCell {
-            index: 0,
-            shape: 0,
-            origin: [0; crate::field::complex::MAX_LATTICE_DIMENSION],
-        };
-        for k in 2..=4 {
-            for _ in 0..50 {
-                let y: Vec<SVector<f64, 1>> = (0..k).map(|_| SVector::from([3.0 * uniform()])).collect();
-                let mut narrow = [SVector::zeros(); 4];
-                assert!(later_gradients::<Euclidean<1>, _, 1>(&Scalar1, &cell, &y, &mut narrow));
-                let mut wide = [SVector::zeros(); 4];
-                later_pass::<Euclidean<1>, _, 1, LATER_DIRECTIONS>(&Scalar1, &cell, &y, &mut wide);
-                for l in 1..k {
-                    assert_eq!(narrow[l][0].to_bits(), wide[l][0].to_bits(), "k = {k}, l = {l}");
-                    assert!(narrow[l][0] != 0.0, "k = {k}, l = {l}: a zero gradient tests nothing");
-                }
+        for y in random_cells(0x2d35_8dcc_aa6c_78a5, 4) {
+            let k = y.len();
+            let mut narrow = [SVector::zeros(); 4];
+            assert!(later_gradients::<Euclidean<1>, _, 1>(&Scalar1, &CELL, &y, &mut narrow));
+            let mut wide = [SVector::zeros(); 4];
+            later_pass::<Euclidean<1>, _, 1, LATER_DIRECTIONS>(&Scalar1, &CELL, &y, &mut wide);
+            for l in 1..k {
+                assert_eq!(narrow[l][0].to_bits(), wide[l][0].to_bits(), "k = {k}, l = {l}");
+                assert!(narrow[l][0] != 0.0, "k = {k}, l = {l}: a zero gradient tests nothing");
             }
         }
     }
@@ -667,30 +678,22 @@ mod tests {
     /// cells of 2 to 5 vertices.
     #[test]
     fn one_direction_gradient_has_the_bits_of_the_vector_dual_pass() {
-        let mut uniform = crate::test_support::uniform(0x5851_f42d_4c95_7f2d);
-        let cell = TopCell {
-            index: 0,
-            shape: 0,
-            origin: [0; crate::field::complex::MAX_LATTICE_DIMENSION],
-        };
-        for k in 2..=5 {
-            for _ in 0..50 {
-                let y: Vec<SVector<f64, 1>> = (0..k).map(|_| SVector::from([3.0 * uniform()])).collect();
-                for l in 0..k {
-                    let (value, gradient) = vertex_gradient::<Euclidean<1>, _, 1>(&Scalar1, &cell, &y, l);
-                    let seeded = Euclidean::<1>::retract_seeded(&y[l], &seeds::<f64, 1>());
-                    let (vector_value, vector_gradient) = gradient_of(with_values(
-                        k,
-                        |i| if i == l { seeded } else { Euclidean::<1>::lift(&y[i]) },
-                        |v| Scalar1.cell_lagrangian(&cell, v),
-                    ));
-                    assert_eq!(value.to_bits(), vector_value.to_bits(), "value, k = {k}, l = {l}");
-                    assert_eq!(
-                        gradient[0].to_bits(),
-                        vector_gradient[0].to_bits(),
-                        "gradient, k = {k}, l = {l}: {gradient} against {vector_gradient}"
-                    );
-                }
+        for y in random_cells(0x5851_f42d_4c95_7f2d, 5) {
+            let k = y.len();
+            for l in 0..k {
+                let (value, gradient) = vertex_gradient::<Euclidean<1>, _, 1>(&Scalar1, &CELL, &y, l);
+                let seeded = Euclidean::<1>::retract_seeded(&y[l], &seeds::<f64, 1>());
+                let (vector_value, vector_gradient) = gradient_of(with_values(
+                    k,
+                    |i| if i == l { seeded } else { Euclidean::<1>::lift(&y[i]) },
+                    |v| Scalar1.cell_lagrangian(&CELL, v),
+                ));
+                assert_eq!(value.to_bits(), vector_value.to_bits(), "value, k = {k}, l = {l}");
+                assert_eq!(
+                    gradient[0].to_bits(),
+                    vector_gradient[0].to_bits(),
+                    "gradient, k = {k}, l = {l}: {gradient} against {vector_gradient}"
+                );
             }
         }
     }
