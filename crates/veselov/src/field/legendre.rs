@@ -125,8 +125,9 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
 /// [`solve_legendre`] starting from the factors of a Jacobian `kept` from an
 /// earlier solve (the same vertex equation one level before, say), used
 /// (with Broyden's update where they converge slowly) until an iteration
-/// fails to reduce the residual fourfold, then refreshed; the factors in use at the end are left in `kept` for the next
-/// solve (and dropped on failure). The root, its tolerance and the stall
+/// fails to reduce the residual fourfold, then refreshed; the factors in
+/// use at the end are left in `kept` for the next solve (and dropped on
+/// failure). The root, its tolerance and the stall
 /// tests are those of [`solve_legendre`]: only the number of exact Jacobians
 /// changes.
 pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
@@ -334,8 +335,8 @@ impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
             self.done = true;
             return;
         }
-        // A slow step: the residual ratio of SECANT_CONTRACTION or more
-        // (never at the first evaluation, previous = ∞).
+        // A slow step: a residual ratio above SECANT_CONTRACTION (never at
+        // the first evaluation, previous = ∞).
         let slow = r > SECANT_CONTRACTION * self.previous;
         self.previous = r;
         if it == self.options.max_iterations {
@@ -358,10 +359,7 @@ impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
             // converges slowly).
             lu.keep_inverse();
             if slow && self.secant.is_none() {
-                self.secant = Some(Secant {
-                    inverse: lu.inverse().unwrap_or_else(SMatrix::zeros),
-                    last: None,
-                });
+                self.secant = lu.inverse().map(|inverse| Secant { inverse, last: None });
             }
             match self.secant.as_mut() {
                 Some(secant) => secant.step(&residual, scale),
@@ -471,6 +469,7 @@ mod tests {
         assert!(max_abs(&SVector::from([f64::NAN, 2.0])).is_nan());
         assert_eq!(max_abs(&SVector::from([-3.0, 2.0])), 3.0);
     }
+
     /// Broyden's update makes the new inverse map the change of residual
     /// to the step (the secant condition), to rounding.
     #[test]
