@@ -352,25 +352,43 @@ where
     F: Fibre<M>,
     L: DiscreteLagrangian<F, M> + ?Sized,
 {
-    let k = y.len();
-    debug_assert!(k <= MAX_CELL_VERTICES && l < k);
+    debug_assert!(y.len() <= MAX_CELL_VERTICES && l < y.len());
     if M == 1 {
         // One direction: the plain dual number, whose derivative part is a
         // number rather than an optional vector (the same operations).
-        let seeded = F::retract_seeded(&y[l], &SVector::from_element(Dual64::from_re(0.0).derivative()));
-        let x = with_values(
-            k,
-            |i| if i == l { seeded } else { F::lift(&y[i]) },
-            |v| lag.cell_lagrangian(cell, v),
+        let x = seeded_pass::<F, L, Dual64, M>(
+            lag,
+            cell,
+            y,
+            l,
+            &SVector::from_element(Dual64::from_re(0.0).derivative()),
         );
         return (x.re, SVector::from_element(x.eps));
     }
-    let seeded = F::retract_seeded(&y[l], &seeds::<f64, M>());
-    gradient_of(with_values(
-        k,
+    gradient_of(seeded_pass::<F, L, _, M>(lag, cell, y, l, &seeds::<f64, M>()))
+}
+
+/// L_β over the scalar D with vertex l's chart carrying `seeds`
+/// (y_l·τ(ξ) at ξ = `seeds`) and the other vertices as constants.
+#[inline]
+fn seeded_pass<F, L, D, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+    l: usize,
+    seeds: &SVector<D, M>,
+) -> D
+where
+    F: Fibre<M>,
+    L: DiscreteLagrangian<F, M> + ?Sized,
+    D: Scalar,
+{
+    let seeded = F::retract_seeded(&y[l], seeds);
+    with_values(
+        y.len(),
         |i| if i == l { seeded } else { F::lift(&y[i]) },
         |v| lag.cell_lagrangian(cell, v),
-    ))
+    )
 }
 
 /// Directions of the one dual pass of [`later_gradients`].
@@ -682,11 +700,12 @@ mod tests {
             let k = y.len();
             for l in 0..k {
                 let (value, gradient) = vertex_gradient::<Euclidean<1>, _, 1>(&Scalar1, &CELL, &y, l);
-                let seeded = Euclidean::<1>::retract_seeded(&y[l], &seeds::<f64, 1>());
-                let (vector_value, vector_gradient) = gradient_of(with_values(
-                    k,
-                    |i| if i == l { seeded } else { Euclidean::<1>::lift(&y[i]) },
-                    |v| Scalar1.cell_lagrangian(&CELL, v),
+                let (vector_value, vector_gradient) = gradient_of(seeded_pass::<Euclidean<1>, _, _, 1>(
+                    &Scalar1,
+                    &CELL,
+                    &y,
+                    l,
+                    &seeds::<f64, 1>(),
                 ));
                 assert_eq!(value.to_bits(), vector_value.to_bits(), "value, k = {k}, l = {l}");
                 assert_eq!(

@@ -164,8 +164,9 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     /// the vertex (w + n, up(i, 0, n)), starts from them
     /// ([`solve_legendre_from`]: refreshed when an iteration contracts less
     /// than fourfold; a solve's Broyden corrections stay with that solve,
-    /// the factors kept are the evaluated Jacobian's). Per vertex, so the same bits on any thread count;
-    /// saved in checkpoints, so a restored march continues bit for bit. A
+    /// the factors kept are the evaluated Jacobian's). Per vertex, so the
+    /// same bits on any thread count; saved in checkpoints, so a restored
+    /// march continues bit for bit. A
     /// slot is empty while its level kept nothing (a model that solves its
     /// vertices itself never fills one); its room is reserved at build.
     kept: Vec<Vec<Option<SmallLu<M>>>>,
@@ -442,8 +443,7 @@ where
     /// when an iteration contracts less than fourfold, and correcting their
     /// inverse by Broyden's update from each step once one contracts less
     /// than 100-fold (`true`, the default: far fewer Jacobians for a little
-    /// more iterations), or
-    /// evaluate a Jacobian at every vertex (`false`). The equations and the
+    /// more iterations), or evaluate a Jacobian at every vertex (`false`). The equations and the
     /// tolerance are the same either way; the bits are not. A solve that
     /// ends on an old Jacobian converges linearly, so its last iterate lies
     /// just within the tolerance, where the last step of a fresh Jacobian

@@ -138,8 +138,17 @@ impl<const M: usize, const N: usize> PartialFrame<M, N> {
     /// φ_{ka} with the last vertex value `z` (the completed frame's entry).
     #[inline]
     pub(super) fn jet_entry(&self, z: &SVector<f64, M>, k: usize, a: usize) -> f64 {
-        self.jet[(k, a)] + (z[k] - self.first[k]) * self.inverse[(N - 1, a)]
+        completed_jet_entry(self.jet[(k, a)], z[k] - self.first[k], self.inverse[(N - 1, a)])
     }
+}
+
+/// φ_{ka} of a frame completed by its last vertex value z: the known
+/// vertices' part φ̃_{ka} plus `rise` = (z − y₀)_k times c_{Na} =
+/// (T^X)⁻¹_{N−1,a}. The one formula of every path that completes a frame
+/// ([`PartialFrame`], the metric star's lanes), so that they share its bits.
+#[inline(always)]
+pub(super) fn completed_jet_entry(known: f64, rise: f64, last_row: f64) -> f64 {
+    known + rise * last_row
 }
 
 /// η_a c_{la} for a = 0 … N − 1: the weights of vertex l's jet term.

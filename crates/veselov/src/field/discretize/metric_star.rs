@@ -34,7 +34,9 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
-use super::affine_chain::{AffineFrame, metric_coefficients, metric_gradient_from, metric_product};
+use super::affine_chain::{
+    AffineFrame, completed_jet_entry, metric_coefficients, metric_gradient_from, metric_product,
+};
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;
 use crate::field::cell::SolvedVertex;
@@ -154,12 +156,12 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
         self.full = lanes == METRIC_LANES && self.active.iter().flatten().all(|&a| a);
     }
 
-    /// φ of cell c of lane l with the last vertex value `z`: the entries of
-    /// the completed frame (`PartialFrame::jet_entry`), with (T^X)⁻¹'s last
-    /// row from the cell's weights.
+    /// φ of cell c of lane l with the last vertex value `z`
+    /// ([`completed_jet_entry`]), with (T^X)⁻¹'s last row from the cell's
+    /// weights.
     #[inline]
     fn jet_at(&self, g: &CellWeights<N>, c: usize, l: usize, z: &SVector<f64, M>) -> SMatrix<f64, M, N> {
-        SMatrix::from_fn(|k, a| self.jet[c][a][l][k] + (z[k] - self.first[l][k]) * g.last_row[a])
+        SMatrix::from_fn(|k, a| completed_jet_entry(self.jet[c][a][l][k], z[k] - self.first[l][k], g.last_row[a]))
     }
 
     /// The cells' gradients at positions 1 … N of every lane l with
@@ -212,7 +214,7 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
                 let t = weights(c, l);
                 SVector::<f64, M>::from_fn(|k, _| {
                     let kinetic = (0..N).fold(0.0, |acc, a| {
-                        acc + (self.jet[c][a][l][k] + d[l][k] * t.last_row[a]) * t.coefficients[0][a]
+                        acc + completed_jet_entry(self.jet[c][a][l][k], d[l][k], t.last_row[a]) * t.coefficients[0][a]
                     });
                     (kinetic + dv[c][l][k] * w) * t.volume
                 })
