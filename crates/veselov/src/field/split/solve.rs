@@ -12,7 +12,7 @@
 //! with c the terms of the other increment, of ∇Π(y₁) and (in space) of the
 //! force, fixed during the solve. Newton iterates on x ∈ ℝ^M — the same
 //! simplified Newton as every vertex solve
-//! ([`solve_legendre_from`](crate::field::legendre::solve_legendre_from),
+//! ([`solve_legendre_from`],
 //! on the vector space of increments, from the node's Jacobian of the last
 //! level while it contracts), a fresh Jacobian one dual pass over this
 //! function alone — and the value is y₁·τ(x) at the end: no group product,

@@ -1,0 +1,431 @@
+//! One level of the Cauchy march ([`CauchyMarcher::step`]): every vertex
+//! solved (by the model's own solve, several at once where the model
+//! offers it, or by the marcher's Newton over the cells' exact
+//! derivatives), in parallel chunks sized from the measured cost per
+//! vertex, then the level stored and the ring advanced.
+
+use nalgebra::SVector;
+use rayon::prelude::*;
+
+use super::terms::Written;
+use super::{Base, CauchyMarcher, LevelRows, MAX_VERTEX_LANES, VertexResult};
+use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexLane, add_vertex_terms};
+use crate::field::complex::MAX_LATTICE_DIMENSION;
+use crate::field::fibre::Fibre;
+use crate::field::legendre::{LevelReport, VertexOutcome, solve_legendre_from};
+use crate::solve::SmallLu;
+use crate::{Error, Result};
+
+/// One vertex of a level as the solve loop sees it: its index, its new
+/// value, its cells' gradients and its result.
+type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f64, M>]), &'a mut VertexResult<M>));
+
+/// Consecutive vertices of a level solved together: the group's index,
+/// their new values, their cells' gradients and their results.
+type LaneSlot<'a, P, const M: usize> = (
+    usize,
+    ((&'a mut [P], &'a mut [SVector<f64, M>]), &'a mut [VertexResult<M>]),
+);
+
+/// The work one thread takes at least: the chunk is sized from the cost per
+/// vertex measured on the last level solved on one thread so that it holds
+/// about this much (and at most a thread's share of the level, so that a
+/// level worth splitting is split). The first level is always solved on the
+/// calling thread (a level solved in parallel is never measured: if the
+/// first one were, the chunk would keep its first guess for the whole
+/// march). Chunking decides only who solves which vertex, never what is
+/// computed: results stay bit-identical for every thread count.
+pub(super) const CHUNK_WORK_NS: f64 = 20_000.0;
+
+/// The least work of a level solved in parallel when the march runs outside
+/// the pool (on a thread of its own, e.g. a program's main thread). The
+/// hand-over then goes through a sleeping lock: the calling thread blocks
+/// until the pool has solved the whole level and is woken up, tens of µs
+/// per level; a 41-node loaded rod (about 50 µs per level) ran 30 % slower
+/// on two threads than on one when its levels were split.
+const PARALLEL_LEVEL_NS: f64 = 150_000.0;
+
+/// The least work of a level solved in parallel when the march runs on a
+/// thread of the pool itself ([`crate::run::on_pool`], as the command line
+/// runs every scenario): that thread solves its share and hands the rest to
+/// the other workers through their queues, a few µs per level. A 100-element
+/// rod's levels (about 30 µs each) take 1.7× less wall time on two threads.
+const PARALLEL_LEVEL_NS_ON_POOL: f64 = 10_000.0;
+
+/// Stars whose cells a generic vertex solve gathers once (3! cells, the
+/// lattices up to 2+1), of at most [`SMALL_CELL`] vertices each; larger
+/// stars gather a cell's values at every evaluation.
+const SMALL_STAR: usize = 6;
+
+/// Vertices of a cell of a gathered star (n + 1 ≤ 4).
+const SMALL_CELL: usize = 4;
+
+impl<F, L, const M: usize> CauchyMarcher<F, L, M>
+where
+    F: Fibre<M>,
+    F::Point<f64>: Send + Sync,
+    L: DiscreteLagrangian<F, M>,
+{
+    /// Solves EL_v = 0 for y_{Δv}, v = (w, i); returns y_{Δv}, the solve's
+    /// outcome and which of the solved cells' terms the model's own solve
+    /// already wrote into `terms` ([`DiscreteLagrangian::solve_last_vertex`]);
+    /// the marcher's own solve leaves its Jacobian's factors in `factors`.
+    /// Outside the window y_{Δv} = y_v (never read).
+    fn solve_vertex(
+        &self,
+        w: i64,
+        rows: &LevelRows,
+        i: usize,
+        terms: &mut [SVector<f64, M>],
+        factors: &mut Option<SmallLu<M>>,
+    ) -> (F::Point<f64>, VertexOutcome, Written) {
+        *factors = None;
+        let n = self.torus.dimension();
+        // The base's canonical coordinates serve the window test and the star.
+        let base = self.base(w, i);
+        if !self.window.as_ref().is_none_or(|m| m.contains(&base.origin)) {
+            return (self.value(w, i), VertexOutcome::default(), Written::default());
+        }
+        if let Some(data) = &self.dirichlet {
+            let target = self.up(i, 0, n);
+            if let Some(z) = data(&self.origin(w + n as i64, target)) {
+                return (z, VertexOutcome::default(), Written::default());
+            }
+        }
+        let (mu, mu_scale) = self.momentum(w, i);
+        let previous = self.value(w - n as i64, self.down(i, 0, n));
+        let star = |sigma: usize, out: &mut [F::Point<f64>]| {
+            if sigma >= self.perms.len() || !self.cell_active_at(&base, sigma) {
+                return None;
+            }
+            Some(self.cell_values_at(rows, &base, sigma, None, out))
+        };
+        if let Some(solved) = self
+            .lag
+            .solve_last_vertex(&star, &mu, mu_scale, &previous, &self.options, terms)
+        {
+            let written = Written {
+                gradients: solved.gradients_written,
+                forces: solved.forces_written,
+            };
+            return (solved.value, solved.outcome, written);
+        }
+        // The factors the solve at this point left n levels before.
+        *factors = self.kept[w.rem_euclid(n as i64) as usize]
+            .get(self.down(i, 0, n))
+            .copied()
+            .flatten();
+        let (z, outcome) = self.solve_vertex_generic(rows, &base, &mu, mu_scale, &previous, factors);
+        (z, outcome, Written::default())
+    }
+
+    /// The marcher's own Newton for EL_v = 0 at the vertex `base` over its
+    /// cells' exact derivatives ([`add_vertex_terms`]), for a model without
+    /// a solve of its own, from the Jacobian factors `kept` (left there at
+    /// the end). Kept out of line: the derivative passes' dual
+    /// numbers take a large stack frame, which the models' own solves
+    /// should not pay for.
+    #[inline(never)]
+    fn solve_vertex_generic(
+        &self,
+        rows: &LevelRows,
+        base: &Base,
+        mu: &SVector<f64, M>,
+        mu_scale: f64,
+        previous: &F::Point<f64>,
+        kept: &mut Option<SmallLu<M>>,
+    ) -> (F::Point<f64>, VertexOutcome) {
+        let n = self.torus.dimension();
+        let base = *base;
+        let z = F::extrapolate(previous, &self.values[rows[0] + base.index]);
+        // A star of up to SMALL_STAR cells gathers its cells' known values
+        // once: an iterate only replaces the top vertex. Larger stars gather
+        // a cell's values at every evaluation.
+        let mut gathered = [None; SMALL_STAR];
+        let gather = self.perms.len() <= SMALL_STAR && n < SMALL_CELL;
+        if gather {
+            for (sigma, slot) in gathered.iter_mut().enumerate().take(self.perms.len()) {
+                if self.cell_active_at(&base, sigma) {
+                    let mut y = [z; SMALL_CELL];
+                    *slot = Some((self.cell_values_at(rows, &base, sigma, None, &mut y), y));
+                }
+            }
+        }
+        solve_legendre_from::<F, M>(mu, mu_scale, z, &self.options, kept, |z, mut jac| {
+            let (mut leg, mut scale) = (SVector::<f64, M>::zeros(), 0.0);
+            if let Some(j) = jac.as_deref_mut() {
+                j.fill(0.0);
+            }
+            let mut y = [*z; MAX_LATTICE_DIMENSION + 1];
+            for sigma in 0..self.perms.len() {
+                let cell = if gather {
+                    let Some((cell, known)) = &gathered[sigma] else {
+                        continue;
+                    };
+                    y[..SMALL_CELL].copy_from_slice(known);
+                    y[n] = *z;
+                    *cell
+                } else if self.cell_active_at(&base, sigma) {
+                    self.cell_values_at(rows, &base, sigma, Some(*z), &mut y)
+                } else {
+                    continue;
+                };
+                add_vertex_terms::<F, L, M>(
+                    &self.lag,
+                    &cell,
+                    &y[..=n],
+                    (0, n),
+                    &mut leg,
+                    &mut scale,
+                    jac.as_deref_mut(),
+                );
+            }
+            (leg, scale)
+        })
+    }
+
+    /// The vertices of a level solved together: the model's
+    /// [`DiscreteLagrangian::vertex_lanes`] (at most [`MAX_VERTEX_LANES`]),
+    /// 1 with a window or Dirichlet data (whose vertices differ from one
+    /// another).
+    fn vertex_lanes(&self) -> usize {
+        if self.window.is_some() || self.dirichlet.is_some() {
+            return 1;
+        }
+        self.lag.vertex_lanes().clamp(1, self.lanes_cap)
+    }
+
+    /// The solve of vertex (w, i) (y_{Δv}, its outcome and which of its
+    /// cells' terms the solve wrote) into its result, with its cells' terms
+    /// and, with forces, Σ_β F^{l(v)}_β.
+    #[inline]
+    fn store_vertex(
+        &self,
+        w: i64,
+        rows: &LevelRows,
+        i: usize,
+        (z, outcome, written): (F::Point<f64>, VertexOutcome, Written),
+        terms: &mut [SVector<f64, M>],
+        result: &mut VertexResult<M>,
+    ) {
+        result.outcome = outcome;
+        if outcome.failure.is_none() {
+            // Checked here, not only in `cell_terms`: its stack frame alone
+            // cost about 50 instructions per vertex.
+            if !written.covers(self.lag.has_forces()) {
+                self.cell_terms(w, rows, i, Some(z), written, terms);
+            }
+            if self.lag.has_forces() && self.is_active(w, i) {
+                result.force = self.vertex_force(w, i, terms);
+            }
+        }
+    }
+
+    /// Solves the vertices `first …` of level `w` (as many as `values`)
+    /// together by the model's [`DiscreteLagrangian::solve_last_vertices`]
+    /// and stores each ([`store_vertex`](Self::store_vertex)); `false`
+    /// (nothing solved) when the model declines.
+    fn solve_lanes(
+        &self,
+        w: i64,
+        rows: &LevelRows,
+        first: usize,
+        values: &mut [F::Point<f64>],
+        terms: &mut [SVector<f64, M>],
+        results: &mut [VertexResult<M>],
+    ) -> bool {
+        let n = self.torus.dimension();
+        let stride = self.stride();
+        let count = values.len().min(MAX_VERTEX_LANES);
+        let origin = self.base(w, first);
+        let mut bases = [origin; MAX_VERTEX_LANES];
+        let placeholder = self.value(w, first);
+        let mut lanes = [VertexLane {
+            mu: SVector::zeros(),
+            mu_scale: 0.0,
+            previous: placeholder,
+        }; MAX_VERTEX_LANES];
+        for (l, (base, lane)) in bases.iter_mut().zip(lanes.iter_mut()).enumerate().take(count) {
+            let i = first + l;
+            *base = self.base(w, i);
+            (lane.mu, lane.mu_scale) = self.momentum(w, i);
+            lane.previous = self.value(w - n as i64, self.down(i, 0, n));
+        }
+        let star = |l: usize, sigma: usize, out: &mut [F::Point<f64>]| {
+            (sigma < self.perms.len()).then(|| self.cell_values_at(rows, &bases[l], sigma, None, out))
+        };
+        let mut solved = [SolvedVertex {
+            value: placeholder,
+            outcome: VertexOutcome::default(),
+            gradients_written: false,
+            forces_written: false,
+        }; MAX_VERTEX_LANES];
+        if !self.lag.solve_last_vertices(
+            &star,
+            &lanes[..count],
+            &self.options,
+            terms,
+            stride,
+            &mut solved[..count],
+        ) {
+            return false;
+        }
+        for (l, ((value, terms), result)) in values.iter_mut().zip(terms.chunks_mut(stride)).zip(results).enumerate() {
+            let s = &solved[l];
+            let written = Written {
+                gradients: s.gradients_written,
+                forces: s.forces_written,
+            };
+            *value = s.value;
+            result.factors = None;
+            self.store_vertex(w, rows, first + l, (s.value, s.outcome, written), terms, result);
+        }
+        true
+    }
+
+    /// The vertices per parallel chunk of a level of `size` vertices, `size`
+    /// for a level solved on the calling thread alone: one thread in the
+    /// pool, no level measured yet, or a level too cheap to split from where
+    /// the march runs ([`PARALLEL_LEVEL_NS`] outside the pool,
+    /// [`PARALLEL_LEVEL_NS_ON_POOL`] on one of its threads).
+    fn parallel_chunk(&self, size: usize) -> usize {
+        let threads = rayon::current_num_threads();
+        let Some(vertex_ns) = self.vertex_ns else {
+            return size;
+        };
+        let least = if rayon::current_thread_index().is_some() {
+            PARALLEL_LEVEL_NS_ON_POOL
+        } else {
+            PARALLEL_LEVEL_NS
+        };
+        if threads < 2 || vertex_ns * (size as f64) < least {
+            return size;
+        }
+        ((CHUNK_WORK_NS / vertex_ns).ceil() as usize).clamp(1, (size / threads).max(1))
+    }
+
+    /// Solves every vertex of level `level()`, which determines level
+    /// `level() + n`, and advances. On failure nothing is advanced: the
+    /// marcher keeps its last complete state, and the error names the first
+    /// failing vertex (in index order, whatever the thread count).
+    pub fn step(&mut self) -> Result<LevelReport> {
+        let n = self.torus.dimension();
+        let size = self.torus.level_size();
+        let stride = self.stride();
+        let w = self.level;
+        let mut next_values = std::mem::take(&mut self.next_values);
+        let mut next_grads = std::mem::take(&mut self.next_grads);
+        let mut results = std::mem::take(&mut self.results);
+        self.forces_level = None;
+        let started = std::time::Instant::now();
+        let chunk = self.parallel_chunk(size);
+        let parallel = chunk < size;
+        // The level's rows in the value ring, shared by all its vertices.
+        let rows = self.level_rows(w);
+        {
+            let this = &*self;
+            let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {
+                let (z, o, written) = this.solve_vertex(w, &rows, i, terms, &mut result.factors);
+                *value = z;
+                this.store_vertex(w, &rows, i, (z, o, written), terms, result);
+            };
+            let lanes = self.vertex_lanes();
+            if lanes > 1 {
+                let solve_lanes = |(g, ((values, terms), results)): LaneSlot<'_, F::Point<f64>, M>| {
+                    let first = g * lanes;
+                    if !this.solve_lanes(w, &rows, first, values, terms, results) {
+                        for (l, ((value, terms), result)) in values
+                            .iter_mut()
+                            .zip(terms.chunks_mut(stride))
+                            .zip(results.iter_mut())
+                            .enumerate()
+                        {
+                            solve((first + l, ((value, terms), result)));
+                        }
+                    }
+                };
+                if parallel {
+                    next_values
+                        .par_chunks_mut(lanes)
+                        .zip(next_grads.par_chunks_mut(stride * lanes))
+                        .zip(results.par_chunks_mut(lanes))
+                        .with_min_len(chunk.div_ceil(lanes))
+                        .enumerate()
+                        .for_each(solve_lanes);
+                } else {
+                    next_values
+                        .chunks_mut(lanes)
+                        .zip(next_grads.chunks_mut(stride * lanes))
+                        .zip(results.chunks_mut(lanes))
+                        .enumerate()
+                        .for_each(solve_lanes);
+                }
+            } else if parallel {
+                next_values
+                    .par_iter_mut()
+                    .zip(next_grads.par_chunks_mut(stride))
+                    .zip(results.par_iter_mut())
+                    .with_min_len(chunk)
+                    .enumerate()
+                    .for_each(solve);
+            } else {
+                // One thread, or one chunk: no hand-over to the pool at all.
+                next_values
+                    .iter_mut()
+                    .zip(next_grads.chunks_mut(stride))
+                    .zip(results.iter_mut())
+                    .enumerate()
+                    .for_each(solve);
+            }
+        }
+        // The cost per vertex, measured on a level solved on this thread
+        // alone (a parallel level's wall time also holds the hand-over to
+        // the pool, which would shrink the chunks and feed on itself).
+        let vertex_ns = started.elapsed().as_nanos() as f64 / size.max(1) as f64;
+        if !parallel && vertex_ns > 0.0 {
+            self.vertex_ns = Some(vertex_ns);
+        }
+        let outcomes = || results.iter().map(|r| r.outcome);
+        let failure = outcomes().enumerate().find_map(|(i, o)| o.failure.map(|f| (i, f, o)));
+        let report = LevelReport {
+            level: w,
+            iterations: outcomes().map(|o| o.iterations).sum(),
+            jacobians: outcomes().map(|o| o.jacobians).sum(),
+            max_relative_residual: outcomes().map(|o| o.relative_residual).fold(0.0, f64::max),
+            parallel,
+        };
+        if let Some((i, f, o)) = failure {
+            self.next_values = next_values;
+            self.next_grads = next_grads;
+            self.results = results;
+            return Err(Error::VertexSolveFailure {
+                vertex: format!("vertex {i} of level {w}"),
+                residual: o.relative_residual,
+                iterations: o.iterations,
+                reason: f.reason().into(),
+            });
+        }
+        // Level w + n: its in-level order is that of level w shifted by Δ.
+        let top = self.value_slot(w + n as i64);
+        for (i, z) in next_values.iter().enumerate() {
+            let target = self.up(i, 0, n);
+            self.values[top * size + target] = *z;
+        }
+        // The solved level's gradients take the slot of level w − n − 1,
+        // which nothing reads any more; its buffer is overwritten next level.
+        let gslot = self.grad_slot(w);
+        std::mem::swap(&mut self.grads[gslot], &mut next_grads);
+        // The level's Jacobian factors, for the solves n levels up.
+        let kept = &mut self.kept[w.rem_euclid(n as i64) as usize];
+        kept.clear();
+        if self.reuse_jacobians && results.iter().any(|r| r.factors.is_some()) {
+            kept.extend(results.iter().map(|r| r.factors));
+        }
+        self.next_values = next_values;
+        self.next_grads = next_grads;
+        self.results = results;
+        self.forces_level = Some(w);
+        self.level += 1;
+        Ok(report)
+    }
+}
