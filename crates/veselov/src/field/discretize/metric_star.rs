@@ -35,12 +35,13 @@ use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
 use super::affine_chain::{
-    AffineFrame, completed_jet_entry, metric_coefficients, metric_gradient_from, metric_product,
+    AffineFrame, PartialFrame, completed_jet_entry, metric_coefficients, metric_gradient_from, metric_product,
 };
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;
-use crate::field::cell::SolvedVertex;
-use crate::field::fibre::Euclidean;
+use crate::field::cell::{SolvedVertex, VertexLane};
+use crate::field::complex::TopCell;
+use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::{CauchyOptions, LegendreNewton};
 
 /// Vertex equations [`MidpointRule`]'s metric solve treats together: their
@@ -271,6 +272,139 @@ impl<L, X, const N: usize> MidpointRule<L, X, N>
 where
     X: NodeMap<N>,
 {
+    /// Whether the rule's
+    /// [`solve_last_vertices`](crate::field::cell::DiscreteLagrangian::solve_last_vertices)
+    /// solves several vertices at once.
+    pub(super) fn has_metric_lanes<const M: usize>(&self) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+    {
+        (1..=4).contains(&N) && self.density.diagonal_jet_metric().is_some()
+    }
+
+    /// The lanes' stars of C = N! cells from `star(l, σ, out)` (their
+    /// cells' sums over the known vertices, their geometry and first
+    /// guesses), solved by [`solve_metric_stars`](Self::solve_metric_stars);
+    /// `false` (nothing solved) for a failed frame or a lane none of whose
+    /// cells is in the action.
+    pub(super) fn metric_lanes_of<const M: usize, const C: usize, S>(
+        &self,
+        eta: &SVector<f64, N>,
+        star: &S,
+        lanes: &[VertexLane<SVector<f64, M>, M>],
+        options: &CauchyOptions,
+        out: LaneOutput<'_, M>,
+    ) -> bool
+    where
+        L: SmoothDensity<Euclidean<M>, M, N>,
+        S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
+    {
+        let width = N + 1;
+        let blank = MetricStar {
+            mu: SVector::zeros(),
+            mu_scale: 0.0,
+            start: SVector::zeros(),
+        };
+        let mut stars = [blank; METRIC_LANES];
+        // The cells' values and their geometry: each position's shape once
+        // while every lane's cell there has its shape's cached geometry,
+        // else (a second pass) each cell's own. All the stars' values are
+        // gathered before any is read (a value read back right after its
+        // store would wait for it).
+        let mut y = [[[SVector::<f64, M>::zeros(); METRIC_CELL_VERTICES]; C]; METRIC_LANES];
+        let mut cells: [[Option<TopCell>; C]; METRIC_LANES] = [[None; C]; METRIC_LANES];
+        for (l, (lane_cells, lane_values)) in cells.iter_mut().zip(y.iter_mut()).enumerate().take(lanes.len()) {
+            for (c, (cell, values)) in lane_cells.iter_mut().zip(lane_values.iter_mut()).enumerate() {
+                *cell = star(l, c, &mut values[..width]);
+            }
+        }
+        let mut frames = LaneFrames::<M, N, C> {
+            active: [[false; METRIC_LANES]; C],
+            full: false,
+            first: [SVector::zeros(); METRIC_LANES],
+            sum: [[SVector::zeros(); METRIC_LANES]; C],
+            jet: [[[SVector::zeros(); METRIC_LANES]; N]; C],
+        };
+        // Each position's shape and, once seen, its weights (`blank` for a
+        // position no lane has a cell at).
+        let blank = CellWeights::new(SMatrix::zeros(), 0.0, SVector::zeros(), eta);
+        let mut shapes: [Option<usize>; C] = [None; C];
+        let mut table = [blank; C];
+        let position = self.density.depends_on_position();
+        let mut uniform = !position;
+        for (l, (lane, s)) in lanes.iter().zip(stars.iter_mut()).enumerate() {
+            let mut base = None;
+            for c in 0..C {
+                let Some(cell) = &cells[l][c] else {
+                    continue;
+                };
+                let y = &y[l][c];
+                base.get_or_insert(y[0]);
+                // The shape's cached geometry in place (its cell's own only
+                // where the density depends on position or none is cached).
+                let cached = if position {
+                    None
+                } else {
+                    self.shape_geometry(cell.shape)
+                };
+                let (sum, jet) = match cached {
+                    Some((inverse, volume)) => {
+                        if uniform {
+                            match shapes[c] {
+                                None => {
+                                    shapes[c] = Some(cell.shape);
+                                    table[c] = CellWeights::new(*inverse, *volume, SVector::zeros(), eta);
+                                }
+                                Some(shape) if shape == cell.shape => {}
+                                Some(_) => uniform = false,
+                            }
+                        }
+                        PartialFrame::<M, N>::sums(inverse, &y[..width])
+                    }
+                    None => {
+                        uniform = false;
+                        let Some((inverse, _, _)) = self.node_geometry(cell) else {
+                            return false;
+                        };
+                        PartialFrame::<M, N>::sums(&inverse, &y[..width])
+                    }
+                };
+                frames.active[c][l] = true;
+                frames.sum[c][l] = sum;
+                for a in 0..N {
+                    frames.jet[c][a][l] = jet.column(a).into_owned();
+                }
+            }
+            let Some(base) = base else {
+                return false;
+            };
+            frames.first[l] = base;
+            s.mu = lane.mu;
+            s.mu_scale = lane.mu_scale;
+            s.start = Euclidean::<M>::extrapolate(&lane.previous, &base);
+        }
+        let count = lanes.len().min(METRIC_LANES);
+        frames.seal(count);
+        if uniform {
+            let geometry = StarGeometry::Shapes(&table);
+            self.solve_metric_stars(&frames, geometry, &stars[..count], options, out);
+            return true;
+        }
+        let mut geometry = [[blank; METRIC_LANES]; C];
+        for (l, lane_cells) in cells.iter().enumerate().take(count) {
+            for (row, cell) in geometry.iter_mut().zip(lane_cells) {
+                if let Some(cell) = cell {
+                    let Some((inverse, volume, centre)) = self.cell_geometry::<M>(cell) else {
+                        return false;
+                    };
+                    row[l] = CellWeights::new(inverse, volume, centre, eta);
+                }
+            }
+        }
+        self.solve_metric_stars(&frames, StarGeometry::Cells(&geometry), &stars[..count], options, out);
+        true
+    }
+
     /// ∇V, with ∇²V when `second`, at ȳ_β(z_l) of every active cell of the
     /// lanes l with `wanted[l] == Some(second)`, in one batch
     /// ([`jet_free_batch`](Self::jet_free_batch)): straight into `out` when
