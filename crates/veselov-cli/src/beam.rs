@@ -74,11 +74,6 @@ pub(crate) struct BeamScenario {
     pub output: RowsOutputSpec,
 }
 
-/// The keys of a beam scenario also read under a former name (the
-/// `serde(alias)` attributes below): (name, former name). A scenario giving
-/// both is refused naming both ([`crate::scenario::parse_toml`]).
-pub(crate) const FORMER_NAMES: &[(&str, &str)] = &[("shear_coefficient", "shear_correction")];
-
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamModelSpec {
@@ -93,7 +88,7 @@ pub(crate) struct BeamModelSpec {
     pub poisson: Option<f64>,
     pub shear_modulus: Option<f64>,
     /// κ; `shear_correction`, its former name, is still read (listed in
-    /// [`FORMER_NAMES`]).
+    /// [`FORMER_KEY_NAMES`](crate::scenario::FORMER_KEY_NAMES)).
     #[serde(alias = "shear_correction")]
     pub shear_coefficient: Option<f64>,
 }

@@ -336,13 +336,21 @@ pub fn key_error(file: &Path, key: &str, message: impl Into<String>) -> CliError
     }
 }
 
+/// The keys a scenario schema also reads under a former name (its
+/// `serde(alias)` attributes): (name, former name). A scenario giving both
+/// is refused naming both ([`parse_toml`]).
+pub(crate) const FORMER_KEY_NAMES: &[(&str, &str)] = &[
+    // The beam's `[model]`.
+    ("shear_coefficient", "shear_correction"),
+];
+
 /// Parse scenario text of any schema, attributing errors to `file`. A key
-/// given under both its name and its former name is reported as such (the
-/// parser alone says only "duplicate field").
+/// given under both its name and its former name ([`FORMER_KEY_NAMES`]) is
+/// reported as such (the parser alone says only "duplicate field").
 pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Result<T, CliError> {
     toml::from_str(text).map_err(|e| {
         let mut message = clip_lines(&e.to_string(), 200);
-        for (name, former) in crate::beam::FORMER_NAMES {
+        for (name, former) in FORMER_KEY_NAMES {
             if message.contains(&format!("duplicate field `{name}`")) {
                 message.push_str(&format!(
                     " (`{former}` is the former name of `{name}`: give one of them)"

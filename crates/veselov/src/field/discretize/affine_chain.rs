@@ -129,7 +129,7 @@ impl<const M: usize, const N: usize> PartialFrame<M, N> {
     /// ȳ with the last vertex value `z` (the bits of the completed frame's).
     #[inline]
     pub(super) fn value(&self, z: &SVector<f64, M>) -> SVector<f64, M> {
-        (self.sum + z) * AffineFrame::<M, N>::mean_weight()
+        completed_mean::<M, N>(&self.sum, z)
     }
 
     /// φ_{ka} with the last vertex value `z` (the completed frame's entry).
@@ -146,6 +146,17 @@ impl<const M: usize, const N: usize> PartialFrame<M, N> {
 #[inline(always)]
 pub(super) fn completed_jet_entry(known: f64, rise: f64, last_row: f64) -> f64 {
     known + rise * last_row
+}
+
+/// ȳ of a frame completed by its last vertex value z: (y₀ + … + y_{N−1} + z)/(N + 1)
+/// from the known vertices' `sum`, the one formula of [`PartialFrame`] and
+/// the metric star's lanes (as [`completed_jet_entry`] for φ).
+#[inline(always)]
+pub(super) fn completed_mean<const M: usize, const N: usize>(
+    sum: &SVector<f64, M>,
+    z: &SVector<f64, M>,
+) -> SVector<f64, M> {
+    (sum + z) * AffineFrame::<M, N>::mean_weight()
 }
 
 /// η_a c_{la} for a = 0 … N − 1: the weights of vertex l's jet term.

@@ -35,7 +35,8 @@ use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
 use super::affine_chain::{
-    AffineFrame, PartialFrame, completed_jet_entry, metric_coefficients, metric_gradient_from, metric_product,
+    AffineFrame, PartialFrame, completed_jet_entry, completed_mean, metric_coefficients, metric_gradient_from,
+    metric_product,
 };
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;
@@ -420,14 +421,13 @@ where
     ) where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
-        let w = AffineFrame::<M, N>::mean_weight();
         if !wanted.contains(&Some(second)) {
             return;
         }
         if frames.full && wanted.iter().all(|&x| x == Some(second)) {
             for c in 0..C {
                 for l in 0..METRIC_LANES {
-                    out.values[c][l] = (frames.sum[c][l] + z[l]) * w;
+                    out.values[c][l] = completed_mean::<M, N>(&frames.sum[c][l], &z[l]);
                 }
             }
             let hessians = second.then_some(out.hessian.as_flattened_mut());
@@ -454,7 +454,7 @@ where
                 for l in 0..METRIC_LANES {
                     if frames.active[c][l] && wanted[l] == Some(second) {
                         centres[count] = geometry.at(c, l).centre;
-                        values[count] = (frames.sum[c][l] + z[l]) * w;
+                        values[count] = completed_mean::<M, N>(&frames.sum[c][l], &z[l]);
                         count += 1;
                     }
                 }
