@@ -33,6 +33,7 @@
 //! [time]
 //! t_end = 2.0
 //! dt = 1e-4                     # adjusted to t_end/round(t_end/dt); default: at most half the stability limit
+//! # step_number = 0.9           # instead of dt: the fewest steps with step number ≤ this (default 0.5)
 //! [method]
 //! tolerance = 1e-14             # vertex solves (relative)
 //! max_iterations = 30
@@ -195,7 +196,14 @@ pub(crate) struct RodInitialSpec {
 pub(crate) struct RodTimeSpec {
     pub t_end: f64,
     pub dt: Option<f64>,
+    /// Instead of `dt`: the fewest steps whose step number is at most this
+    /// ([`DEFAULT_STEP_NUMBER`] without either).
+    pub step_number: Option<f64>,
 }
+
+/// The step number a rod run takes when the scenario gives neither `dt`
+/// nor `step_number`: half the stability limit.
+pub const DEFAULT_STEP_NUMBER: f64 = 0.5;
 
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -403,18 +411,39 @@ impl RodSetup {
         }
         // The step count is round(t_end/dt) (at least 1) and dt = t_end/count,
         // so that the run ends at t_end exactly; without `dt`, the fewest
-        // steps with dt at most half the stability limit.
+        // steps with a step number at most `step_number` (dt at most that
+        // fraction of the stability limit; half of it by default).
         let t_end = positive_value(path, "time.t_end", scenario.time.t_end)?;
-        let requested = match scenario.time.dt {
-            Some(dt) => Some(positive_value(path, "time.dt", dt)?),
-            None => None,
-        };
-        let steps = match requested {
-            Some(dt) => (t_end / dt).round().max(1.0),
-            None => (t_end / (0.5 * dt_limit)).ceil().max(1.0),
+        // The key that sets the step, named by the errors about it.
+        let mut requested = None;
+        let (step_key, steps) = match (scenario.time.dt, scenario.time.step_number) {
+            (Some(_), Some(_)) => {
+                return Err(key(
+                    "time.step_number",
+                    "give either `dt` or `step_number`, not both".to_string(),
+                ));
+            }
+            (Some(dt), None) => {
+                let dt = positive_value(path, "time.dt", dt)?;
+                requested = Some(dt);
+                ("time.dt", (t_end / dt).round().max(1.0))
+            }
+            (None, number) => {
+                let number = match number {
+                    Some(x) => positive_value(path, "time.step_number", x)?,
+                    None => DEFAULT_STEP_NUMBER,
+                };
+                let name = if scenario.time.step_number.is_some() {
+                    "time.step_number"
+                } else {
+                    "time.t_end"
+                };
+                (name, (t_end / (number * dt_limit)).ceil().max(1.0))
+            }
         };
         if steps > 1e12 {
-            return Err(key("time.t_end", format!("{steps:e} time steps are too many")));
+            let key_name = if step_key == "time.dt" { "time.t_end" } else { step_key };
+            return Err(key(key_name, format!("{steps:e} time steps are too many")));
         }
         let dt = t_end / steps;
         let steps = steps as u64;
@@ -424,11 +453,16 @@ impl RodSetup {
             courant = courant.max(courant_number(q, lattice.ds(), dt).map_err(|e| key("model", e.to_string()))?);
         }
         if courant > 1.0 && !scenario.method.allow_unstable {
+            let (name, lower) = if step_key == "time.step_number" {
+                ("time.step_number", "lower step_number to 1 or less")
+            } else {
+                ("time.dt", "lower dt")
+            };
             return Err(key(
-                "time.dt",
+                name,
                 format!(
                     "dt = {dt:e} exceeds the stability limit {dt_limit:e} of the rod's march (step number \
-                     {} > 1: the lattice waves would grow without bound); lower dt, or set \
+                     {} > 1: the lattice waves would grow without bound); {lower}, or set \
                      [method] allow_unstable = true to run anyway",
                     step_number_text(courant)
                 ),

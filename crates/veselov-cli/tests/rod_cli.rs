@@ -428,3 +428,42 @@ fn an_overflowing_start_fails_at_step_zero() {
         "{err}"
     );
 }
+
+/// `[time] step_number` sets the step as a fraction of the stability limit:
+/// the fewest steps whose step number is at most the one given (0.5 without
+/// `dt` or `step_number`), and errors naming the key for a value that is
+/// not positive, for both keys at once, and above 1.
+#[test]
+fn step_number_sets_the_step_as_a_fraction_of_the_limit() {
+    let base = set(&example("rod_free_tumbling.toml"), "t_end", "0.5");
+    let (ok, err, out) = run("step-number-default", &base);
+    assert!(ok, "{err}");
+    let default = summary(&out);
+    let limit = default["dt_stability_limit"].as_f64().expect("number");
+    for (name, number) in [("step-number-0.9", 0.9), ("step-number-0.25", 0.25)] {
+        let text = set(&base, "t_end", &format!("0.5\nstep_number = {number}"));
+        let (ok, err, out) = run(name, &text);
+        assert!(ok, "{err}");
+        let s = summary(&out);
+        let (dt, taken) = (s["dt"].as_f64().expect("dt"), s["step_number"].as_f64().expect("number"));
+        let steps = (0.5 / dt).round();
+        // dt = 0.5/steps with steps = ⌈0.5/(number·limit)⌉.
+        assert_eq!(steps, (0.5 / (number * limit)).ceil(), "{s}");
+        assert!(taken <= number * (1.0 + 1e-12) && taken > number * (steps - 1.0) / steps, "{s}");
+        assert!((taken / (dt / limit) - 1.0).abs() < 1e-12, "step number = dt / limit: {s}");
+    }
+    let d = default["step_number"].as_f64().expect("number");
+    assert!(d <= 0.5 * (1.0 + 1e-12) && d > 0.45, "default {d}");
+    for (name, value, expected) in [
+        ("step-number-zero", "0.0", "time.step_number"),
+        ("step-number-negative", "-0.5", "time.step_number"),
+        ("step-number-nan", "nan", "time.step_number"),
+        ("step-number-and-dt", "0.9\ndt = 0.001", "not both"),
+        ("step-number-unstable", "1.5", "allow_unstable"),
+    ] {
+        let text = set(&base, "t_end", &format!("0.5\nstep_number = {value}"));
+        let (ok, err, _) = run(name, &text);
+        assert!(!ok && err.contains("time.step_number") && err.contains(expected), "{name}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
