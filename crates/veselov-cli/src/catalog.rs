@@ -50,7 +50,8 @@ pub const STRUCTURES: &[StructureInfo] = &[
         summary: "Cosserat rod on the leapfrog lattice (seed 003 §6): conserved discrete momenta, loads and damping",
         keys: "[model] length, nodes, radius | width + height, density, young (numbers or expressions in s), \
                poisson | shear_modulus, shear_coefficient; [ends] free | clamped | driven; [loads] gravity, damping, \
-               end_force, end_torque, ramp; [initial] shape = straight | bent | helix | curve",
+               end_force, end_torque, ramp; [initial] shape = straight | bent | helix | curve; [time] t_end, \
+               dt | step_number",
         examples: "examples/rod_*.toml",
     },
 ];

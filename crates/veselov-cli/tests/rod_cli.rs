@@ -445,12 +445,21 @@ fn step_number_sets_the_step_as_a_fraction_of_the_limit() {
         let (ok, err, out) = run(name, &text);
         assert!(ok, "{err}");
         let s = summary(&out);
-        let (dt, taken) = (s["dt"].as_f64().expect("dt"), s["step_number"].as_f64().expect("number"));
+        let (dt, taken) = (
+            s["dt"].as_f64().expect("dt"),
+            s["step_number"].as_f64().expect("number"),
+        );
         let steps = (0.5 / dt).round();
         // dt = 0.5/steps with steps = ⌈0.5/(number·limit)⌉.
         assert_eq!(steps, (0.5 / (number * limit)).ceil(), "{s}");
-        assert!(taken <= number * (1.0 + 1e-12) && taken > number * (steps - 1.0) / steps, "{s}");
-        assert!((taken / (dt / limit) - 1.0).abs() < 1e-12, "step number = dt / limit: {s}");
+        assert!(
+            taken <= number * (1.0 + 1e-12) && taken > number * (steps - 1.0) / steps,
+            "{s}"
+        );
+        assert!(
+            (taken / (dt / limit) - 1.0).abs() < 1e-12,
+            "step number = dt / limit: {s}"
+        );
     }
     let d = default["step_number"].as_f64().expect("number");
     assert!(d <= 0.5 * (1.0 + 1e-12) && d > 0.45, "default {d}");
@@ -463,7 +472,10 @@ fn step_number_sets_the_step_as_a_fraction_of_the_limit() {
     ] {
         let text = set(&base, "t_end", &format!("0.5\nstep_number = {value}"));
         let (ok, err, _) = run(name, &text);
-        assert!(!ok && err.contains("time.step_number") && err.contains(expected), "{name}: {err}");
+        assert!(
+            !ok && err.contains("time.step_number") && err.contains(expected),
+            "{name}: {err}"
+        );
         assert!(!err.contains("panicked"), "{err}");
     }
 }
