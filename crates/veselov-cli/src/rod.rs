@@ -197,7 +197,10 @@ pub(crate) struct RodTimeSpec {
     pub t_end: f64,
     pub dt: Option<f64>,
     /// Instead of `dt`: the fewest steps whose step number is at most this
-    /// ([`DEFAULT_STEP_NUMBER`] without either).
+    /// ([`DEFAULT_STEP_NUMBER`] without either). Above 1 it is refused
+    /// unless `allow_unstable`; the limit 1 is the linearised march's, and
+    /// close to it (0.99) a long run can still grow, so long runs keep it at
+    /// 0.95 or below.
     pub step_number: Option<f64>,
 }
 
