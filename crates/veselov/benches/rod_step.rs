@@ -6,7 +6,9 @@
 //! Δt = 0.0705·dl; the Newton iterations per vertex; and the largest stable
 //! step at 100 elements (bisection on Δt, each trial 20,000 steps, printed
 //! in units of dl before the timings: near the linear limit a rod can run
-//! a few thousand steps before its waves have grown); and, beside criterion's mean, the least time per step over 60
+//! thousands of steps before its waves have grown, and whether it does is
+//! not monotone in Δt there, so the bisection gives a step below which the
+//! trials it made ran, not a sharp threshold); and, beside criterion's mean, the least time per step over 60
 //! blocks of 200 steps (`RAYON_NUM_THREADS=1` for one thread). The steps
 //! run on a thread of the pool ([`veselov::run::on_pool`]), as the command
 //! line runs them. A third case damps the 100-element rod and loads its end
