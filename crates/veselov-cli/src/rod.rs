@@ -198,15 +198,21 @@ pub(crate) struct RodTimeSpec {
     pub dt: Option<f64>,
     /// Instead of `dt`: the fewest steps whose step number is at most this
     /// ([`DEFAULT_STEP_NUMBER`] without either). Above 1 it is refused
-    /// unless `allow_unstable`; the limit 1 is the linearised march's, and
-    /// close to it a long run can still grow (a free rod failed after
-    /// 10,870 steps at 0.969), so long runs keep it at 0.95 or below.
+    /// unless `allow_unstable`, and warned about above
+    /// [`LONG_RUN_STEP_NUMBER`] (the limit 1 is the linearised march's).
     pub step_number: Option<f64>,
 }
 
 /// The step number a rod run takes when the scenario gives neither `dt`
 /// nor `step_number`: half the stability limit.
 pub const DEFAULT_STEP_NUMBER: f64 = 0.5;
+
+/// The largest step number run without a warning: the limit 1 is the
+/// linearised march's, and close to it, sooner for large motions, a long
+/// run can still grow (`rod_free_tumbling.toml` ran 20 s at 0.9 and failed
+/// after 3,405 steps at 0.95 and after 50 at 0.97; the `rod_step` bench's
+/// near-straight free rod after 10,870 steps at 0.969).
+pub const LONG_RUN_STEP_NUMBER: f64 = 0.9;
 
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
