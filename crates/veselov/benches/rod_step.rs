@@ -1,19 +1,20 @@
 //! The free Cosserat rod on the leapfrog lattice (split vertex step of note
-//! 003 §3.6): wall time per step (one Δt
-//! for every material point = two lattice levels) for 100- and 1000-element
-//! rods of PyElastica's Timoshenko example material (length 3, radius 0.25,
-//! density 5000, E = 1e6, shear modulus 1e4), at PyElastica's own limit
-//! Δt = 0.0705·dl; the Newton iterations per vertex; and the largest stable
-//! step at 100 elements (bisection on Δt, each trial 20,000 steps, printed
-//! in units of dl before the timings: near the linear limit a rod can run
-//! thousands of steps before its waves have grown, and whether it does is
-//! not monotone in Δt there, so the bisection gives a step below which the
-//! trials it made ran, not a sharp threshold); and, beside criterion's mean, the least time per step over 60
-//! blocks of 200 steps (`RAYON_NUM_THREADS=1` for one thread). The steps
-//! run on a thread of the pool ([`veselov::run::on_pool`]), as the command
-//! line runs them. A third case damps the 100-element rod and loads its end
-//! ([`RodLoads`]) and takes each level's impulse of the loads as well, the
-//! work a run of a loaded rod does per level.
+//! 003 §3.6): wall time per step (one Δt for every material point = two
+//! lattice levels) for 100- and 1000-element rods of PyElastica's
+//! Timoshenko example material (length 3, radius 0.25, density 5000,
+//! E = 1e6, shear modulus 1e4), at PyElastica's own limit Δt = 0.0705·dl;
+//! the Newton iterations per vertex; and the largest stable step at 100
+//! elements (bisection on Δt, each trial 20,000 steps, printed in units of
+//! dl before the timings: near the linear limit a rod can run thousands of
+//! steps before its waves have grown, and whether it does is not monotone
+//! in Δt there, so the bisection gives a step below which the trials it
+//! made ran, not a sharp threshold); and, beside criterion's mean, the
+//! least time per step over 60 blocks of 200 steps (`RAYON_NUM_THREADS=1`
+//! for one thread). The steps run on a thread of the pool
+//! ([`veselov::run::on_pool`]), as the command line runs them. A third case
+//! damps the 100-element rod and loads its end ([`RodLoads`]) and takes
+//! each level's impulse of the loads as well, the work a run of a loaded
+//! rod does per level.
 //!
 //! `cargo bench -p veselov --bench rod_step -- --quick`
 
