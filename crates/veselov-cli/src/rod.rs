@@ -423,36 +423,31 @@ impl RodSetup {
         // steps with a step number at most `step_number` (dt at most that
         // fraction of the stability limit; half of it by default).
         let t_end = positive_value(path, "time.t_end", scenario.time.t_end)?;
-        // The key that sets the step, named by the errors about it.
-        let mut requested = None;
-        let (step_key, steps) = match (scenario.time.dt, scenario.time.step_number) {
-            (Some(_), Some(_)) => {
-                return Err(key(
-                    "time.step_number",
-                    "give either `dt` or `step_number`, not both".to_string(),
-                ));
-            }
-            (Some(dt), None) => {
-                let dt = positive_value(path, "time.dt", dt)?;
-                requested = Some(dt);
-                ("time.dt", (t_end / dt).round().max(1.0))
-            }
-            (None, number) => {
-                let number = match number {
+        // Whether `step_number` sets the step: the errors about it name that key.
+        let by_number = scenario.time.step_number.is_some();
+        if by_number && scenario.time.dt.is_some() {
+            return Err(key(
+                "time.step_number",
+                "give either `dt` or `step_number`, not both".to_string(),
+            ));
+        }
+        let requested = match scenario.time.dt {
+            Some(dt) => Some(positive_value(path, "time.dt", dt)?),
+            None => None,
+        };
+        let steps = match requested {
+            Some(dt) => (t_end / dt).round().max(1.0),
+            None => {
+                let number = match scenario.time.step_number {
                     Some(x) => positive_value(path, "time.step_number", x)?,
                     None => DEFAULT_STEP_NUMBER,
                 };
-                let name = if scenario.time.step_number.is_some() {
-                    "time.step_number"
-                } else {
-                    "time.t_end"
-                };
-                (name, (t_end / (number * dt_limit)).ceil().max(1.0))
+                (t_end / (number * dt_limit)).ceil().max(1.0)
             }
         };
         if steps > 1e12 {
-            let key_name = if step_key == "time.dt" { "time.t_end" } else { step_key };
-            return Err(key(key_name, format!("{steps:e} time steps are too many")));
+            let name = if by_number { "time.step_number" } else { "time.t_end" };
+            return Err(key(name, format!("{steps:e} time steps are too many")));
         }
         let dt = t_end / steps;
         let steps = steps as u64;
@@ -462,7 +457,7 @@ impl RodSetup {
             courant = courant.max(courant_number(q, lattice.ds(), dt).map_err(|e| key("model", e.to_string()))?);
         }
         if courant > 1.0 && !scenario.method.allow_unstable {
-            let (name, lower) = if step_key == "time.step_number" {
+            let (name, lower) = if by_number {
                 ("time.step_number", "lower step_number to 1 or less")
             } else {
                 ("time.dt", "lower dt")
