@@ -533,6 +533,7 @@ mod tests {
             }
             chord -= lu.solve(&(value - mu));
             iterations += 1;
+            assert!(iterations <= 1000, "the chord iteration does not converge");
         }
         assert!(
             outcome.iterations < iterations,
