@@ -92,7 +92,7 @@ where
                 return (z, VertexOutcome::default(), Written::default());
             }
         }
-        let (mu, mu_scale) = self.momentum(w, i);
+        let (mu, mu_scale) = self.momentum(rows, i);
         let previous = self.value(w - n as i64, self.down(i, 0, n));
         let star = |sigma: usize, out: &mut [F::Point<f64>]| {
             if sigma >= self.perms.len() || !self.cell_active_at(&base, sigma) {
@@ -137,7 +137,7 @@ where
     ) -> (F::Point<f64>, VertexOutcome) {
         let n = self.torus.dimension();
         let base = *base;
-        let z = F::extrapolate(previous, &self.values[rows[0] + base.index]);
+        let z = F::extrapolate(previous, &self.values[rows.values[0] + base.index]);
         // A star of up to SMALL_STAR cells gathers its cells' known values
         // once: an iterate only replaces the top vertex. Larger stars gather
         // a cell's values at every evaluation.
@@ -248,7 +248,7 @@ where
         for (l, (base, lane)) in bases.iter_mut().zip(lanes.iter_mut()).enumerate().take(count) {
             let i = first + l;
             *base = self.base(w, i);
-            (lane.mu, lane.mu_scale) = self.momentum(w, i);
+            (lane.mu, lane.mu_scale) = self.momentum(rows, i);
             lane.previous = self.value(w - n as i64, self.down(i, 0, n));
         }
         let star = |l: usize, sigma: usize, out: &mut [F::Point<f64>]| {

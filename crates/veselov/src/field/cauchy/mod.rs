@@ -72,9 +72,15 @@ struct VertexResult<const M: usize> {
     factors: Option<SmallLu<M>>,
 }
 
-/// Where the values of n + 1 consecutive levels start in the value ring
-/// ([`CauchyMarcher::level_rows`]).
-type LevelRows = [usize; MAX_LATTICE_DIMENSION + 1];
+/// Where a level's vertices read ([`CauchyMarcher::level_rows`]): the
+/// values of the levels w … w + n, at `values[l]` in the value ring, and
+/// the stored terms of the cells based at the levels w − j (j = 1 … n),
+/// in the gradient slot `grads[j]`.
+#[derive(Clone, Copy)]
+struct LevelRows {
+    values: [usize; MAX_LATTICE_DIMENSION + 1],
+    grads: [usize; MAX_LATTICE_DIMENSION + 1],
+}
 
 /// A vertex (w, i) as the base of its cells ([`CauchyMarcher::base`]).
 #[derive(Clone, Copy)]
@@ -344,17 +350,24 @@ where
         self.values[self.value_slot(w) * self.torus.level_size() + i]
     }
 
-    /// Where the values of the levels w … w + n start in the value ring:
-    /// slot(w + l)·(level size) at index l. The vertices of a level share
-    /// them: gathered once, not per cell.
+    /// Where the values of the levels w … w + n start in the value ring
+    /// (slot(w + l)·(level size) at index l) and the gradient slots of the
+    /// levels w − j (at index j = 1 … n). The vertices of a level share
+    /// them: computed once, not per vertex or cell.
     #[inline(always)]
     fn level_rows(&self, w: i64) -> LevelRows {
         let (n, size) = (self.torus.dimension(), self.torus.level_size());
         let slot = self.value_slot(w);
         let ring = 2 * n + 1;
-        let mut rows = [0; MAX_LATTICE_DIMENSION + 1];
-        for (l, row) in rows.iter_mut().enumerate().take(n + 1) {
+        let mut rows = LevelRows {
+            values: [0; MAX_LATTICE_DIMENSION + 1],
+            grads: [0; MAX_LATTICE_DIMENSION + 1],
+        };
+        for (l, row) in rows.values.iter_mut().enumerate().take(n + 1) {
             *row = if slot + l >= ring { slot + l - ring } else { slot + l } * size;
+        }
+        for (j, grads) in rows.grads.iter_mut().enumerate().take(n + 1).skip(1) {
+            *grads = self.grad_slot(w - j as i64);
         }
         rows
     }
@@ -375,9 +388,9 @@ where
         let i = base.index;
         let y = &mut y[..=n];
         let up = &self.up[(i * self.perms.len() + sigma) * (n + 1)..][..=n];
-        y[0] = self.values[rows[0] + i];
+        y[0] = self.values[rows.values[0] + i];
         for l in 1..=n {
-            y[l] = self.values[rows[l] + up[l] as usize];
+            y[l] = self.values[rows.values[l] + up[l] as usize];
         }
         if let Some(z) = top {
             y[n] = z;

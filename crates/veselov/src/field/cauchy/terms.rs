@@ -87,7 +87,7 @@ where
         let with_forces = !forces.is_empty() && !written.forces;
         // Each cell's values are gathered once for both its terms.
         let base = self.base(w, i);
-        let mut y = [self.values[rows[0] + i]; MAX_LATTICE_DIMENSION + 1];
+        let mut y = [self.values[rows.values[0] + i]; MAX_LATTICE_DIMENSION + 1];
         for sigma in 0..self.perms.len() {
             let g = &mut grads[sigma * width..(sigma + 1) * width];
             let active = self.cell_active_at(&base, sigma);
@@ -132,8 +132,9 @@ where
     /// μ_v = −Σ_{β ∈ S_v ∖ S_v^Δ} (∂L_β/∂y_v + F^{l(v)}_β) for v = (w, i),
     /// with the size of the terms (the forces F of the discrete
     /// Lagrange–d'Alembert principle when the Lagrangian has them), from the
-    /// stored gradients and forces of the cells.
-    pub(super) fn momentum(&self, w: i64, i: usize) -> (SVector<f64, M>, f64) {
+    /// stored gradients and forces of the cells, in the gradient slots of
+    /// level w's `rows`.
+    pub(super) fn momentum(&self, rows: &LevelRows, i: usize) -> (SVector<f64, M>, f64) {
         let n = self.torus.dimension();
         let cells = self.perms.len();
         let per_vertex = cells * (n + 1);
@@ -141,7 +142,7 @@ where
         let mut scale = 0.0;
         let terms = &self.momentum_terms[i * n * cells..(i + 1) * n * cells];
         for (j, at) in (1..=n).zip(terms.chunks_exact(cells)) {
-            let slot = &self.grads[self.grad_slot(w - j as i64)];
+            let slot = &self.grads[rows.grads[j]];
             let forced = self.lag.has_force_at(j);
             for &at in at {
                 let g = &slot[at as usize];
