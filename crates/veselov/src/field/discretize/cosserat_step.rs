@@ -177,14 +177,14 @@ impl RotationEquation {
     }
 }
 
-/// One cell based at v: the cell (σ = + for shape 0), the value at its
-/// middle vertex v₁ and its rotation arm.
+/// One cell based at v: the cell (σ = + for shape 0) and the position at
+/// its middle vertex v₁ (its rotation arm is kept beside it, at the same
+/// index, in the array the rotation equation reads).
 #[derive(Clone, Copy)]
 struct StarCell {
     cell: TopCell,
     sigma: f64,
-    y1: Pose<f64>,
-    arm: RotationArm,
+    r1: Vector3<f64>,
     /// ε of Prop. 6.5 at the solved position r₂.
     eps: Vector3<f64>,
 }
@@ -227,14 +227,14 @@ pub(crate) fn split_solve<P: RodPotential>(
             origin: [0; crate::field::complex::MAX_LATTICE_DIMENSION],
         },
         sigma: 1.0,
-        y1: *previous,
-        arm: RotationArm {
-            a: Vector3::zeros(),
-            da: Matrix3::zeros(),
-        },
+        r1: Vector3::zeros(),
         eps: Vector3::zeros(),
     };
     let mut cells = [blank; 2];
+    let mut arms = [RotationArm {
+        a: Vector3::zeros(),
+        da: Matrix3::zeros(),
+    }; 2];
     let mut count = 0;
     let mut y = [*previous; 3];
     for shape in 0..2 {
@@ -245,12 +245,12 @@ pub(crate) fn split_solve<P: RodPotential>(
             cells[count] = StarCell {
                 cell,
                 sigma: if cell.shape == 0 { 1.0 } else { -1.0 },
-                y1: y[1],
-                arm: RotationArm {
-                    a,
-                    da: so3::dexp_inv(&(-a)),
-                },
-                ..blank
+                r1: y[1].position,
+                eps: Vector3::zeros(),
+            };
+            arms[count] = RotationArm {
+                a,
+                da: so3::dexp_inv(&(-a)),
             };
             count += 1;
         }
@@ -258,7 +258,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     if count == 0 {
         return fail(Failure::Singular, outcome);
     }
-    let cells = &mut cells[..count];
+    let (cells, arms) = (&mut cells[..count], &arms[..count]);
     // Both cells are based at v: its material point's parameters.
     let s0 = lag.material_coordinate(&cells[0].cell);
     let p = lag.parameters_at(s0);
@@ -275,7 +275,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let mut strain_sum = Vector3::zeros();
     let mut forces = Vector3::zeros();
     for c in cells.iter() {
-        let eps = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &start);
+        let eps = lag.linear_strain(c.sigma, s0, &y0, &c.r1, &start);
         let c1e = p.c1() * eps * (0.25 * dt);
         // |R₀w|∞ ≥ |w|∞/√3: the body vector's size stands for the term's.
         scale += largest_abs(&c1e);
@@ -316,7 +316,7 @@ pub(crate) fn split_solve<P: RodPotential>(
     let mut fixed = Vector3::zeros();
     let mut fixed_scale = 0.0;
     for c in cells.iter_mut() {
-        let eps = lag.linear_strain(c.sigma, s0, &y0, &c.y1.position, &r2);
+        let eps = lag.linear_strain(c.sigma, s0, &y0, &c.r1, &r2);
         c.eps = eps;
         let strain_term = lag.strain_torque(s0, &eps);
         fixed += strain_term;
@@ -333,10 +333,6 @@ pub(crate) fn split_solve<P: RodPotential>(
     }
     let cells = &cells[..];
     let target = mu.fixed_rows::<3>(3) - fixed;
-    let mut arms = [blank.arm; 2];
-    for (arm, c) in arms.iter_mut().zip(cells) {
-        *arm = c.arm;
-    }
     // The solved vertex: R₂ = R₀ exp(b̂) projected back onto SO(3), and the
     // solved cells' gradients from the stored value, as the marcher computes
     // them from values (a resumed march recomputes them so).
@@ -349,7 +345,7 @@ pub(crate) fn split_solve<P: RodPotential>(
         let Ok(b) = Rotations::log(&y0.rotation, &value.rotation) else {
             return fail(Failure::CutLocus, outcome);
         };
-        write_gradients(lag, cells, s0, &y0, &r2, &b, gradients);
+        write_gradients(lag, (cells, arms), s0, &y0, &r2, &b, gradients);
         let forces_written = write_forces(lag, cells, &y0, &value.position, &b, gradients);
         SolvedVertex {
             value,
@@ -358,7 +354,7 @@ pub(crate) fn split_solve<P: RodPotential>(
             forces_written,
         }
     };
-    let equation = RotationEquation::new(constants, &arms[..count], lag.area() * damp_q / (2.0 * dt));
+    let equation = RotationEquation::new(constants, arms, lag.area() * damp_q / (2.0 * dt));
     let mut b = Rotations::log(&previous.rotation, &y0.rotation).unwrap_or_else(|_| Vector3::zeros());
     // Newton with the exact Jacobian (closed form, as cheap as the residual).
     let mut previous = f64::INFINITY;
@@ -461,7 +457,7 @@ fn write_forces<P: RodPotential>(
 /// bits.
 fn write_gradients<P: RodPotential>(
     lag: &CosseratCell<P>,
-    cells: &[StarCell],
+    (cells, arms): (&[StarCell], &[RotationArm]),
     s0: f64,
     y0: &Pose<f64>,
     r2: &Vector3<f64>,
@@ -471,9 +467,9 @@ fn write_gradients<P: RodPotential>(
     gradients.fill(SVector::zeros());
     let db = so3::dexp_inv(&(-b));
     let top = Pose::new(*r2, y0.rotation);
-    for c in cells {
-        let q = lag.quantities_from_strain(c.sigma, s0, [y0, &top], c.arm.a, *b, c.eps);
-        let later = lag.later_gradients(&q, y0.rotation.matrix(), &c.arm.da, &db);
+    for (c, arm) in cells.iter().zip(arms) {
+        let q = lag.quantities_from_strain(c.sigma, s0, [y0, &top], arm.a, *b, c.eps);
+        let later = lag.later_gradients(&q, y0.rotation.matrix(), &arm.da, &db);
         let base = 3 * c.cell.shape;
         gradients[base + 1..base + 3].copy_from_slice(&later);
     }
