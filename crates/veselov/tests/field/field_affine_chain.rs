@@ -567,7 +567,8 @@ fn vertices_solved_in_lanes_have_the_bits_of_one_at_a_time() {
 }
 
 /// 25 levels of a 5 × 3 lattice (15 vertices a level: three groups of four
-/// and one of three) in lanes and one vertex at a time.
+/// and one of three) in lanes (the level in runs of whole groups,
+/// [`DiscreteLagrangian::solve_vertex_run`]) and one vertex at a time.
 fn lanes_match_one_at_a_time<L, const M: usize>(
     rule: MidpointRule<L, CfkNodes<3>, 3>,
     f: impl Fn(&SVector<f64, 3>) -> SVector<f64, M>,
@@ -601,5 +602,9 @@ fn lanes_match_one_at_a_time<L, const M: usize>(
             march(8, threads) == alone,
             "lanes on {threads} threads differ from one at a time"
         );
+    }
+    // Groups of two and three: every level's runs split otherwise.
+    for lanes in [2, 3] {
+        assert!(march(lanes, 1) == alone, "groups of {lanes} differ from one at a time");
     }
 }

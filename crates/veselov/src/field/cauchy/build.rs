@@ -5,7 +5,7 @@
 use nalgebra::SVector;
 
 use super::{CauchyMarcher, MAX_VERTEX_LANES, VertexResult};
-use crate::field::cell::{DiscreteLagrangian, check_closed_form};
+use crate::field::cell::{DiscreteLagrangian, SolvedVertex, check_closed_form};
 use crate::field::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, permutation};
 use crate::field::fibre::Fibre;
 use crate::field::legendre::{CauchyOptions, VertexOutcome};
@@ -144,6 +144,15 @@ where
                     outcome: VertexOutcome::default(),
                     force: SVector::zeros(),
                     factors: None,
+                };
+                size
+            ],
+            solved: vec![
+                SolvedVertex {
+                    value: data[0][0],
+                    outcome: VertexOutcome::default(),
+                    gradients_written: false,
+                    forces_written: false,
                 };
                 size
             ],

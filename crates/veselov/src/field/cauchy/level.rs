@@ -7,9 +7,10 @@
 use nalgebra::SVector;
 use rayon::prelude::*;
 
+use super::run::LevelRun;
 use super::terms::Written;
-use super::{Base, CauchyMarcher, LevelRows, MAX_VERTEX_LANES, VertexResult};
-use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexLane, add_vertex_terms};
+use super::{Base, CauchyMarcher, LevelRows, VertexResult};
+use crate::field::cell::{DiscreteLagrangian, SolvedVertex, add_vertex_terms};
 use crate::field::complex::MAX_LATTICE_DIMENSION;
 use crate::field::fibre::Fibre;
 use crate::field::legendre::{LevelReport, VertexOutcome, solve_legendre_from};
@@ -20,11 +21,15 @@ use crate::{Error, Result};
 /// value, its cells' gradients and its result.
 type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f64, M>]), &'a mut VertexResult<M>));
 
-/// Consecutive vertices of a level solved together: the group's index,
-/// their new values, their cells' gradients and their results.
-type LaneSlot<'a, P, const M: usize> = (
+/// A run of consecutive vertices of a level handed to the model: the run's
+/// index, their new values, their cells' gradients, their results and the
+/// model's results.
+type RunSlot<'a, P, const M: usize> = (
     usize,
-    ((&'a mut [P], &'a mut [SVector<f64, M>]), &'a mut [VertexResult<M>]),
+    (
+        ((&'a mut [P], &'a mut [SVector<f64, M>]), &'a mut [VertexResult<M>]),
+        &'a mut [SolvedVertex<P>],
+    ),
 );
 
 /// The work one thread takes at least: the chunk is sized from the cost per
@@ -221,57 +226,44 @@ where
         }
     }
 
-    /// Solves the vertices `first …` of level `w` (as many as `values`)
-    /// together by the model's [`DiscreteLagrangian::solve_last_vertices`]
-    /// and stores each ([`store_vertex`](Self::store_vertex)); `false`
-    /// (nothing solved) when the model declines.
-    fn solve_lanes(
+    /// Solves the vertices `first …` of level `w` (as many as `values`) as
+    /// one run by the model's [`DiscreteLagrangian::solve_vertex_run`]
+    /// (groups of at most `lanes`) and stores each
+    /// ([`store_vertex`](Self::store_vertex)); `false` (nothing stored)
+    /// when the model declines.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_run(
         &self,
         w: i64,
         rows: &LevelRows,
         first: usize,
+        lanes: usize,
         values: &mut [F::Point<f64>],
         terms: &mut [SVector<f64, M>],
         results: &mut [VertexResult<M>],
+        solved: &mut [SolvedVertex<F::Point<f64>>],
     ) -> bool {
         let n = self.torus.dimension();
         let stride = self.stride();
-        let count = values.len().min(MAX_VERTEX_LANES);
-        let origin = self.base(w, first);
-        let mut bases = [origin; MAX_VERTEX_LANES];
-        let placeholder = self.value(w, first);
-        let mut lanes = [VertexLane {
-            mu: SVector::zeros(),
-            mu_scale: 0.0,
-            previous: placeholder,
-        }; MAX_VERTEX_LANES];
-        for (l, (base, lane)) in bases.iter_mut().zip(lanes.iter_mut()).enumerate().take(count) {
-            let i = first + l;
-            *base = self.base(w, i);
-            (lane.mu, lane.mu_scale) = self.momentum(rows, i);
-            lane.previous = self.value(w - n as i64, self.down(i, 0, n));
-        }
-        let star = |l: usize, sigma: usize, out: &mut [F::Point<f64>]| {
-            (sigma < self.perms.len()).then(|| self.cell_values_at(rows, &bases[l], sigma, None, out))
+        let run = LevelRun {
+            marcher: self,
+            rows,
+            w,
+            first,
+            len: values.len(),
+            lanes,
+            previous_row: self.value_slot(w - n as i64) * self.torus.level_size(),
         };
-        let mut solved = [SolvedVertex {
-            value: placeholder,
-            outcome: VertexOutcome::default(),
-            gradients_written: false,
-            forces_written: false,
-        }; MAX_VERTEX_LANES];
-        if !self.lag.solve_last_vertices(
-            &star,
-            &lanes[..count],
-            &self.options,
-            terms,
-            stride,
-            &mut solved[..count],
-        ) {
+        if !self.lag.solve_vertex_run(&run, &self.options, terms, stride, solved) {
             return false;
         }
-        for (l, ((value, terms), result)) in values.iter_mut().zip(terms.chunks_mut(stride)).zip(results).enumerate() {
-            let s = &solved[l];
+        for (l, (((value, terms), result), s)) in values
+            .iter_mut()
+            .zip(terms.chunks_mut(stride))
+            .zip(results)
+            .zip(solved.iter())
+            .enumerate()
+        {
             let written = Written {
                 gradients: s.gradients_written,
                 forces: s.forces_written,
@@ -316,6 +308,7 @@ where
         let mut next_values = std::mem::take(&mut self.next_values);
         let mut next_grads = std::mem::take(&mut self.next_grads);
         let mut results = std::mem::take(&mut self.results);
+        let mut solved = std::mem::take(&mut self.solved);
         self.forces_level = None;
         let started = std::time::Instant::now();
         let chunk = self.parallel_chunk(size);
@@ -331,9 +324,12 @@ where
             };
             let lanes = self.vertex_lanes();
             if lanes > 1 {
-                let solve_lanes = |(g, ((values, terms), results)): LaneSlot<'_, F::Point<f64>, M>| {
-                    let first = g * lanes;
-                    if !this.solve_lanes(w, &rows, first, values, terms, results) {
+                // Runs of whole groups: a vertex's group never depends on
+                // the partition (nor do its bits on its group).
+                let run_len = chunk.div_ceil(lanes) * lanes;
+                let solve_run = |(r, (((values, terms), results), solved)): RunSlot<'_, F::Point<f64>, M>| {
+                    let first = r * run_len;
+                    if !this.solve_run(w, &rows, first, lanes, values, terms, results, solved) {
                         for (l, ((value, terms), result)) in values
                             .iter_mut()
                             .zip(terms.chunks_mut(stride))
@@ -346,19 +342,20 @@ where
                 };
                 if parallel {
                     next_values
-                        .par_chunks_mut(lanes)
-                        .zip(next_grads.par_chunks_mut(stride * lanes))
-                        .zip(results.par_chunks_mut(lanes))
-                        .with_min_len(chunk.div_ceil(lanes))
+                        .par_chunks_mut(run_len)
+                        .zip(next_grads.par_chunks_mut(stride * run_len))
+                        .zip(results.par_chunks_mut(run_len))
+                        .zip(solved.par_chunks_mut(run_len))
                         .enumerate()
-                        .for_each(solve_lanes);
+                        .for_each(solve_run);
                 } else {
                     next_values
-                        .chunks_mut(lanes)
-                        .zip(next_grads.chunks_mut(stride * lanes))
-                        .zip(results.chunks_mut(lanes))
+                        .chunks_mut(run_len)
+                        .zip(next_grads.chunks_mut(stride * run_len))
+                        .zip(results.chunks_mut(run_len))
+                        .zip(solved.chunks_mut(run_len))
                         .enumerate()
-                        .for_each(solve_lanes);
+                        .for_each(solve_run);
                 }
             } else if parallel {
                 next_values
@@ -398,6 +395,7 @@ where
             self.next_values = next_values;
             self.next_grads = next_grads;
             self.results = results;
+            self.solved = solved;
             return Err(Error::VertexSolveFailure {
                 vertex: format!("vertex {i} of level {w}"),
                 residual: o.relative_residual,
@@ -424,6 +422,7 @@ where
         self.next_values = next_values;
         self.next_grads = next_grads;
         self.results = results;
+        self.solved = solved;
         self.forces_level = Some(w);
         self.level += 1;
         Ok(report)

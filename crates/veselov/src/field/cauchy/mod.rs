@@ -24,7 +24,8 @@
 //! fixed order. The vertices of one level are solved in parallel (rayon, in
 //! chunks sized from the previous level's cost per vertex), in fixed groups
 //! of consecutive vertices where the model solves several at once
-//! ([`DiscreteLagrangian::vertex_lanes`]), and every vertex's arithmetic is
+//! ([`DiscreteLagrangian::vertex_lanes`], in runs handed to
+//! [`DiscreteLagrangian::solve_vertex_run`]), and every vertex's arithmetic is
 //! independent of the partition and of the grouping, so results are
 //! bit-identical for every thread count. Storage is allocated once: 2n + 1
 //! levels of values, n + 1 levels of cell gradients and n levels of kept
@@ -39,7 +40,7 @@ use std::sync::Arc;
 
 use nalgebra::SVector;
 
-use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES};
+use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex};
 use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell};
 use super::fibre::Fibre;
 use super::legendre::VertexOutcome;
@@ -51,6 +52,7 @@ mod build;
 mod checkpoint;
 mod level;
 mod momentum;
+mod run;
 mod terms;
 pub use momentum::STRADDLING_BLOCK;
 
@@ -109,6 +111,9 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     next_values: Vec<F::Point<f64>>,
     next_grads: Vec<SVector<f64, M>>,
     results: Vec<VertexResult<M>>,
+    /// The model's results of a level solved in runs
+    /// ([`DiscreteLagrangian::solve_vertex_run`]), one per vertex.
+    solved: Vec<SolvedVertex<F::Point<f64>>>,
     /// The level whose vertex forces `results` hold (the last level solved
     /// in full), if any.
     forces_level: Option<i64>,
@@ -385,13 +390,8 @@ where
         y: &mut [F::Point<f64>],
     ) -> TopCell {
         let n = self.torus.dimension();
-        let i = base.index;
         let y = &mut y[..=n];
-        let up = &self.up[(i * self.perms.len() + sigma) * (n + 1)..][..=n];
-        y[0] = self.values[rows.values[0] + i];
-        for l in 1..=n {
-            y[l] = self.values[rows.values[l] + up[l] as usize];
-        }
+        self.star_values_at(rows, base.index, sigma, y);
         if let Some(z) = top {
             y[n] = z;
         }
@@ -399,6 +399,24 @@ where
             index: 0,
             shape: sigma,
             origin: base.origin,
+        }
+    }
+}
+
+impl<F, L, const M: usize> CauchyMarcher<F, L, M>
+where
+    F: Fibre<M>,
+{
+    /// The values of the cell (v, σ) based at v = (w, i) at its positions
+    /// 0 … n into `y[..=n]` (the last one level w + n's), `rows` the
+    /// [`level_rows`](Self::level_rows) of level w.
+    #[inline(always)]
+    fn star_values_at(&self, rows: &LevelRows, i: usize, sigma: usize, y: &mut [F::Point<f64>]) {
+        let n = self.torus.dimension();
+        let up = &self.up[(i * self.perms.len() + sigma) * (n + 1)..][..=n];
+        y[0] = self.values[rows.values[0] + i];
+        for l in 1..=n {
+            y[l] = self.values[rows.values[l] + up[l] as usize];
         }
     }
 }

@@ -158,32 +158,32 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     }
 
     /// The number of vertex equations of one Cauchy level a model solves
-    /// together ([`solve_last_vertices`](Self::solve_last_vertices)): 1
+    /// together ([`solve_vertex_run`](Self::solve_vertex_run)): 1
     /// (default) for one at a time.
     fn vertex_lanes(&self) -> usize {
         1
     }
 
-    /// A model's own solve of the vertex equations of several vertices of
-    /// one level at once, `lanes.len()` ≤ [`vertex_lanes`](Self::vertex_lanes)
-    /// of them: lane l is the equation of
-    /// [`solve_last_vertex`](Self::solve_last_vertex) with the star
-    /// `star(l, σ, out)`, the momentum `lanes[l]` and its cells' gradients
-    /// written to `gradients[l·stride..]`, its result to `solved[l]`. Every
-    /// lane must get the bits it would get alone, whatever the other lanes
-    /// (the marcher's results must not depend on how a level is split).
-    /// Returns `false` (default) to have the vertices solved one at a time.
-    fn solve_last_vertices<S>(
+    /// A model's own solve of a run of consecutive vertices of one Cauchy
+    /// level ([`VertexRun`]), in groups of at most
+    /// [`VertexRun::lanes`] vertices solved together: vertex k is the
+    /// equation of [`solve_last_vertex`](Self::solve_last_vertex) with the
+    /// star `run.star_values(k, σ, ·)`, the momentum `run.lane(k)` and its
+    /// cells' gradients written to `gradients[k·stride..]`, its result to
+    /// `solved[k]`. Every vertex must get the bits it would get alone,
+    /// whatever the others (the marcher's results must not depend on how a
+    /// level is split into runs and groups). Returns `false` (default),
+    /// having solved nothing, to have the vertices solved one at a time.
+    fn solve_vertex_run<R>(
         &self,
-        _star: &S,
-        _lanes: &[VertexLane<F::Point<f64>, M>],
+        _run: &R,
         _options: &CauchyOptions,
         _gradients: &mut [SVector<f64, M>],
         _stride: usize,
         _solved: &mut [SolvedVertex<F::Point<f64>>],
     ) -> bool
     where
-        S: Fn(usize, usize, &mut [F::Point<f64>]) -> Option<TopCell>,
+        R: VertexRun<F::Point<f64>, M>,
     {
         false
     }
@@ -217,7 +217,39 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     }
 }
 
-/// One vertex equation of [`DiscreteLagrangian::solve_last_vertices`]:
+/// Consecutive vertices of one Cauchy level handed to a model's
+/// [`DiscreteLagrangian::solve_vertex_run`], vertex k = 0 … `len() − 1`
+/// of the run. Every cell of every vertex of a run is in the action (a
+/// march confined to a window, or with prescribed values, solves its
+/// vertices one at a time).
+pub trait VertexRun<P, const M: usize> {
+    /// The number of vertices of the run.
+    fn len(&self) -> usize;
+
+    /// Whether the run has no vertex.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The most vertices the model may solve together (≥ 1).
+    fn lanes(&self) -> usize;
+
+    /// The lattice dimension n (a cell has n + 1 vertices, a star n! cells).
+    fn dimension(&self) -> usize;
+
+    /// The values of the cell σ based at vertex k at its positions
+    /// 0 … n into `out[..=n]`, the last (the unknown y_{Δv}) a placeholder.
+    fn star_values(&self, k: usize, sigma: usize, out: &mut [P]);
+
+    /// The cell σ based at vertex k (its shape and its origin in the
+    /// lattice, for a density that depends on position).
+    fn star_cell(&self, k: usize, sigma: usize) -> TopCell;
+
+    /// Vertex k's momentum μ_v, the size of its terms and y_{v−Δ}.
+    fn lane(&self, k: usize) -> VertexLane<P, M>;
+}
+
+/// One vertex equation of [`DiscreteLagrangian::solve_vertex_run`]:
 /// its momentum μ_v, the size of μ_v's terms and the value one flow step
 /// back, y_{v−Δ}.
 #[derive(Clone, Copy, Debug)]

@@ -6,13 +6,13 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::error::CellError;
-use super::metric_star::{LaneOutput, METRIC_LANES};
+use super::metric_star::METRIC_LANES;
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
 use super::smooth::{SmoothDensity, energy_momentum_density};
 use super::suitability::CellCheck;
 use crate::ad::Scalar;
-use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexLane, VertexStar};
+use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexRun, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::Euclidean;
 use crate::field::legendre::CauchyOptions;
@@ -291,54 +291,21 @@ where
         }
     }
 
-    /// The metric stars of several vertices at once (their cells'
-    /// potentials differentiated in one batch per Newton round, their sums
-    /// side by side), each with the bits of its own solve: for a density
-    /// with a diagonal jet metric, the stars of up to four vertices
-    /// (`METRIC_LANES`) by `solve_metric_stars`; `solve_star` solves a
-    /// single vertex of such a density through this method. `false` (one
-    /// vertex at a time) without the chain rule or a diagonal jet metric,
-    /// for N > 4 or more lanes.
-    fn solve_last_vertices<S>(
+    /// A run of a level's vertices by the metric solve, four at a time
+    /// (`solve_metric_run`): for a density with a diagonal jet metric, with
+    /// the chain rule; `false` (one vertex at a time) otherwise.
+    fn solve_vertex_run<R>(
         &self,
-        star: &S,
-        lanes: &[VertexLane<SVector<f64, M>, M>],
+        run: &R,
         options: &CauchyOptions,
         gradients: &mut [SVector<f64, M>],
         stride: usize,
         solved: &mut [SolvedVertex<SVector<f64, M>>],
     ) -> bool
     where
-        S: Fn(usize, usize, &mut [SVector<f64, M>]) -> Option<TopCell>,
+        R: VertexRun<SVector<f64, M>, M>,
     {
-        if !self.chain_rule {
-            return false;
-        }
-        let Some(eta) = self.density.diagonal_jet_metric() else {
-            return false;
-        };
-        let per_vertex = factorial(N) * (N + 1);
-        if lanes.len() > METRIC_LANES
-            || solved.len() < lanes.len()
-            || stride < per_vertex
-            || gradients.len() < stride * lanes.len()
-        {
-            return false;
-        }
-        let out = LaneOutput {
-            gradients,
-            stride,
-            solved,
-        };
-        // N is a constant of the monomorphised rule: only its own arm (the
-        // star size C = N!) is compiled in.
-        match N {
-            1 => self.metric_lanes_of::<M, 1, S>(&eta, star, lanes, options, out),
-            2 => self.metric_lanes_of::<M, 2, S>(&eta, star, lanes, options, out),
-            3 => self.metric_lanes_of::<M, 6, S>(&eta, star, lanes, options, out),
-            4 => self.metric_lanes_of::<M, 24, S>(&eta, star, lanes, options, out),
-            _ => false,
-        }
+        self.chain_rule && self.solve_metric_run(run, options, gradients, stride, solved)
     }
 }
 

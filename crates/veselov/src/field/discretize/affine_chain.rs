@@ -44,7 +44,7 @@ use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, invert_nodes};
 use super::smooth::SmoothDensity;
 use crate::ad::Scalar;
-use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexLane, VertexStar};
+use crate::field::cell::{MAX_CELL_VERTICES, SolvedVertex, VertexLane, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::{CauchyOptions, solve_legendre};
@@ -601,7 +601,7 @@ where
             let stride = gradients.len();
             let star = |_: usize, sigma: usize, out: &mut [SVector<f64, M>]| star(sigma, out);
             return self
-                .solve_last_vertices(&star, &lanes, options, gradients, stride, &mut solved)
+                .solve_metric_lanes(&star, &lanes, options, gradients, stride, &mut solved)
                 .then_some(solved[0]);
         }
         let mut frames: [Option<PartialFrame<M, N>>; MAX_STAR] = [None; MAX_STAR];

@@ -259,8 +259,11 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
 }
 
 /// ∇V (and ∇²V) at every active cell of the lanes, by cell then lane, and
-/// the points they are taken at.
-struct Potentials<const M: usize, const N: usize, const C: usize> {
+/// the points they are taken at: the scratch of
+/// [`MidpointRule::solve_metric_stars`], reused from one group of stars to
+/// the next (every entry a group reads is written for it first, but the
+/// centres of a shape's weights, which stay zero).
+pub(super) struct Potentials<const M: usize, const N: usize, const C: usize> {
     gradient: [[SVector<f64, M>; METRIC_LANES]; C],
     hessian: [[SMatrix<f64, M, M>; METRIC_LANES]; C],
     centres: [[SVector<f64, N>; METRIC_LANES]; C],
@@ -269,12 +272,26 @@ struct Potentials<const M: usize, const N: usize, const C: usize> {
     packed_hessian: [[SMatrix<f64, M, M>; METRIC_LANES]; C],
 }
 
+impl<const M: usize, const N: usize, const C: usize> Potentials<M, N, C> {
+    /// All zero.
+    pub(super) fn new() -> Self {
+        Self {
+            gradient: [[SVector::zeros(); METRIC_LANES]; C],
+            hessian: [[SMatrix::zeros(); METRIC_LANES]; C],
+            centres: [[SVector::zeros(); METRIC_LANES]; C],
+            values: [[SVector::zeros(); METRIC_LANES]; C],
+            packed_gradient: [[SVector::zeros(); METRIC_LANES]; C],
+            packed_hessian: [[SMatrix::zeros(); METRIC_LANES]; C],
+        }
+    }
+}
+
 impl<L, X, const N: usize> MidpointRule<L, X, N>
 where
     X: NodeMap<N>,
 {
     /// Whether the rule's
-    /// [`solve_last_vertices`](crate::field::cell::DiscreteLagrangian::solve_last_vertices)
+    /// [`solve_vertex_run`](crate::field::cell::DiscreteLagrangian::solve_vertex_run)
     /// solves several vertices at once.
     pub(super) fn has_metric_lanes<const M: usize>(&self) -> bool
     where
@@ -388,7 +405,7 @@ where
         frames.seal(count);
         if uniform {
             let geometry = StarGeometry::Shapes(&table);
-            self.solve_metric_stars(&frames, geometry, &stars[..count], options, out);
+            self.solve_metric_stars(&frames, geometry, &stars[..count], options, out, &mut Potentials::new());
             return true;
         }
         let mut geometry = [[blank; METRIC_LANES]; C];
@@ -402,7 +419,14 @@ where
                 }
             }
         }
-        self.solve_metric_stars(&frames, StarGeometry::Cells(&geometry), &stars[..count], options, out);
+        self.solve_metric_stars(
+            &frames,
+            StarGeometry::Cells(&geometry),
+            &stars[..count],
+            options,
+            out,
+            &mut Potentials::new(),
+        );
         true
     }
 
@@ -488,7 +512,7 @@ where
     /// at the base vertex and for absent cells). Each Newton round
     /// differentiates V at the cells of every lane still iterating in one
     /// batch; a lane's evaluations are the ones it would make alone, with
-    /// the same bits.
+    /// the same bits. `potentials` is scratch, whatever it holds.
     pub(super) fn solve_metric_stars<const M: usize, const C: usize>(
         &self,
         frames: &LaneFrames<M, N, C>,
@@ -496,6 +520,7 @@ where
         stars: &[MetricStar<M>],
         options: &CauchyOptions,
         out: LaneOutput<'_, M>,
+        potentials: &mut Potentials<M, N, C>,
     ) where
         L: SmoothDensity<Euclidean<M>, M, N>,
     {
@@ -509,14 +534,6 @@ where
         for (slot, star) in newton.iter_mut().zip(&stars[..lanes]) {
             *slot = Some(LegendreNewton::new(star.mu, star.mu_scale, star.start, *options, None));
         }
-        let mut potentials = Potentials {
-            gradient: [[SVector::zeros(); METRIC_LANES]; C],
-            hessian: [[SMatrix::zeros(); METRIC_LANES]; C],
-            centres: [[SVector::zeros(); METRIC_LANES]; C],
-            values: [[SVector::zeros(); METRIC_LANES]; C],
-            packed_gradient: [[SVector::zeros(); METRIC_LANES]; C],
-            packed_hessian: [[SMatrix::zeros(); METRIC_LANES]; C],
-        };
         // The point of each lane's last evaluation when it was a
         // residual-only one (∇V from a Jacobian evaluation's second-order
         // pass is not what the stored gradients use).
@@ -533,8 +550,8 @@ where
             if wanted.iter().all(Option::is_none) {
                 break;
             }
-            self.lane_potentials(frames, geometry, &z, &wanted, true, &mut potentials);
-            self.lane_potentials(frames, geometry, &z, &wanted, false, &mut potentials);
+            self.lane_potentials(frames, geometry, &z, &wanted, true, potentials);
+            self.lane_potentials(frames, geometry, &z, &wanted, false, potentials);
             let (leg, scale) = match geometry {
                 StarGeometry::Shapes(shapes) => frames.residuals(&z, &potentials.gradient, |c, _| &shapes[c]),
                 StarGeometry::Cells(cells) => frames.residuals(&z, &potentials.gradient, |c, l| &cells[c][l]),
@@ -571,7 +588,7 @@ where
                 again[l] = Some(false);
             }
         }
-        self.lane_potentials(frames, geometry, &z, &again, false, &mut potentials);
+        self.lane_potentials(frames, geometry, &z, &again, false, potentials);
         let written: [bool; METRIC_LANES] = std::array::from_fn(|l| l < lanes && solved[l].gradients_written);
         let out = LaneGradients { gradients, stride };
         match geometry {

@@ -69,6 +69,7 @@ pub mod affine_chain;
 pub mod cosserat;
 pub mod cosserat_step;
 pub mod error;
+mod metric_run;
 mod metric_star;
 pub mod nodes;
 pub mod rod_potential;
