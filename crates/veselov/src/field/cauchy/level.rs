@@ -190,7 +190,7 @@ where
     }
 
     /// The vertices of a level solved together: the model's
-    /// [`DiscreteLagrangian::vertex_lanes`] (at most [`MAX_VERTEX_LANES`]),
+    /// [`DiscreteLagrangian::vertex_lanes`] (at most [`MAX_VERTEX_LANES`](super::MAX_VERTEX_LANES)),
     /// 1 with a window or Dirichlet data (whose vertices differ from one
     /// another).
     fn vertex_lanes(&self) -> usize {

@@ -241,8 +241,9 @@ pub trait VertexRun<P, const M: usize> {
     /// 0 … n into `out[..=n]`, the last (the unknown y_{Δv}) a placeholder.
     fn star_values(&self, k: usize, sigma: usize, out: &mut [P]);
 
-    /// The cell σ based at vertex k (its shape and its origin in the
-    /// lattice, for a density that depends on position).
+    /// The cell σ based at vertex k: its origin in the lattice (for a
+    /// density that depends on position) and its shape, the same at every
+    /// vertex of the run (a run lies on a translation-invariant lattice).
     fn star_cell(&self, k: usize, sigma: usize) -> TopCell;
 
     /// Vertex k's momentum μ_v, the size of its terms and y_{v−Δ}.

@@ -6,9 +6,10 @@
 //!
 //! A run gathers each vertex's star straight from the level
 //! ([`VertexRun::star_values`]) and weighs every cell with its shape's
-//! weights, formed once per run (a translation-invariant lattice: the
-//! density does not depend on position and every shape has its cached
-//! geometry); the vertices are then solved four at a time by
+//! weights, formed once per run (a translation-invariant lattice, where a
+//! vertex's cell σ has the same shape at every vertex: the density does
+//! not depend on position and every shape has its cached geometry); the
+//! vertices are then solved four at a time by
 //! `solve_metric_stars`. The known sums of each cell are those of
 //! [`PartialFrame::sums`] and the first guess is the fibre's extrapolation,
 //! as for a single star, so every vertex gets the bits it gets alone.
@@ -133,6 +134,9 @@ where
         R: VertexRun<SVector<f64, M>, M>,
     {
         let width = N + 1;
+        if run.is_empty() {
+            return true;
+        }
         let lanes = run.lanes().clamp(1, METRIC_LANES);
         let blank = CellWeights::new(SMatrix::zeros(), 0.0, SVector::zeros(), eta);
         let mut table = [blank; C];
@@ -142,7 +146,7 @@ where
             if !uniform {
                 break;
             }
-            match self.shape_geometry(sigma) {
+            match self.shape_geometry(run.star_cell(0, sigma).shape) {
                 Some((inv, volume)) => {
                     *inverse = *inv;
                     *weights = CellWeights::new(*inv, *volume, SVector::zeros(), eta);
