@@ -87,9 +87,9 @@ pub trait ScalarPotential: Potential<1> {
 pub struct SineGordon;
 
 /// Points per group of [`SineGordon`]'s batched derivatives: the 24 star
-/// cells of four 2+1 vertices solved together in one group (a group of 8
-/// took 2.4 % more instructions per vertex update, one of 32 0.2 % more:
-/// its buffers' zeroing).
+/// cells of four 2+1 vertices (the metric solve's eight vertices take two
+/// groups; a group of 8 took 2.4 % more instructions per vertex update,
+/// one of 32 0.2 % more, one of 48 0.6 % more: its buffers' zeroing).
 const BATCH: usize = 24;
 
 impl Potential<1> for SineGordon {

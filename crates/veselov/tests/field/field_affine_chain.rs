@@ -566,8 +566,9 @@ fn vertices_solved_in_lanes_have_the_bits_of_one_at_a_time() {
     );
 }
 
-/// 25 levels of a 5 × 3 lattice (15 vertices a level: three groups of four
-/// and one of three) in lanes (the level in runs of whole groups,
+/// 25 levels of a 5 × 3 lattice (15 vertices a level: a group of eight and
+/// one of seven; with fewer lanes, groups of two, three and four) in lanes
+/// (the level in runs of whole groups,
 /// [`DiscreteLagrangian::solve_vertex_run`]) and one vertex at a time.
 fn lanes_match_one_at_a_time<L, const M: usize>(
     rule: MidpointRule<L, CfkNodes<3>, 3>,
@@ -603,8 +604,8 @@ fn lanes_match_one_at_a_time<L, const M: usize>(
             "lanes on {threads} threads differ from one at a time"
         );
     }
-    // Groups of two and three: every level's runs split otherwise.
-    for lanes in [2, 3] {
+    // Groups of two, three and four: every level's runs split otherwise.
+    for lanes in [2, 3, 4] {
         assert!(march(lanes, 1) == alone, "groups of {lanes} differ from one at a time");
     }
 }

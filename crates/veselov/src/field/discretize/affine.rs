@@ -281,7 +281,7 @@ where
             .then(|| self.solve_star(star, mu, mu_scale, previous, options, gradients))?
     }
 
-    /// 4 for a density with a diagonal jet metric (with the chain rule),
+    /// `METRIC_LANES` (8) for a density with a diagonal jet metric (with the chain rule),
     /// else 1.
     fn vertex_lanes(&self) -> usize {
         if self.chain_rule && self.has_metric_lanes::<M>() {
@@ -291,7 +291,7 @@ where
         }
     }
 
-    /// A run of a level's vertices by the metric solve, four at a time
+    /// A run of a level's vertices by the metric solve, eight at a time
     /// (`solve_metric_run`): for a density with a diagonal jet metric, with
     /// the chain rule; `false` (one vertex at a time) otherwise.
     fn solve_vertex_run<R>(

@@ -9,7 +9,7 @@
 //! weights, formed once per run (a translation-invariant lattice, where a
 //! vertex's cell σ has the same shape at every vertex: the density does
 //! not depend on position and every shape has its cached geometry); the
-//! vertices are then solved four at a time by
+//! vertices are then solved eight at a time by
 //! `solve_metric_stars`. The known sums of each cell are those of
 //! [`PartialFrame::sums`] and the first guess is the fibre's extrapolation,
 //! as for a single star, so every vertex gets the bits it gets alone.
