@@ -97,13 +97,14 @@ impl Potential<1> for SineGordon {
     fn potential<D: Scalar>(&self, y: &SVector<D, 1>) -> D {
         through_jet(self, y[0]).unwrap_or_else(|| y[0].cos())
     }
-    /// N′ and N″ from the batched jets ([`ScalarPotential::jets`]: one
-    /// [`sin_cos_batch`] over the points, the arguments reduced and the
-    /// polynomials evaluated in vector lanes). The bits are those of the
-    /// dual passes through `through_jet`:
+    /// N′ = −sin and N″ = −cos from one [`sin_cos_batch`] over the points
+    /// (the arguments reduced and the polynomials evaluated in vector
+    /// lanes; the bits of [`ScalarPotential::jets`], without its N). The
+    /// bits are those of the dual passes through `through_jet`:
     /// a first-order pass gives N′ itself; a second-order one, by the
     /// product rule of its `(½N″d + N′)d`, gives N′ + ½N″·0 and 2·(½N″).
-    /// Points are taken in groups of eight (the stack buffers of a group).
+    /// Points are taken in groups of `BATCH` (the stack buffers of a
+    /// group).
     ///
     /// [`sin_cos_batch`]: super::trig::sin_cos_batch
     fn batch_derivatives(
@@ -115,19 +116,16 @@ impl Potential<1> for SineGordon {
         if gradients.len() != y.len() || hessians.as_ref().is_some_and(|h| h.len() != y.len()) {
             return false;
         }
-        let (mut x, mut values, mut first, mut second) = ([0.0; BATCH], [0.0; BATCH], [0.0; BATCH], [0.0; BATCH]);
+        // sin and cos of the points straight from the batch: N′ = −sin,
+        // N″ = −cos, as `jets` gives them (N itself is not needed here).
+        let (mut x, mut sin, mut cos) = ([0.0; BATCH], [0.0; BATCH], [0.0; BATCH]);
         for (k, points) in y.chunks(BATCH).enumerate() {
             let (at, count) = (k * BATCH, points.len());
             for (xi, p) in x.iter_mut().zip(points) {
                 *xi = p[0];
             }
-            self.jets(
-                &x[..count],
-                &mut values[..count],
-                &mut first[..count],
-                &mut second[..count],
-            );
-            let jets = first.iter().zip(&second);
+            super::trig::sin_cos_batch(&x[..count], &mut sin[..count], &mut cos[..count]);
+            let jets = sin.iter().zip(&cos).map(|(s, c)| (-s, -c));
             let gradients = &mut gradients[at..at + count];
             match hessians.as_deref_mut() {
                 Some(h) => {
@@ -139,7 +137,7 @@ impl Potential<1> for SineGordon {
                 }
                 None => {
                     for (g, (d1, _)) in gradients.iter_mut().zip(jets) {
-                        g[0] = *d1;
+                        g[0] = d1;
                     }
                 }
             }
