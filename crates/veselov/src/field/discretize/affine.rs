@@ -6,7 +6,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::error::CellError;
-use super::metric_star::METRIC_LANES;
+use super::metric_star::{LaneOutput, METRIC_LANES};
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
 use super::smooth::{SmoothDensity, energy_momentum_density};
@@ -305,7 +305,12 @@ where
     where
         R: VertexRun<SVector<f64, M>, M>,
     {
-        self.chain_rule && self.solve_metric_run(run, options, gradients, stride, solved)
+        let out = LaneOutput {
+            gradients,
+            stride,
+            solved,
+        };
+        self.chain_rule && self.solve_metric_run(run, options, out)
     }
 }
 

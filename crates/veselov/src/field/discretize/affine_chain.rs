@@ -40,6 +40,7 @@ use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec, DualSVec64};
 
 use super::affine::MidpointRule;
+use super::metric_star::LaneOutput;
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, invert_nodes};
 use super::smooth::SmoothDensity;
@@ -598,10 +599,14 @@ where
                 gradients_written: false,
                 forces_written: false,
             }];
-            let stride = gradients.len();
+            let out = LaneOutput {
+                stride: gradients.len(),
+                gradients,
+                solved: &mut solved,
+            };
             let star = |_: usize, sigma: usize, out: &mut [SVector<f64, M>]| star(sigma, out);
             return self
-                .solve_metric_lanes(&star, &lanes, options, gradients, stride, &mut solved)
+                .solve_metric_lanes(&star, &lanes, options, out)
                 .then_some(solved[0]);
         }
         let mut frames: [Option<PartialFrame<M, N>>; MAX_STAR] = [None; MAX_STAR];

@@ -23,7 +23,7 @@ use super::metric_star::{
 };
 use super::nodes::{NodeMap, factorial};
 use super::smooth::SmoothDensity;
-use crate::field::cell::{SolvedVertex, VertexLane, VertexRun};
+use crate::field::cell::{VertexLane, VertexRun};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::CauchyOptions;
@@ -43,9 +43,7 @@ where
         star: &S,
         lanes: &[VertexLane<SVector<f64, M>, M>],
         options: &CauchyOptions,
-        gradients: &mut [SVector<f64, M>],
-        stride: usize,
-        solved: &mut [SolvedVertex<SVector<f64, M>>],
+        out: LaneOutput<'_, M>,
     ) -> bool
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
@@ -56,17 +54,12 @@ where
         };
         let per_vertex = factorial(N) * (N + 1);
         if lanes.len() > METRIC_LANES
-            || solved.len() < lanes.len()
-            || stride < per_vertex
-            || gradients.len() < stride * lanes.len()
+            || out.solved.len() < lanes.len()
+            || out.stride < per_vertex
+            || out.gradients.len() < out.stride * lanes.len()
         {
             return false;
         }
-        let out = LaneOutput {
-            gradients,
-            stride,
-            solved,
-        };
         // N is a constant of the monomorphised rule: only its own arm (the
         // star size C = N!) is compiled in.
         match N {
@@ -88,9 +81,7 @@ where
         &self,
         run: &R,
         options: &CauchyOptions,
-        gradients: &mut [SVector<f64, M>],
-        stride: usize,
-        solved: &mut [SolvedVertex<SVector<f64, M>>],
+        out: LaneOutput<'_, M>,
     ) -> bool
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
@@ -101,17 +92,17 @@ where
         };
         let per_vertex = factorial(N) * (N + 1);
         if run.dimension() != N
-            || solved.len() < run.len()
-            || stride < per_vertex
-            || gradients.len() < stride * run.len()
+            || out.solved.len() < run.len()
+            || out.stride < per_vertex
+            || out.gradients.len() < out.stride * run.len()
         {
             return false;
         }
         match N {
-            1 => self.metric_run_of::<M, 1, R>(&eta, run, options, gradients, stride, solved),
-            2 => self.metric_run_of::<M, 2, R>(&eta, run, options, gradients, stride, solved),
-            3 => self.metric_run_of::<M, 6, R>(&eta, run, options, gradients, stride, solved),
-            4 => self.metric_run_of::<M, 24, R>(&eta, run, options, gradients, stride, solved),
+            1 => self.metric_run_of::<M, 1, R>(&eta, run, options, out),
+            2 => self.metric_run_of::<M, 2, R>(&eta, run, options, out),
+            3 => self.metric_run_of::<M, 6, R>(&eta, run, options, out),
+            4 => self.metric_run_of::<M, 24, R>(&eta, run, options, out),
             _ => false,
         }
     }
@@ -125,15 +116,18 @@ where
         eta: &SVector<f64, N>,
         run: &R,
         options: &CauchyOptions,
-        gradients: &mut [SVector<f64, M>],
-        stride: usize,
-        solved: &mut [SolvedVertex<SVector<f64, M>>],
+        out: LaneOutput<'_, M>,
     ) -> bool
     where
         L: SmoothDensity<Euclidean<M>, M, N>,
         R: VertexRun<SVector<f64, M>, M>,
     {
         let width = N + 1;
+        let LaneOutput {
+            gradients,
+            stride,
+            solved,
+        } = out;
         if run.is_empty() {
             return true;
         }
@@ -155,13 +149,7 @@ where
             }
         }
         // The groups' scratch, filled anew for each group.
-        let mut frames = LaneFrames::<M, N, C> {
-            active: [[false; METRIC_LANES]; C],
-            full: false,
-            first: [SVector::zeros(); METRIC_LANES],
-            sum: [[SVector::zeros(); METRIC_LANES]; C],
-            jet: [[[SVector::zeros(); METRIC_LANES]; N]; C],
-        };
+        let mut frames = LaneFrames::<M, N, C>::new();
         let mut stars = [MetricStar {
             mu: SVector::zeros(),
             mu_scale: 0.0,

@@ -156,6 +156,17 @@ pub(super) struct LaneFrames<const M: usize, const N: usize, const C: usize> {
 }
 
 impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
+    /// No lane in the action, every sum zero.
+    pub(super) fn new() -> Self {
+        Self {
+            active: [[false; METRIC_LANES]; C],
+            full: false,
+            first: [SVector::zeros(); METRIC_LANES],
+            sum: [[SVector::zeros(); METRIC_LANES]; C],
+            jet: [[[SVector::zeros(); METRIC_LANES]; N]; C],
+        }
+    }
+
     /// Records whether all `lanes` lanes have all their cells in the action.
     pub(super) fn seal(&mut self, lanes: usize) {
         self.full = lanes == METRIC_LANES && self.active.iter().flatten().all(|&a| a);
@@ -342,13 +353,7 @@ where
                 *cell = star(l, c, &mut values[..width]);
             }
         }
-        let mut frames = LaneFrames::<M, N, C> {
-            active: [[false; METRIC_LANES]; C],
-            full: false,
-            first: [SVector::zeros(); METRIC_LANES],
-            sum: [[SVector::zeros(); METRIC_LANES]; C],
-            jet: [[[SVector::zeros(); METRIC_LANES]; N]; C],
-        };
+        let mut frames = LaneFrames::<M, N, C>::new();
         // Each position's shape and, once seen, its weights (`blank` for a
         // position no lane has a cell at).
         let blank = CellWeights::new(SMatrix::zeros(), 0.0, SVector::zeros(), eta);
