@@ -172,8 +172,9 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
     /// cells' gradients written to `gradients[k·stride..]`, its result to
     /// `solved[k]`. Every vertex must get the bits it would get alone,
     /// whatever the others (the marcher's results must not depend on how a
-    /// level is split into runs and groups). Returns `false` (default),
-    /// having solved nothing, to have the vertices solved one at a time.
+    /// level is split into runs and groups). Returns `false` (default) to
+    /// have every vertex of the run solved one at a time instead (whatever
+    /// the model wrote is then overwritten).
     fn solve_vertex_run<R>(
         &self,
         _run: &R,

@@ -73,10 +73,11 @@ where
 
     /// Solves every vertex of `run` by the metric solve, up to
     /// [`VertexRun::lanes`] (at most [`METRIC_LANES`]) at a time, vertex k's
-    /// cells' gradients into `gradients[k·stride..]` and its result into
-    /// `solved[k]`; `false` (to be solved one at a time) without a diagonal
-    /// jet metric, for N > 4, a run of another dimension, too small outputs
-    /// or a failed frame.
+    /// cells' gradients into `out.gradients[k·stride..]` and its result
+    /// into `out.solved[k]`; `false` (to be solved one at a time) without a
+    /// diagonal jet metric, for N > 4, a run of another dimension, too small
+    /// outputs, or a failed frame (a degenerate cell; the groups before it
+    /// may have been written).
     pub(super) fn solve_metric_run<const M: usize, R>(
         &self,
         run: &R,
