@@ -98,7 +98,7 @@ where
             }
         }
         let (mu, mu_scale) = self.momentum(rows, i);
-        let previous = self.value(w - n as i64, self.down(i, 0, n));
+        let previous = self.values[rows.previous + self.down(i, 0, n)];
         let star = |sigma: usize, out: &mut [F::Point<f64>]| {
             if sigma >= self.perms.len() || !self.cell_active_at(&base, sigma) {
                 return None;
@@ -243,7 +243,6 @@ where
         results: &mut [VertexResult<M>],
         solved: &mut [SolvedVertex<F::Point<f64>>],
     ) -> bool {
-        let n = self.torus.dimension();
         let stride = self.stride();
         let run = LevelRun {
             marcher: self,
@@ -252,7 +251,6 @@ where
             first,
             len: values.len(),
             lanes,
-            previous_row: self.value_slot(w - n as i64) * self.torus.level_size(),
         };
         if !self.lag.solve_vertex_run(&run, &self.options, terms, stride, solved) {
             return false;

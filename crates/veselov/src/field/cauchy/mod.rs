@@ -75,12 +75,14 @@ struct VertexResult<const M: usize> {
 }
 
 /// Where a level's vertices read ([`CauchyMarcher::level_rows`]): the
-/// values of the levels w … w + n, at `values[l]` in the value ring, and
-/// the stored terms of the cells based at the levels w − j (j = 1 … n),
-/// in the gradient slot `grads[j]`.
+/// values of the levels w … w + n, at `values[l]` in the value ring, those
+/// of level w − n (y_{v−Δ}) at `previous`, and the stored terms of the
+/// cells based at the levels w − j (j = 1 … n), in the gradient slot
+/// `grads[j]`.
 #[derive(Clone, Copy)]
 struct LevelRows {
     values: [usize; MAX_LATTICE_DIMENSION + 1],
+    previous: usize,
     grads: [usize; MAX_LATTICE_DIMENSION + 1],
 }
 
@@ -356,8 +358,9 @@ where
     }
 
     /// Where the values of the levels w … w + n start in the value ring
-    /// (slot(w + l)·(level size) at index l) and the gradient slots of the
-    /// levels w − j (at index j = 1 … n). The vertices of a level share
+    /// (slot(w + l)·(level size) at index l), where those of level w − n
+    /// start, and the gradient slots of the levels w − j (at index
+    /// j = 1 … n). The vertices of a level share
     /// them: computed once, not per vertex or cell.
     #[inline(always)]
     fn level_rows(&self, w: i64) -> LevelRows {
@@ -366,6 +369,7 @@ where
         let ring = 2 * n + 1;
         let mut rows = LevelRows {
             values: [0; MAX_LATTICE_DIMENSION + 1],
+            previous: self.value_slot(w - n as i64) * size,
             grads: [0; MAX_LATTICE_DIMENSION + 1],
         };
         for (l, row) in rows.values.iter_mut().enumerate().take(n + 1) {
@@ -375,6 +379,19 @@ where
             *grads = self.grad_slot(w - j as i64);
         }
         rows
+    }
+
+    /// The values of the cell (v, σ) based at v = (w, i) at its positions
+    /// 0 … n into `y[..=n]` (the last one level w + n's), `rows` the
+    /// [`level_rows`](Self::level_rows) of level w.
+    #[inline(always)]
+    fn star_values_at(&self, rows: &LevelRows, i: usize, sigma: usize, y: &mut [F::Point<f64>]) {
+        let n = self.torus.dimension();
+        let up = &self.up[(i * self.perms.len() + sigma) * (n + 1)..][..=n];
+        y[0] = self.values[rows.values[0] + i];
+        for l in 1..=n {
+            y[l] = self.values[rows.values[l] + up[l] as usize];
+        }
     }
 
     /// The cell (v, σ) based at v ([`base`](Self::base)) and its vertex values
@@ -399,24 +416,6 @@ where
             index: 0,
             shape: sigma,
             origin: base.origin,
-        }
-    }
-}
-
-impl<F, L, const M: usize> CauchyMarcher<F, L, M>
-where
-    F: Fibre<M>,
-{
-    /// The values of the cell (v, σ) based at v = (w, i) at its positions
-    /// 0 … n into `y[..=n]` (the last one level w + n's), `rows` the
-    /// [`level_rows`](Self::level_rows) of level w.
-    #[inline(always)]
-    fn star_values_at(&self, rows: &LevelRows, i: usize, sigma: usize, y: &mut [F::Point<f64>]) {
-        let n = self.torus.dimension();
-        let up = &self.up[(i * self.perms.len() + sigma) * (n + 1)..][..=n];
-        y[0] = self.values[rows.values[0] + i];
-        for l in 1..=n {
-            y[l] = self.values[rows.values[l] + up[l] as usize];
         }
     }
 }

@@ -17,8 +17,6 @@ pub(super) struct LevelRun<'a, F: Fibre<M>, L, const M: usize> {
     pub(super) first: usize,
     pub(super) len: usize,
     pub(super) lanes: usize,
-    /// Where level w − n starts in the value ring (y_{v−Δ}).
-    pub(super) previous_row: usize,
 }
 
 impl<F, L, const M: usize> VertexRun<F::Point<f64>, M> for LevelRun<'_, F, L, M>
@@ -60,7 +58,7 @@ where
         VertexLane {
             mu,
             mu_scale,
-            previous: m.values[self.previous_row + m.down(i, 0, n)],
+            previous: m.values[self.rows.previous + m.down(i, 0, n)],
         }
     }
 }
