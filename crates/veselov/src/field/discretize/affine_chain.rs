@@ -30,11 +30,16 @@
 //! with V(x, y) = 𝓛(x, y, 0), as the nonlinear waves of seed 002 (4.32)) needs
 //! no dual directions for the jet at all:
 //!
-//! ∂L_β/∂(y_l)_k = vol_β·(Σ_a η_a φ_{ka} c_{la} + ∂_kV(x̄, ȳ)/(N + 1)),
+//! ∂L_β/∂(y_l)_k = vol_β·(Σ_a η_a φ_{ka} c_{la} + ∂_kV(x̄, ȳ)/(N + 1))
+//!              = Σ_{j=1…N} K_{lj} (y_j − y₀)_k + (vol_β/(N + 1)) ∂_kV(x̄, ȳ),
 //! ∂²L_β/∂(y_a)_i∂(y_b)_j = vol_β·(δ_{ij} Σ_c η_c c_{ac} c_{bc} + ∂_i∂_jV(x̄, ȳ)/(N + 1)²),
 //!
-//! and only V is evaluated over dual numbers (M directions, or second order
-//! for the block): one evaluation of the potential per cell and evaluation.
+//! with the cell's table K_{lj} = vol_β Σ_a η_a c_{la} c_{ja} (φ_{ka} =
+//! Σ_j (y_j − y₀)_k c_{ja}, as Σ_l c_{la} = 0), formed once per cell
+//! geometry (`metric_table_row`): the gradient at a vertex is then N
+//! products with the rises y_j − y₀, not the jet and its contraction. Only V
+//! is evaluated over dual numbers (M directions, or second order for the
+//! block): one evaluation of the potential per cell and evaluation.
 
 use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec, DualSVec64};
@@ -58,6 +63,8 @@ pub(super) struct AffineFrame<const M: usize, const N: usize> {
     pub(super) centre: SVector<f64, N>,
     pub(super) value: SVector<f64, M>,
     pub(super) jet: SMatrix<f64, M, N>,
+    /// The rises y_{c+1} − y₀ (column c).
+    pub(super) rises: SMatrix<f64, M, N>,
 }
 
 impl<const M: usize, const N: usize> AffineFrame<M, N> {
@@ -98,6 +105,8 @@ pub(super) struct PartialFrame<const M: usize, const N: usize> {
     pub(super) sum: SVector<f64, M>,
     /// Σ_{c < N−1} (y_{c+1} − y₀)_k (T^X)⁻¹_{ca}.
     pub(super) jet: SMatrix<f64, M, N>,
+    /// The known rises y_{c+1} − y₀ (column c < N − 1; the last column 0).
+    pub(super) rises: SMatrix<f64, M, N>,
     /// y₀.
     pub(super) first: SVector<f64, M>,
 }
@@ -114,16 +123,29 @@ impl<const M: usize, const N: usize> PartialFrame<M, N> {
         (sum, jet)
     }
 
+    /// y₀ + … + y_{N−1} and the known rises y_{c+1} − y₀ (column c < N − 1,
+    /// the last column zero) of the values `y[..N]`: all a diagonal jet
+    /// metric's equation needs ([`metric_gradient_from`]).
+    #[inline]
+    pub(super) fn sum_and_rises(y: &[SVector<f64, M>]) -> (SVector<f64, M>, SMatrix<f64, M, N>) {
+        let rises = SMatrix::<f64, M, N>::from_fn(|k, c| if c + 1 < N { y[c + 1][k] - y[0][k] } else { 0.0 });
+        let sum = y[..N].iter().fold(SVector::<f64, M>::zeros(), |acc, b| acc + b);
+        (sum, rises)
+    }
+
     /// The frame with the last vertex value `z`.
     #[inline]
     pub(super) fn complete(&self, z: &SVector<f64, M>) -> AffineFrame<M, N> {
         let jet = SMatrix::<f64, M, N>::from_fn(|k, a| self.jet_entry(z, k, a));
+        let mut rises = self.rises;
+        rises.set_column(N - 1, &(z - self.first));
         AffineFrame {
             inverse: self.inverse,
             volume: self.volume,
             centre: self.centre,
             value: self.value(z),
             jet,
+            rises,
         }
     }
 
@@ -182,22 +204,54 @@ pub(super) fn metric_product<const N: usize>(
     (0..N).fold(0.0, |acc, c| acc + weights_a[c] * vertex_coefficient(inverse, b, c))
 }
 
-/// ∂L_β/∂y_l = vol_β·(Σ_a η_a φ_{·a} c_{la} + ∇_yV/(N + 1)) for a density of
-/// diagonal jet metric η, from the jet's entries `jet(k, a)`, the weights
-/// η_a c_{la} ([`metric_coefficients`]) and ∇_yV at the frame: every
-/// vertex's gradient by the same operations, whichever pass asks for it.
+/// Row l of the cell's metric table: K_{lj} = vol_β Σ_a η_a c_{la} c_{ja}
+/// for j = 1 … N at index j − 1, the weights of the rises y_j − y₀ in
+/// ∂L_β/∂y_l ([`metric_gradient_from`]). K_{0N} is the jet term of
+/// ∂²L_β/∂y₀∂y_N, by the operations of its other uses ([`metric_product`]
+/// times vol_β).
+#[inline]
+pub(super) fn metric_table_row<const N: usize>(
+    inverse: &SMatrix<f64, N, N>,
+    eta: &SVector<f64, N>,
+    volume: f64,
+    l: usize,
+) -> SVector<f64, N> {
+    let weights = metric_coefficients(inverse, eta, l);
+    SVector::from_fn(|j, _| metric_product(inverse, &weights, j + 1) * volume)
+}
+
+/// vol_β/(N + 1): the weight of ∇_yV in every vertex's gradient.
+#[inline]
+pub(super) fn potential_weight<const N: usize>(volume: f64) -> f64 {
+    volume * AffineFrame::<1, N>::mean_weight()
+}
+
+/// ∂L_β/∂y_l = Σ_{j=1…N} K_{lj} (y_j − y₀) + (vol_β/(N + 1)) ∇_yV for a
+/// density of diagonal jet metric η, from row l of the cell's table
+/// ([`metric_table_row`]), the rises `rise(c, k)` = (y_{c+1} − y₀)_k, ∇_yV
+/// at the frame and the potential's weight ([`potential_weight`]): every
+/// vertex's gradient by the same operations, whichever pass asks for it (a
+/// sum over the first N − 1 rises, then the last rise's term, has its
+/// bits: [`metric_known_part`]).
 #[inline]
 pub(super) fn metric_gradient_from<const M: usize, const N: usize>(
-    jet: impl Fn(usize, usize) -> f64,
-    coefficients: &SVector<f64, N>,
+    row: &SVector<f64, N>,
+    rise: impl Fn(usize, usize) -> f64,
     dv: &SVector<f64, M>,
-    volume: f64,
+    potential: f64,
 ) -> SVector<f64, M> {
-    let w = AffineFrame::<M, N>::mean_weight();
     SVector::from_fn(|k, _| {
-        let kinetic = (0..N).fold(0.0, |acc, a| acc + jet(k, a) * coefficients[a]);
-        (kinetic + dv[k] * w) * volume
+        let kinetic = (0..N).fold(0.0, |acc, c| acc + row[c] * rise(c, k));
+        kinetic + dv[k] * potential
     })
+}
+
+/// The sum over the known rises (c < N − 1) of [`metric_gradient_from`]'s
+/// kinetic part, component k: completed by `+ row[N − 1]·(z − y₀)_k` it
+/// gives that fold's bits.
+#[inline]
+pub(super) fn metric_known_part<const N: usize>(row: &SVector<f64, N>, rise: impl Fn(usize) -> f64) -> f64 {
+    (0..N - 1).fold(0.0, |acc, c| acc + row[c] * rise(c))
 }
 
 /// [`metric_gradient_from`] at a formed frame.
@@ -208,8 +262,9 @@ pub(super) fn metric_gradient<const M: usize, const N: usize>(
     dv: &SVector<f64, M>,
     l: usize,
 ) -> SVector<f64, M> {
-    let coefficients = metric_coefficients(&frame.inverse, eta, l);
-    metric_gradient_from(|k, a| frame.jet[(k, a)], &coefficients, dv, frame.volume)
+    let row = metric_table_row(&frame.inverse, eta, frame.volume, l);
+    let potential = potential_weight::<N>(frame.volume);
+    metric_gradient_from::<M, N>(&row, |c, k| frame.rises[(k, c)], dv, potential)
 }
 
 /// Cells in the star of a vertex that [`MidpointRule`]'s own vertex solve
@@ -251,12 +306,14 @@ where
         }
         let (inverse, volume, centre) = self.cell_geometry(cell)?;
         let (sum, jet) = PartialFrame::<M, N>::sums(&inverse, y);
+        let (_, rises) = PartialFrame::<M, N>::sum_and_rises(y);
         Some(PartialFrame {
             inverse,
             volume,
             centre,
             sum,
             jet,
+            rises,
             first: y[0],
         })
     }

@@ -10,14 +10,13 @@
 //! vertex's cell σ has the same shape at every vertex: the density does
 //! not depend on position and every shape has its cached geometry); the
 //! vertices are then solved eight at a time by
-//! `solve_metric_stars`. The known sums of each cell are those of
-//! [`PartialFrame::sums`] and the first guess is the fibre's extrapolation,
+//! `solve_metric_stars`. The known sums and rises of each cell are those of
+//! [`PartialFrame::sum_and_rises`](super::affine_chain::PartialFrame::sum_and_rises) and the first guess is the fibre's extrapolation,
 //! as for a single star, so every vertex gets the bits it gets alone.
 
 use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
-use super::affine_chain::PartialFrame;
 use super::metric_star::{
     CellWeights, LaneFrames, LaneOutput, METRIC_CELL_VERTICES, METRIC_LANES, MetricStar, Potentials, StarGeometry,
 };
@@ -135,17 +134,13 @@ where
         let lanes = run.lanes().clamp(1, METRIC_LANES);
         let blank = CellWeights::new(SMatrix::zeros(), 0.0, SVector::zeros(), eta);
         let mut table = [blank; C];
-        let mut inverses = [SMatrix::<f64, N, N>::zeros(); C];
         let mut uniform = !self.density.depends_on_position();
-        for (sigma, (weights, inverse)) in table.iter_mut().zip(inverses.iter_mut()).enumerate() {
+        for (sigma, weights) in table.iter_mut().enumerate() {
             if !uniform {
                 break;
             }
             match self.shape_geometry(run.star_cell(0, sigma).shape) {
-                Some((inv, volume)) => {
-                    *inverse = *inv;
-                    *weights = CellWeights::new(*inv, *volume, SVector::zeros(), eta);
-                }
+                Some((inv, volume)) => *weights = CellWeights::new(*inv, *volume, SVector::zeros(), eta),
                 None => uniform = false,
             }
         }
@@ -166,7 +161,7 @@ where
                 solved: &mut solved[first..first + count],
             };
             if uniform {
-                Self::run_frames::<M, C, R>(run, first, count, &inverses, &mut frames, &mut stars);
+                Self::run_frames::<M, C, R>(run, first, count, &mut frames, &mut stars);
                 let geometry = StarGeometry::Shapes(&table);
                 self.solve_metric_stars(&frames, geometry, &stars[..count], options, out, &mut potentials);
             } else {
@@ -192,8 +187,8 @@ where
         true
     }
 
-    /// The known sums of the star cells of the `count` vertices `first …`
-    /// of `run` ([`PartialFrame::sums`] with the shapes' `inverses`) into
+    /// The known sums and rises of the star cells of the `count` vertices
+    /// `first …` of `run` ([`LaneFrames::set_cell`]) into
     /// lanes 0 … count − 1 of `frames` (the other lanes outside the action)
     /// and their equations into `stars` (μ_v, its size, the fibre's
     /// extrapolation from y_{v−Δ} through y_v as the first guess).
@@ -202,7 +197,6 @@ where
         run: &R,
         first: usize,
         count: usize,
-        inverses: &[SMatrix<f64, N, N>; C],
         frames: &mut LaneFrames<M, N, C>,
         stars: &mut [MetricStar<M>; METRIC_LANES],
     ) where
@@ -217,13 +211,9 @@ where
         }
         for (l, star) in stars.iter_mut().enumerate().take(count) {
             let k = first + l;
-            for (sigma, inverse) in inverses.iter().enumerate() {
+            for sigma in 0..C {
                 run.star_values(k, sigma, &mut y[..width]);
-                let (sum, jet) = PartialFrame::<M, N>::sums(inverse, &y[..width]);
-                frames.sum[sigma][l] = sum;
-                for a in 0..N {
-                    frames.jet[sigma][a][l] = jet.column(a).into_owned();
-                }
+                frames.set_cell(sigma, l, &y[..width]);
             }
             frames.first[l] = y[0];
             let lane = run.lane(k);
