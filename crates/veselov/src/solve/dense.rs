@@ -175,11 +175,12 @@ impl DenseLu {
     }
 }
 
-/// max |mᵢⱼ| passing over NaN entries, as nalgebra's `amax`: for the sizes
-/// of terms that scale a relative residual in the small solves' hot loops.
-/// The comparison `|x| > largest` (false for a NaN) keeps `f64::max`'s
-/// result and compiles to one `maxsd`, where `f64::max` takes four
-/// instructions (its NaN handling): 1.5 % of the rod's step.
+/// max |mᵢⱼ| passing over NaN entries, as nalgebra's `amax`, by a fold of
+/// `f64::max` without branches: for the sizes of terms that scale a
+/// relative residual in the small solves' hot loops. (A comparison
+/// `|x| > largest` instead compiles to branches the data mispredict: side
+/// by side with the build before both, the rod's step took 8 % more wall
+/// time with it and 7 % less without it, for the same instruction count.)
 #[inline]
 pub fn largest_abs<const R: usize, const C: usize>(m: &nalgebra::SMatrix<f64, R, C>) -> f64 {
     m.iter()
