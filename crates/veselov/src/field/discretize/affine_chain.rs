@@ -112,15 +112,23 @@ pub(super) struct PartialFrame<const M: usize, const N: usize> {
 }
 
 impl<const M: usize, const N: usize> PartialFrame<M, N> {
-    /// y₀ + … + y_{N−1} and Σ_{c < N−1} (y_{c+1} − y₀)_k (T^X)⁻¹_{ca} of
-    /// the values `y[..N]`.
+    /// The sums of the values `y[..N]` on a cell of geometry (`inverse`,
+    /// `volume`, `centre`): [`sum_and_rises`](Self::sum_and_rises) and the
+    /// known part Σ_{c < N−1} (y_{c+1} − y₀)_k (T^X)⁻¹_{ca} of φ.
     #[inline]
-    pub(super) fn sums(inverse: &SMatrix<f64, N, N>, y: &[SVector<f64, M>]) -> (SVector<f64, M>, SMatrix<f64, M, N>) {
-        let jet = SMatrix::<f64, M, N>::from_fn(|k, a| {
-            (0..N - 1).fold(0.0, |acc, c| acc + (y[c + 1][k] - y[0][k]) * inverse[(c, a)])
-        });
-        let sum = y[..N].iter().fold(SVector::<f64, M>::zeros(), |acc, b| acc + b);
-        (sum, jet)
+    fn new(inverse: SMatrix<f64, N, N>, volume: f64, centre: SVector<f64, N>, y: &[SVector<f64, M>]) -> Self {
+        let (sum, rises) = Self::sum_and_rises(y);
+        let jet =
+            SMatrix::<f64, M, N>::from_fn(|k, a| (0..N - 1).fold(0.0, |acc, c| acc + rises[(k, c)] * inverse[(c, a)]));
+        Self {
+            inverse,
+            volume,
+            centre,
+            sum,
+            jet,
+            rises,
+            first: y[0],
+        }
     }
 
     /// y₀ + … + y_{N−1} and the known rises y_{c+1} − y₀ (column c < N − 1,
@@ -164,8 +172,7 @@ impl<const M: usize, const N: usize> PartialFrame<M, N> {
 
 /// φ_{ka} of a frame completed by its last vertex value z: the known
 /// vertices' part φ̃_{ka} plus `rise` = (z − y₀)_k times c_{Na} =
-/// (T^X)⁻¹_{N−1,a}. The one formula of every path that completes a frame
-/// ([`PartialFrame`], the metric star's lanes), so that they share its bits.
+/// (T^X)⁻¹_{N−1,a}: how [`PartialFrame`] completes a frame.
 #[inline(always)]
 pub(super) fn completed_jet_entry(known: f64, rise: f64, last_row: f64) -> f64 {
     known + rise * last_row
@@ -173,7 +180,7 @@ pub(super) fn completed_jet_entry(known: f64, rise: f64, last_row: f64) -> f64 {
 
 /// ȳ of a frame completed by its last vertex value z: (y₀ + … + y_{N−1} + z)/(N + 1)
 /// from the known vertices' `sum`, the one formula of [`PartialFrame`] and
-/// the metric star's lanes (as [`completed_jet_entry`] for φ).
+/// the metric star's lanes.
 #[inline(always)]
 pub(super) fn completed_mean<const M: usize, const N: usize>(
     sum: &SVector<f64, M>,
@@ -305,17 +312,7 @@ where
             return None;
         }
         let (inverse, volume, centre) = self.cell_geometry(cell)?;
-        let (sum, jet) = PartialFrame::<M, N>::sums(&inverse, y);
-        let (_, rises) = PartialFrame::<M, N>::sum_and_rises(y);
-        Some(PartialFrame {
-            inverse,
-            volume,
-            centre,
-            sum,
-            jet,
-            rises,
-            first: y[0],
-        })
+        Some(PartialFrame::new(inverse, volume, centre, y))
     }
 
     /// (T^X)⁻¹, vol_β and x̄ of a cell: its shape's cached geometry (x̄ = 0,
