@@ -88,7 +88,7 @@ where
         let n = self.torus.dimension();
         // The base's canonical coordinates serve the window test and the star.
         let base = self.base(w, i);
-        if !self.window.as_ref().is_none_or(|m| m.contains(&base.origin)) {
+        if !self.base_active(&base) {
             return (self.value(w, i), VertexOutcome::default(), Written::default());
         }
         if let Some(data) = &self.dirichlet {

@@ -93,6 +93,9 @@ struct Base {
     index: usize,
     /// Canonical coordinates (the window's representative).
     origin: [i64; MAX_LATTICE_DIMENSION],
+    /// With a window, the material point of `origin` (v₀ − v₁ of the
+    /// window's representative, [`MaterialWindow::unwrap`]); 0 without.
+    material: i64,
 }
 
 /// The vertex-by-vertex Cauchy integrator on a periodic CFK lattice.
@@ -281,17 +284,30 @@ where
     fn cell_active_at(&self, base: &Base, sigma: usize) -> bool {
         self.window
             .as_ref()
-            .is_none_or(|m| m.contains_cell(&base.origin, &self.perms[sigma]))
+            .is_none_or(|m| m.contains_cell_at(base.material, &self.perms[sigma]))
     }
 
     /// The vertex (w, i) as the base of its cells: its index and
     /// canonical coordinates, computed once for all of them.
     #[inline]
     fn base(&self, w: i64, i: usize) -> Base {
+        let origin = self.origin(w, i);
         Base {
             index: i,
-            origin: self.origin(w, i),
+            origin,
+            material: if self.window.is_some() {
+                origin[0] - origin[1]
+            } else {
+                0
+            },
         }
+    }
+
+    /// Whether the vertex `base` takes part in the march (always, without
+    /// a window).
+    #[inline]
+    fn base_active(&self, base: &Base) -> bool {
+        self.window.as_ref().is_none_or(|m| m.contains_point(base.material))
     }
 
     /// The next level whose equations [`step`](Self::step) solves.

@@ -92,12 +92,20 @@ impl MaterialWindow {
 
     /// Whether vertex `v` belongs to the body.
     pub fn contains(&self, v: &[i64]) -> bool {
-        self.material_point(v) <= self.last
+        self.contains_point(self.material_point(v))
+    }
+
+    /// Whether the material point `p` (0 ≤ p < 2N, [`material_point`](Self::material_point))
+    /// belongs to the body.
+    #[inline]
+    pub fn contains_point(&self, p: i64) -> bool {
+        p <= self.last
     }
 
     /// The representative of `v` (modulo v ~ v + N(e₀ − e₁)) whose material
     /// point lies in 0 ≤ p < 2N: the coordinates a position-dependent
-    /// Lagrangian reads s from.
+    /// Lagrangian reads s from. Its material point is simply
+    /// v₀ − v₁ (no reduction left to do).
     pub fn unwrap(&self, v: &[i64; MAX_LATTICE_DIMENSION]) -> [i64; MAX_LATTICE_DIMENSION] {
         // p − k·wrap ∈ [0, 2N) for k = ⌊p/wrap⌋: one division.
         let k = -(v[0] - v[1]).div_euclid(self.wrap);
@@ -111,7 +119,14 @@ impl MaterialWindow {
     /// vertices are v, v + e_{σ(0)} and v + (1, 1), with material points
     /// p, p ± 1, p.
     pub fn contains_cell(&self, v: &[i64], perm: &[usize]) -> bool {
-        let p = self.material_point(v);
+        self.contains_cell_at(self.material_point(v), perm)
+    }
+
+    /// [`contains_cell`](Self::contains_cell) for the simplex based at the
+    /// material point `p` (0 ≤ p < 2N): without the reduction (an integer
+    /// division) where the caller has p at hand.
+    #[inline]
+    pub fn contains_cell_at(&self, p: i64, perm: &[usize]) -> bool {
         let q = if perm[0] == 0 { p + 1 } else { p - 1 };
         p <= self.last && (0..=self.last).contains(&q)
     }
@@ -137,5 +152,19 @@ mod tests {
         // Outside points, also across the wrap.
         assert!(!w.contains(&[0, 1]) && !w.contains(&[6, -5]) && w.contains(&[6, -4]));
         assert_eq!(w.unwrap(&[0, 2, 0, 0, 0, 0, 0, 0])[..2], [6, -4]);
+        // The representative's material point is v₀ − v₁, and the tests at
+        // a known point agree with those from coordinates.
+        for v0 in -30..30 {
+            for v1 in -30..30 {
+                let v = [v0, v1, 0, 0, 0, 0, 0, 0];
+                let u = w.unwrap(&v);
+                assert_eq!(u[0] - u[1], w.material_point(&v), "{v:?}");
+                let p = u[0] - u[1];
+                assert_eq!(w.contains_point(p), w.contains(&v));
+                for perm in [&plus, &minus] {
+                    assert_eq!(w.contains_cell_at(p, perm), w.contains_cell(&v, perm));
+                }
+            }
+        }
     }
 }
