@@ -217,9 +217,9 @@ impl<const N: usize> Series<N> {
 
 /// Σ_{k<n} c_k x^k by Horner's rule from c_{n−1}, for a finite x and
 /// 1 ≤ n ≤ 16 terms, unrolled for each count: the bits of the fold from 0
-/// in [`Series::eval`] (0·x + c_{n−1} = c_{n−1} exactly for finite x), about
-/// half its instructions (its loop over a count known only at run time was
-/// a third of the rod step's series work).
+/// in [`Series::eval`] (0·x + c_{n−1} = c_{n−1} exactly for finite x) in
+/// about half the instructions of that loop over a count known only at run
+/// time (4.2 % of a rod vertex solve).
 #[inline(always)]
 fn horner(c: &[f64], x: f64) -> f64 {
     #[inline(always)]

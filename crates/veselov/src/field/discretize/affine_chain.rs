@@ -213,9 +213,9 @@ pub(super) fn metric_product<const N: usize>(
 
 /// Row l of the cell's metric table: K_{lj} = vol_β Σ_a η_a c_{la} c_{ja}
 /// for j = 1 … N at index j − 1, the weights of the rises y_j − y₀ in
-/// ∂L_β/∂y_l ([`metric_gradient_from`]). K_{0N} is the jet term of
-/// ∂²L_β/∂y₀∂y_N, by the operations of its other uses ([`metric_product`]
-/// times vol_β).
+/// ∂L_β/∂y_l ([`metric_gradient_from`]). K_{0N} = vol_β Σ_a η_a c_{0a} c_{Na}
+/// is also the jet term of ∂²L_β/∂y₀∂y_N, as the metric solve's Jacobian
+/// takes it.
 #[inline]
 pub(super) fn metric_table_row<const N: usize>(
     inverse: &SMatrix<f64, N, N>,
