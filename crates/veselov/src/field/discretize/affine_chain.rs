@@ -236,10 +236,11 @@ pub(super) fn potential_weight<const N: usize>(volume: f64) -> f64 {
 /// ∂L_β/∂y_l = Σ_{j=1…N} K_{lj} (y_j − y₀) + (vol_β/(N + 1)) ∇_yV for a
 /// density of diagonal jet metric η, from row l of the cell's table
 /// ([`metric_table_row`]), the rises `rise(c, k)` = (y_{c+1} − y₀)_k, ∇_yV
-/// at the frame and the potential's weight ([`potential_weight`]): every
-/// vertex's gradient by the same operations, whichever pass asks for it (a
-/// sum over the first N − 1 rises, then the last rise's term, has its
-/// bits: [`metric_known_part`]).
+/// at the frame and the potential's weight ([`potential_weight`]): the
+/// known rises' part ([`metric_known_part`]) completed by the last rise
+/// ([`metric_completed`]), the operations the metric solve's residual
+/// performs with its known parts formed once, so every vertex's gradient
+/// has the same bits whichever pass asks for it.
 #[inline]
 pub(super) fn metric_gradient_from<const M: usize, const N: usize>(
     row: &SVector<f64, N>,
@@ -248,17 +249,25 @@ pub(super) fn metric_gradient_from<const M: usize, const N: usize>(
     potential: f64,
 ) -> SVector<f64, M> {
     SVector::from_fn(|k, _| {
-        let kinetic = (0..N).fold(0.0, |acc, c| acc + row[c] * rise(c, k));
-        kinetic + dv[k] * potential
+        let known = metric_known_part(row, |c| rise(c, k));
+        metric_completed(known, row[N - 1], rise(N - 1, k), dv[k] * potential)
     })
 }
 
-/// The sum over the known rises (c < N − 1) of [`metric_gradient_from`]'s
-/// kinetic part, component k: completed by `+ row[N − 1]·(z − y₀)_k` it
-/// gives that fold's bits.
+/// Σ_{c < N−1} row_c·rise(c): the known rises' part of one component of
+/// [`metric_gradient_from`].
 #[inline]
 pub(super) fn metric_known_part<const N: usize>(row: &SVector<f64, N>, rise: impl Fn(usize) -> f64) -> f64 {
     (0..N - 1).fold(0.0, |acc, c| acc + row[c] * rise(c))
+}
+
+/// A component of a cell's gradient from its known rises' part, the last
+/// rise (z − y₀)_k with its weight K_{l,N}, and the potential's term
+/// (vol_β/(N + 1))∂_kV: the one completion of [`metric_gradient_from`] and
+/// the metric solve's residual.
+#[inline(always)]
+pub(super) fn metric_completed(known: f64, last_weight: f64, last_rise: f64, potential_term: f64) -> f64 {
+    (known + last_weight * last_rise) + potential_term
 }
 
 /// [`metric_gradient_from`] at a formed frame.

@@ -40,8 +40,8 @@ use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
 use super::affine_chain::{
-    AffineFrame, PartialFrame, completed_mean, metric_gradient_from, metric_known_part, metric_table_row,
-    potential_weight,
+    AffineFrame, PartialFrame, completed_mean, metric_completed, metric_gradient_from, metric_known_part,
+    metric_table_row, potential_weight,
 };
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;
@@ -240,8 +240,8 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
 
     /// Σ_cells (Σ_j K_{0j}(y_j − y₀) + vol_β∇V/(N + 1)) of every lane and
     /// its size: the known rises' parts `known` ([`known_parts`](Self::known_parts))
-    /// completed by the last rise z − y₀ (the operations and bits of
-    /// `metric_gradient_from`), lanes side by side, with the cells'
+    /// completed by the last rise z − y₀ ([`metric_completed`], as
+    /// `metric_gradient_from` completes them), lanes side by side, with the cells'
     /// geometry `weights(c, l)`.
     #[inline(always)]
     fn residuals<'g>(
@@ -260,7 +260,9 @@ impl<const M: usize, const N: usize, const C: usize> LaneFrames<M, N, C> {
             let g: [SVector<f64, M>; METRIC_LANES] = std::array::from_fn(|l| {
                 let t = weights(c, l);
                 let last = t.table[0][N - 1];
-                SVector::<f64, M>::from_fn(|k, _| (known[c][l][k] + last * d[l][k]) + dv[c][l][k] * t.potential)
+                SVector::<f64, M>::from_fn(|k, _| {
+                    metric_completed(known[c][l][k], last, d[l][k], dv[c][l][k] * t.potential)
+                })
             });
             for l in 0..METRIC_LANES {
                 if self.full || self.active[c][l] {
