@@ -23,7 +23,7 @@ use veselov::lie::so3;
 
 const NODES: usize = 32;
 /// Nodes per axis of the frame-field run (its vertex solves are 6-D, with
-/// nested-dual SO(3) logarithms).
+/// SO(3) logarithms over dual numbers, hyper-dual in the Jacobian blocks).
 const FRAME_NODES: usize = 6;
 
 /// 𝓛 = ½φ_t² − ½|∇φ|² − (1 − cos φ), P1 on the simplices of the space–time

@@ -154,7 +154,7 @@ pub fn cell_gradient<L: CellLagrangian<DIM>, const DIM: usize>(
 }
 
 /// Gradient and Hessian blocks of a cell Lagrangian (the core's
-/// [`mixed_block`], one nested-dual pass per vertex pair `l ≤ m`).
+/// [`mixed_block`], one hyper-dual pass per vertex pair `l ≤ m`).
 pub fn cell_jet<L: CellLagrangian<DIM>, const DIM: usize>(lag: &L, y: &[SVector<f64, DIM>]) -> CellJet<DIM> {
     let core = CoreCell(lag);
     let n = y.len();

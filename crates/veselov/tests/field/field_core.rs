@@ -7,7 +7,7 @@
 use nalgebra::{DMatrix, Matrix3, SVector, Vector2, Vector3};
 use veselov::ad::Scalar;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
-use veselov::field::cell::DiscreteLagrangian;
+use veselov::field::cell::{DiscreteLagrangian, mixed_block_dual, vertex_gradient};
 use veselov::field::complex::{CfkSlab, CfkTorus, TopCell, TopCells, permutation};
 use veselov::field::fibre::{Euclidean, Fibre, Pose, PositionRotation, RigidMotions, Rotations};
 use veselov::field::flow::FlowMarcher;
@@ -171,6 +171,70 @@ fn slab(n: usize, period: usize, levels: usize) -> CfkSlab {
 
 fn random_rotation(rng: &mut Xorshift, scale: f64) -> SO3<f64> {
     so3::exp(&rng.vector::<3>(scale))
+}
+
+/// The Jacobian blocks of the vertex solves, ∂/∂ζ_j (∂L_β/∂y_a)_i at
+/// y_b·τ(ζ) (`mixed_block_dual`, hyper-dual numbers), against central
+/// differences of the exact vertex gradient with y_b moved to y_b·τ(±εe_j):
+/// for b = a the gradient at the moved point in its own chart. Every pair
+/// (a, b) of a 2+1 simplex; the gradient returned beside the block is the
+/// vertex gradient to round-off.
+fn check_blocks_against_fd<F: Fibre<M>, L: DiscreteLagrangian<F, M>, const M: usize>(
+    lag: &L,
+    cell: &TopCell,
+    y: &[F::Point<f64>],
+) {
+    let eps = 1e-5;
+    let mut worst: f64 = 0.0;
+    for a in 0..y.len() {
+        let gradient = vertex_gradient::<F, L, M>(lag, cell, y, a).1;
+        for b in 0..y.len() {
+            let (g, block) = mixed_block_dual::<F, L, M>(lag, cell, y, a, b);
+            assert!(
+                (g - gradient).amax() <= 1e-13 * (1.0 + gradient.amax()),
+                "{}: the block's gradient at ({a}, {b}) {g} against {gradient}",
+                F::NAME
+            );
+            for j in 0..M {
+                let e = SVector::<f64, M>::from_fn(|i, _| if i == j { eps } else { 0.0 });
+                let moved = |step: &SVector<f64, M>| {
+                    let mut z = y.to_vec();
+                    z[b] = F::retract(&y[b], step);
+                    vertex_gradient::<F, L, M>(lag, cell, &z, a).1
+                };
+                let fd = (moved(&e) - moved(&-e)) / (2.0 * eps);
+                let err = (fd - block.column(j)).amax() / (1.0 + block.amax());
+                worst = worst.max(err);
+                assert!(err <= 1e-7, "{}: block ({a}, {b}) column {j}: {err:.1e}", F::NAME);
+            }
+        }
+    }
+    println!("{}: mixed blocks against central differences {worst:.1e}", F::NAME);
+}
+
+#[test]
+fn mixed_blocks_are_the_derivatives_of_the_vertex_gradients_for_every_fibre() {
+    let mut rng = Xorshift(0x2545_f491_4f6c_dd1d);
+    let cell = TopCell {
+        index: 0,
+        shape: 3,
+        origin: [0; veselov::field::complex::MAX_LATTICE_DIMENSION],
+    };
+    let wave = AffineWave::<3, 2> {
+        dx: 0.3,
+        dt: 0.1,
+        mass2: 1.0,
+        quartic: 0.7,
+    };
+    let points: Vec<_> = (0..4).map(|_| rng.vector::<2>(1.0)).collect();
+    check_blocks_against_fd::<Euclidean<2>, _, 2>(&wave, &cell, &points);
+    let base = random_rotation(&mut rng, 1.0);
+    let rots: Vec<_> = (0..4).map(|_| base.compose(&random_rotation(&mut rng, 0.3))).collect();
+    check_blocks_against_fd::<Rotations, _, 3>(&RotorChain, &cell, &rots);
+    let motions: Vec<_> = rots.iter().map(|r| SE3::new(*r, rng.vector::<3>(1.0))).collect();
+    check_blocks_against_fd::<RigidMotions, _, 6>(&MotionChain, &cell, &motions);
+    let poses: Vec<_> = rots.iter().map(|r| Pose::new(rng.vector::<3>(1.0), *r)).collect();
+    check_blocks_against_fd::<PositionRotation, _, 6>(&FrameChain { stiff: 2.0 }, &cell, &poses);
 }
 
 #[test]

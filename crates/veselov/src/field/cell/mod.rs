@@ -5,7 +5,7 @@
 //! * [`vertex_gradient`]: ∂L_β/∂y_l, the covector d_{y_β}L_β ∘ i_{y_l} in the
 //!   chart y_l·τ(ξ) (one dual pass of M directions);
 //! * [`mixed_block`]: that gradient and its derivative with respect to the
-//!   value at another vertex, ∂²L_β/∂y_a∂y_b (nested duals), the Jacobian
+//!   value at another vertex, ∂²L_β/∂y_a∂y_b (hyper-duals), the Jacobian
 //!   block of a vertex solve (note 003 §2.4, Def. 4.9).
 
 use nalgebra::{Const, SMatrix, SVector, U1};
@@ -65,7 +65,7 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
 
     /// ∂L_β/∂y_a and its derivative with respect to y_b (the block of
     /// [`mixed_block`]) when the Lagrangian computes them itself; `None`
-    /// (default) for the nested-dual pass ([`mixed_block_dual`]), which stays
+    /// (default) for the hyper-dual pass ([`mixed_block_dual`]), which stays
     /// the reference. The vertex and level solvers use only the block: their
     /// residuals are [`exact_gradient`]'s, whatever the rounding of the
     /// gradient returned here.
@@ -321,7 +321,7 @@ where
 /// ([`mixed_block`], [`force_block`]); and their largest entries into
 /// `size`. The terms are always [`exact_gradient`]'s and [`vertex_force`]'s,
 /// the ones the momenta are made of, never the values a block evaluation
-/// returns beside its block: those are rounded otherwise (the nested-dual
+/// returns beside its block: those are rounded otherwise (the hyper-dual
 /// pass on a Lie group differs in the last bits), and Newton would zero a
 /// neighbouring equation (see [`crate::field::level_solve`]).
 pub(crate) fn add_vertex_terms<F, L, const M: usize>(

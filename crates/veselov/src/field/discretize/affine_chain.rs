@@ -42,7 +42,7 @@
 //! block): one evaluation of the potential per cell and evaluation.
 
 use nalgebra::{Const, SMatrix, SVector, U1};
-use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec, DualSVec64};
+use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec64, HyperDualSVec64};
 
 use super::affine::MidpointRule;
 use super::metric_star::LaneOutput;
@@ -551,8 +551,8 @@ where
     }
 
     /// ∂L_β/∂y_a and its derivative in y_b (the block of
-    /// [`mixed_block`](crate::field::cell::mixed_block)) by one nested pass:
-    /// inner directions D_{ai}, outer directions D_{bj}.
+    /// [`mixed_block`](crate::field::cell::mixed_block)) by one hyper-dual
+    /// pass: directions D_{ai} in ε₁, D_{bj} in ε₂, the block in ε₁ε₂.
     pub(super) fn chain_block<const M: usize>(
         &self,
         cell: &TopCell,
@@ -589,28 +589,25 @@ where
             });
             return (metric_gradient(frame, &eta, &dv, a), block);
         }
-        type Outer<const M: usize> = DualSVec<DualSVec64<M>, M>;
+        type Hyper<const M: usize> = HyperDualSVec64<M, M>;
+        // ε₁ carries the directions D_{ak}, ε₂ the directions D_{bk}.
         let seed = |k: usize, re: f64, inner: f64, outer: f64| {
             let inner_eps = SVector::<f64, M>::from_fn(|d, _| if d == k { inner } else { 0.0 });
-            let outer_eps =
-                SVector::<DualSVec64<M>, M>::from_fn(|d, _| DualSVec64::from_re(if d == k { outer } else { 0.0 }));
-            Outer::<M>::new(
-                DualSVec64::new(re, Derivative::some(inner_eps)),
+            let outer_eps = SMatrix::<f64, 1, M>::from_fn(|_, d| if d == k { outer } else { 0.0 });
+            Hyper::<M>::new(
+                re,
+                Derivative::some(inner_eps),
                 Derivative::some(outer_eps),
+                Derivative::none(),
             )
         };
-        let r = self.seeded::<Outer<M>, M>(
+        let r = self.seeded::<Hyper<M>, M>(
             frame,
             |k, re| seed(k, re, w, w),
             |k, c, re| seed(k, re, frame.coefficient(a, c), frame.coefficient(b, c)),
         );
-        let grad = r.re.eps.unwrap_generic(Const::<M>, U1);
-        let mut block = SMatrix::<f64, M, M>::zeros();
-        if let Derivative(Some(outer)) = r.eps {
-            for j in 0..M {
-                block.set_column(j, &outer[j].eps.unwrap_generic(Const::<M>, U1));
-            }
-        }
+        let grad = r.eps1.unwrap_generic(Const::<M>, U1);
+        let block = r.eps1eps2.unwrap_generic(Const::<M>, Const::<M>);
         (grad, block)
     }
 
