@@ -228,6 +228,14 @@ fn mixed_blocks_are_the_derivatives_of_the_vertex_gradients_for_every_fibre() {
     };
     let points: Vec<_> = (0..4).map(|_| rng.vector::<2>(1.0)).collect();
     check_blocks_against_fd::<Euclidean<2>, _, 2>(&wave, &cell, &points);
+    let scalar = AffineWave::<3, 1> {
+        dx: 0.3,
+        dt: 0.1,
+        mass2: 1.0,
+        quartic: 0.7,
+    };
+    let values: Vec<_> = (0..4).map(|_| rng.vector::<1>(1.0)).collect();
+    check_blocks_against_fd::<Euclidean<1>, _, 1>(&scalar, &cell, &values);
     let base = random_rotation(&mut rng, 1.0);
     let rots: Vec<_> = (0..4).map(|_| base.compose(&random_rotation(&mut rng, 0.3))).collect();
     check_blocks_against_fd::<Rotations, _, 3>(&RotorChain, &cell, &rots);
