@@ -4,7 +4,9 @@
 //! Lagrangian written by hand), the same field from the smooth density
 //! through the midpoint rule (the command line's path) with derivatives by
 //! the interpolant's chain rule and, side by side, by dual numbers over the
-//! whole cell, and for a frame field in ℝ³ × SO(3); with 1 and 2 threads.
+//! whole cell, and for a frame field in ℝ³ × SO(3) (also with a fresh
+//! Jacobian at every vertex: the hyper-dual blocks' hot path); with 1 and 2
+//! threads.
 //! Each level has `nodes²` vertices: divide the time per level by it. The
 //! levels run on a thread of the pool, as the command line runs them.
 
@@ -200,16 +202,24 @@ fn field_core(c: &mut Criterion) {
         });
     }
     let frames = CfkTorus::new(3, &[FRAME_NODES, FRAME_NODES]).expect("torus");
-    bench_marcher(c, "frame-field-2+1", FRAME_NODES, || {
-        CauchyMarcher::new(
-            FrameField,
-            frames.clone(),
-            0,
-            &frame_data(&frames),
-            CauchyOptions::default(),
-        )
-        .expect("marcher")
-    });
+    // With the Jacobian kept and Broyden's update (the default), and with a
+    // fresh Jacobian (hyper-dual blocks) at every vertex.
+    for (name, reuse) in [
+        ("frame-field-2+1", true),
+        ("frame-field-2+1-jacobian-every-vertex", false),
+    ] {
+        bench_marcher(c, name, FRAME_NODES, || {
+            CauchyMarcher::new(
+                FrameField,
+                frames.clone(),
+                0,
+                &frame_data(&frames),
+                CauchyOptions::default(),
+            )
+            .expect("marcher")
+            .with_jacobian_reuse(reuse)
+        });
+    }
 }
 
 criterion_group!(benches, field_core);
