@@ -42,7 +42,7 @@
 //! block): one evaluation of the potential per cell and evaluation.
 
 use nalgebra::{Const, SMatrix, SVector, U1};
-use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec64, HyperDualSVec64};
+use num_dual::{Derivative, Dual2_64, Dual2SVec64, Dual64, DualSVec64, HyperDual64, HyperDualSVec64};
 
 use super::affine::MidpointRule;
 use super::metric_star::LaneOutput;
@@ -552,7 +552,8 @@ where
 
     /// ∂L_β/∂y_a and its derivative in y_b (the block of
     /// [`mixed_block`](crate::field::cell::mixed_block)) by one hyper-dual
-    /// pass: directions D_{ai} in ε₁, D_{bj} in ε₂, the block in ε₁ε₂.
+    /// pass: directions D_{ai} in ε₁, D_{bj} in ε₂, the block in ε₁ε₂ (the
+    /// plain hyper-dual number for M = 1).
     pub(super) fn chain_block<const M: usize>(
         &self,
         cell: &TopCell,
@@ -588,6 +589,15 @@ where
                 (diagonal + hessian[(i, j)] * (w * w)) * frame.volume
             });
             return (metric_gradient(frame, &eta, &dv, a), block);
+        }
+        if M == 1 {
+            // One direction each: the plain hyper-dual number.
+            let r = self.seeded::<HyperDual64, M>(
+                frame,
+                |_, re| HyperDual64::new(re, w, w, 0.0),
+                |_, c, re| HyperDual64::new(re, frame.coefficient(a, c), frame.coefficient(b, c), 0.0),
+            );
+            return (SVector::from_element(r.eps1), SMatrix::from_element(r.eps1eps2));
         }
         type Hyper<const M: usize> = HyperDualSVec64<M, M>;
         // ε₁ carries the directions D_{ak}, ε₂ the directions D_{bk}.
