@@ -93,8 +93,8 @@ struct Base {
     index: usize,
     /// Canonical coordinates (the window's representative).
     origin: [i64; MAX_LATTICE_DIMENSION],
-    /// With a window, the material point of `origin` (v₀ − v₁ of the
-    /// window's representative, [`MaterialWindow::unwrap`]); 0 without.
+    /// With a window, the material point of `origin`, the window's
+    /// representative ([`MaterialWindow::unwrapped_point`]); 0 without.
     material: i64,
 }
 
@@ -295,11 +295,7 @@ where
         Base {
             index: i,
             origin,
-            material: if self.window.is_some() {
-                origin[0] - origin[1]
-            } else {
-                0
-            },
+            material: self.window.as_ref().map_or(0, |m| m.unwrapped_point(&origin)),
         }
     }
 

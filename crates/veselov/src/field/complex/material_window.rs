@@ -90,6 +90,14 @@ impl MaterialWindow {
         (v[0] - v[1]).rem_euclid(self.wrap)
     }
 
+    /// The material point of a representative `u` given by
+    /// [`unwrap`](Self::unwrap): v₀ − v₁, already in 0 ≤ p < 2N, so equal to
+    /// [`material_point`](Self::material_point) without its reduction.
+    #[inline]
+    pub fn unwrapped_point(&self, u: &[i64]) -> i64 {
+        u[0] - u[1]
+    }
+
     /// Whether vertex `v` belongs to the body.
     pub fn contains(&self, v: &[i64]) -> bool {
         self.contains_point(self.material_point(v))
@@ -104,8 +112,8 @@ impl MaterialWindow {
 
     /// The representative of `v` (modulo v ~ v + N(e₀ − e₁)) whose material
     /// point lies in 0 ≤ p < 2N: the coordinates a position-dependent
-    /// Lagrangian reads s from. Its material point is simply
-    /// v₀ − v₁ (no reduction left to do).
+    /// Lagrangian reads s from. Its material point is
+    /// [`unwrapped_point`](Self::unwrapped_point) (no reduction left to do).
     pub fn unwrap(&self, v: &[i64; MAX_LATTICE_DIMENSION]) -> [i64; MAX_LATTICE_DIMENSION] {
         // p − k·wrap ∈ [0, 2N) for k = ⌊p/wrap⌋: one division.
         let k = -(v[0] - v[1]).div_euclid(self.wrap);
@@ -158,8 +166,8 @@ mod tests {
             for v1 in -30..30 {
                 let v = [v0, v1, 0, 0, 0, 0, 0, 0];
                 let u = w.unwrap(&v);
-                assert_eq!(u[0] - u[1], w.material_point(&v), "{v:?}");
-                let p = u[0] - u[1];
+                let p = w.unwrapped_point(&u);
+                assert_eq!(p, w.material_point(&v), "{v:?}");
                 assert_eq!(w.contains_point(p), w.contains(&v));
                 for perm in [&plus, &minus] {
                     assert_eq!(w.contains_cell_at(p, perm), w.contains_cell(&v, perm));
