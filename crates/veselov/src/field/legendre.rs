@@ -127,9 +127,9 @@ pub fn solve_legendre<F: Fibre<M>, const M: usize>(
 /// (with Broyden's update where they converge slowly) until an iteration
 /// fails to reduce the residual fourfold, then refreshed; the factors in
 /// use at the end are left in `kept` for the next solve (and dropped on
-/// failure): after secant steps, those of the Jacobian Broyden's updates
-/// made (H⁻¹), so that the next solve starts from the corrections this one
-/// found. The root, its tolerance and the stall
+/// failure): after secant steps that met the tolerance, those of the
+/// Jacobian Broyden's updates made (H⁻¹), so that the next solve starts
+/// from the corrections this one found. The root, its tolerance and the stall
 /// tests are those of [`solve_legendre`]: only the number of exact Jacobians
 /// changes.
 pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
@@ -138,9 +138,39 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     z: F::Point<f64>,
     options: &CauchyOptions,
     kept: &mut Option<SmallLu<M>>,
-    mut legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
+    legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
+) -> (F::Point<f64>, VertexOutcome) {
+    let newton = LegendreNewton::<F, M>::new(*mu, mu_scale, z, *options, kept.take());
+    run_newton(newton, kept, legendre)
+}
+
+/// [`solve_legendre_from`] for a Jacobian in closed form, about as cheap as
+/// an evaluation of Leg: the factors left in `kept` are always those of an
+/// evaluated Jacobian, a solve's Broyden corrections stay with it. (Carried,
+/// they saved the seed-000 beams few iterations and cost some: 11 % more on
+/// `beam_cantilever_damped.toml`, and the free–free beam's momentum map
+/// drifted 2.5 times as far, 7.0e-13 against 2.8e-13; there a fresh
+/// Jacobian is the cheaper cure of a slow contraction.)
+pub(crate) fn solve_legendre_from_closed_form<F: Fibre<M>, const M: usize>(
+    mu: &SVector<f64, M>,
+    mu_scale: f64,
+    z: F::Point<f64>,
+    options: &CauchyOptions,
+    kept: &mut Option<SmallLu<M>>,
+    legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
     let mut newton = LegendreNewton::<F, M>::new(*mu, mu_scale, z, *options, kept.take());
+    newton.carry_secant = false;
+    run_newton(newton, kept, legendre)
+}
+
+/// Drives `newton` to its end with the evaluations of `legendre`, leaving
+/// its factors in `kept`.
+fn run_newton<F: Fibre<M>, const M: usize>(
+    mut newton: LegendreNewton<F, M>,
+    kept: &mut Option<SmallLu<M>>,
+    mut legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
+) -> (F::Point<f64>, VertexOutcome) {
     // Where an evaluation writes a fresh Jacobian (no copy moves it).
     let mut jacobian = SMatrix::<f64, M, M>::zeros();
     while let Some(with_jacobian) = newton.wants_jacobian() {
@@ -188,6 +218,9 @@ pub struct LegendreNewton<F: Fibre<M>, const M: usize> {
     /// slowly contracting step with an old Jacobian asks for them,
     /// [`SECANT_CONTRACTION`]).
     secant: Option<Secant<M>>,
+    /// Whether the factors left after secant steps are Broyden's (see
+    /// [`solve_legendre_from`]) rather than the evaluated Jacobian's.
+    carry_secant: bool,
 }
 
 /// Steps by an inverse Jacobian that Broyden's update corrects from each
@@ -264,6 +297,7 @@ impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
             refreshing: false,
             done: false,
             secant: None,
+            carry_secant: true,
         }
     }
 
@@ -347,11 +381,18 @@ impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
             self.outcome.relative_residual = r / (scale + self.point_scale).max(f64::MIN_POSITIVE);
         }
         if accepted {
-            // After secant steps the factors left for the next solve are
-            // those of the Jacobian Broyden's updates have made, closer to
-            // the Jacobian here than the old one they started from (which
-            // stays if H cannot be inverted).
-            if let Some(lu) = self.secant.as_ref().and_then(Secant::corrected_factors) {
+            // After secant steps to the tolerance, the factors left for the
+            // next solve are those of the Jacobian Broyden's updates have
+            // made, closer to the Jacobian here than the old one they
+            // started from (which stays if H cannot be inverted). Not after
+            // a solve accepted at round-off by the stall tests: its last
+            // slopes are rounding, and carried they cost the stiff beam of
+            // `beam_paper_space_well_posed.toml` its momentum map (drift
+            // 1.7e-12 against 2.4e-13).
+            if self.carry_secant
+                && r <= self.options.tolerance * scale
+                && let Some(lu) = self.secant.as_ref().and_then(Secant::corrected_factors)
+            {
                 self.factors = Some(lu);
             }
             self.z = F::renormalize(&self.z);
@@ -567,6 +608,57 @@ mod tests {
             from_carried < from_old,
             "{from_carried} iterations from the carried factors, {from_old} from the old"
         );
+    }
+
+    /// A solve accepted at round-off by the stall test leaves the factors
+    /// it started from, its last secant slopes being rounding; the same
+    /// solve to a tolerance it meets leaves Broyden's. Leg(z) =
+    /// (P + Jz) − P with P = J = 10⁸ takes values on a grid of 2⁻²⁵ near
+    /// the root 0.7, and μ lies half a step off it: no point comes nearer
+    /// than 2⁻²⁶ ≈ 1.5e-8, above the tolerance 10⁻¹⁶·|Jz| = 7e-9. The kept
+    /// factors are 10 % off J (a chord contraction of 0.09: secant steps,
+    /// no refresh).
+    #[test]
+    fn a_solve_accepted_at_round_off_keeps_the_factors_it_started_from() {
+        const P: f64 = 1e8;
+        const J: f64 = 1e8;
+        let old = SMatrix::<f64, 1, 1>::new(1.1 * J);
+        let mu = SVector::from([J * 0.7 + 2f64.powi(-26)]);
+        let evaluate = |z: &SVector<f64, 1>, jacobian: Option<&mut SMatrix<f64, 1, 1>>| {
+            assert!(jacobian.is_none(), "no Jacobian is asked for");
+            (SVector::from([(P + J * z[0]) - P]), (J * z[0]).abs())
+        };
+        let slope_left = |tolerance: f64| {
+            let options = CauchyOptions {
+                tolerance,
+                ..CauchyOptions::default()
+            };
+            let mut kept = SmallLu::factor(&old).0;
+            let (z, outcome) =
+                solve_legendre_from::<Euclidean<1>, 1>(&mu, 0.0, SVector::from([0.9]), &options, &mut kept, evaluate);
+            assert!(outcome.failure.is_none(), "{outcome:?}");
+            assert!((z[0] - 0.7).abs() < 1e-15, "root missed by {:e}", z[0] - 0.7);
+            let residual = (evaluate(&z, None).0 - mu).amax();
+            (residual, matrix_of_one(&kept.expect("factors left")))
+        };
+        let (residual, stalled) = slope_left(1e-16);
+        assert!(
+            residual > 1e-16 * J * 0.7,
+            "accepted by the stall test, not the tolerance: {residual:e}"
+        );
+        assert_eq!(stalled, old[(0, 0)], "the factors it started from");
+        let (_, converged) = slope_left(1e-14);
+        assert!(
+            (converged - J).abs() < 1e-3 * J,
+            "Broyden's slope {converged:e}, the Jacobian {J:e}"
+        );
+    }
+
+    /// The 1 × 1 matrix of LU factors.
+    fn matrix_of_one(lu: &SmallLu<1>) -> f64 {
+        let mut lu = *lu;
+        lu.keep_inverse();
+        1.0 / lu.inverse().expect("kept")[(0, 0)]
     }
 
     /// From kept factors 15 % off the Jacobian at the root (a chord

@@ -17,8 +17,8 @@
 //! before and evaluates a fresh one only when an iteration contracts less
 //! than fourfold; from a step that contracts less than 100-fold on, the
 //! inverse is corrected by Broyden's update at each step, and the
-//! corrected Jacobian is the one kept for the next solve
-//! ([`CauchyMarcher::with_jacobian_reuse`]).
+//! corrected Jacobian is the one kept for the next solve when the solve
+//! met the tolerance ([`CauchyMarcher::with_jacobian_reuse`]).
 //!
 //! Each cell's vertex gradients are computed once, when its last vertex is
 //! solved, and kept in a ring of n + 1 base levels; μ_v gathers them in a
@@ -129,8 +129,8 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     /// `kept[w mod n][i]`, and the solve at the same point n levels later,
     /// the vertex (w + n, up(i, 0, n)), starts from them
     /// ([`solve_legendre_from`](super::legendre::solve_legendre_from): refreshed when an iteration contracts less
-    /// than fourfold; after a solve's secant steps, the factors of the
-    /// Jacobian its Broyden updates made). Per vertex, so the
+    /// than fourfold; after a solve's secant steps to the tolerance, the
+    /// factors of the Jacobian its Broyden updates made). Per vertex, so the
     /// same bits on any thread count; saved in checkpoints, so a restored
     /// march continues bit for bit. A
     /// slot is empty while its level kept nothing (a model that solves its
@@ -248,7 +248,7 @@ where
     /// when an iteration contracts less than fourfold, and correcting their
     /// inverse by Broyden's update from each step once one contracts less
     /// than 100-fold, the corrected Jacobian then kept for the next solve
-    /// (`true`, the default: far fewer Jacobians for a little
+    /// when the solve met the tolerance (`true`, the default: far fewer Jacobians for a little
     /// more iterations), or evaluate a Jacobian at every vertex (`false`). The equations and the
     /// tolerance are the same either way; the bits are not. A solve that
     /// ends on an old Jacobian converges linearly, so its last iterate lies

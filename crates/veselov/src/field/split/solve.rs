@@ -12,9 +12,10 @@
 //! with c the terms of the other increment, of ∇Π(y₁) and (in space) of the
 //! force, fixed during the solve. Newton iterates on x ∈ ℝ^M — the same
 //! simplified Newton as every vertex solve
-//! ([`solve_legendre_from`],
+//! ([`solve_legendre_from_closed_form`],
 //! on the vector space of increments, from the node's Jacobian of the last
-//! level while it contracts), a fresh Jacobian one dual pass over this
+//! level while it contracts; the factors it keeps are always an evaluated
+//! Jacobian's), a fresh Jacobian one dual pass over this
 //! function alone — and the value is y₁·τ(x) at the end: no group product,
 //! inverse or τ⁻¹ inside the iteration. A last pass takes the residual at
 //! the increment read back from the stored value (where the terms cancel,
@@ -31,7 +32,7 @@ use num_dual::DualSVec64;
 use super::{Increment, SplitDensity, SplitLagrangian};
 use crate::ad::Scalar;
 use crate::field::fibre::{Euclidean, Fibre};
-use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome, solve_legendre_from};
+use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome, solve_legendre_from_closed_form};
 use crate::solve::SmallLu;
 
 impl<I, S> SplitLagrangian<I, S> {
@@ -232,7 +233,7 @@ impl<I, S> SplitLagrangian<I, S> {
         // rounding floor at which the solve stops, so it is solved through
         // the stored value alone, as the chart solve is.
         let (x, mut outcome) = if equation == 0 {
-            solve_legendre_from::<Euclidean<M>, M>(mu, mu_scale, start, options, kept, evaluate)
+            solve_legendre_from_closed_form::<Euclidean<M>, M>(mu, mu_scale, start, options, kept, evaluate)
         } else {
             (start, VertexOutcome::default())
         };
@@ -247,14 +248,15 @@ impl<I, S> SplitLagrangian<I, S> {
         // evaluation confirms it.
         // The last stored value evaluated: the one returned on success.
         let last = std::cell::Cell::new(None);
-        let (x, polish) = solve_legendre_from::<Euclidean<M>, M>(mu, mu_scale, x, options, kept, |x, jacobian| {
-            let (z, read) = stored(x);
-            last.set(Some((*x, z)));
-            match read {
-                Ok(read) => evaluate(&read, jacobian),
-                Err(_) => (SVector::from_element(f64::NAN), f64::NAN),
-            }
-        });
+        let (x, polish) =
+            solve_legendre_from_closed_form::<Euclidean<M>, M>(mu, mu_scale, x, options, kept, |x, jacobian| {
+                let (z, read) = stored(x);
+                last.set(Some((*x, z)));
+                match read {
+                    Ok(read) => evaluate(&read, jacobian),
+                    Err(_) => (SVector::from_element(f64::NAN), f64::NAN),
+                }
+            });
         outcome.iterations += polish.iterations;
         outcome.jacobians += polish.jacobians;
         outcome.relative_residual = polish.relative_residual;
