@@ -146,11 +146,13 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
 
 /// [`solve_legendre_from`] for a Jacobian in closed form, about as cheap as
 /// an evaluation of Leg: the factors left in `kept` are always those of an
-/// evaluated Jacobian, a solve's Broyden corrections stay with it. (Carried,
-/// they saved the seed-000 beams few iterations and cost some: 11 % more on
-/// `beam_cantilever_damped.toml`, and the free–free beam's momentum map
-/// drifted 2.5 times as far, 7.0e-13 against 2.8e-13; there a fresh
-/// Jacobian is the cheaper cure of a slow contraction.)
+/// evaluated Jacobian, and a solve's Broyden corrections stay with it.
+/// (Carried by the split solves of seed 000's beams, they saved
+/// `beam_free_free.toml` 3 % of its iterations but cost
+/// `beam_cantilever_damped.toml` 11 % more, and let the free–free beam's
+/// momentum map drift 2.5 times as far, 7.0e-13 against 2.8e-13: with a
+/// closed-form Jacobian a fresh one is the cheaper cure of a slow
+/// contraction.)
 pub(crate) fn solve_legendre_from_closed_form<F: Fibre<M>, const M: usize>(
     mu: &SVector<f64, M>,
     mu_scale: f64,
@@ -386,9 +388,10 @@ impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
             // made, closer to the Jacobian here than the old one they
             // started from (which stays if H cannot be inverted). Not after
             // a solve accepted at round-off by the stall tests: its last
-            // slopes are rounding, and carried they cost the stiff beam of
-            // `beam_paper_space_well_posed.toml` its momentum map (drift
-            // 1.7e-12 against 2.4e-13).
+            // slopes are rounding (carried even then, they let the momentum
+            // map of the stiff beam of `beam_paper_space_well_posed.toml`
+            // drift 1.7e-12 against 2.4e-13, before the beams' split solves
+            // stopped carrying them at all).
             if self.carry_secant
                 && r <= self.options.tolerance * scale
                 && let Some(lu) = self.secant.as_ref().and_then(Secant::corrected_factors)
@@ -561,7 +564,7 @@ mod tests {
         (value, jacobian)
     }
 
-    /// The matrix of LU factors.
+    /// The matrix whose LU factors `lu` holds.
     fn matrix_of(lu: &SmallLu<3>) -> SMatrix<f64, 3, 3> {
         let mut lu = *lu;
         lu.keep_inverse();
