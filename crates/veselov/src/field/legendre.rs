@@ -140,48 +140,7 @@ pub fn solve_legendre_from<F: Fibre<M>, const M: usize>(
     kept: &mut Option<SmallLu<M>>,
     legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
 ) -> (F::Point<f64>, VertexOutcome) {
-    let newton = LegendreNewton::<F, M>::new(*mu, mu_scale, z, *options, kept.take());
-    run_newton(newton, kept, legendre)
-}
-
-/// [`solve_legendre_from`] for a Jacobian in closed form, about as cheap as
-/// an evaluation of Leg: the factors left in `kept` are always those of an
-/// evaluated Jacobian, and a solve's Broyden corrections stay with it.
-/// (Carried by the split solves of seed 000's beams, they saved
-/// `beam_free_free.toml` 3 % of its iterations but cost
-/// `beam_cantilever_damped.toml` 11 % more, and let the free–free beam's
-/// momentum map drift 2.5 times as far, 7.0e-13 against 2.8e-13: with a
-/// closed-form Jacobian a fresh one is the cheaper cure of a slow
-/// contraction.)
-pub(crate) fn solve_legendre_from_closed_form<F: Fibre<M>, const M: usize>(
-    mu: &SVector<f64, M>,
-    mu_scale: f64,
-    z: F::Point<f64>,
-    options: &CauchyOptions,
-    kept: &mut Option<SmallLu<M>>,
-    legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
-) -> (F::Point<f64>, VertexOutcome) {
-    let mut newton = LegendreNewton::<F, M>::new(*mu, mu_scale, z, *options, kept.take());
-    newton.carry_secant = false;
-    run_newton(newton, kept, legendre)
-}
-
-/// Drives `newton` to its end with the evaluations of `legendre`, leaving
-/// its factors in `kept`.
-fn run_newton<F: Fibre<M>, const M: usize>(
-    mut newton: LegendreNewton<F, M>,
-    kept: &mut Option<SmallLu<M>>,
-    mut legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
-) -> (F::Point<f64>, VertexOutcome) {
-    // Where an evaluation writes a fresh Jacobian (no copy moves it).
-    let mut jacobian = SMatrix::<f64, M, M>::zeros();
-    while let Some(with_jacobian) = newton.wants_jacobian() {
-        let (leg, scale) = legendre(newton.point(), with_jacobian.then_some(&mut jacobian));
-        newton.feed(&leg, scale, &jacobian);
-    }
-    let (z, outcome, factors) = newton.finish();
-    *kept = factors;
-    (z, outcome)
+    LegendreNewton::<F, M>::new(*mu, mu_scale, z, *options, kept.take()).run(kept, legendre)
 }
 
 /// The Newton of [`solve_legendre_from`] as a state machine that asks for
@@ -221,7 +180,8 @@ pub struct LegendreNewton<F: Fibre<M>, const M: usize> {
     /// [`SECANT_CONTRACTION`]).
     secant: Option<Secant<M>>,
     /// Whether the factors left after secant steps are Broyden's (see
-    /// [`solve_legendre_from`]) rather than the evaluated Jacobian's.
+    /// [`solve_legendre_from`]) rather than the evaluated Jacobian's
+    /// ([`keeping_evaluated_jacobians`](Self::keeping_evaluated_jacobians)).
     carry_secant: bool,
 }
 
@@ -301,6 +261,42 @@ impl<F: Fibre<M>, const M: usize> LegendreNewton<F, M> {
             secant: None,
             carry_secant: true,
         }
+    }
+
+    /// For a Jacobian in closed form, about as cheap as an evaluation of
+    /// Leg: the factors left for the next solve are always those of an
+    /// evaluated Jacobian, and a solve's Broyden corrections stay with it.
+    /// Carried by the split solves of seed 000's beams (measured with the
+    /// rule of [`solve_legendre_from`]), they saved `beam_free_free.toml`
+    /// 3 % of its iterations (5.67 → 5.48 per node) but cost
+    /// `beam_cantilever_damped.toml` 11 % more (2.32 → 2.57), and let the
+    /// momentum maps drift further: the free–free beam's 7.0e-13 against
+    /// 2.8e-13, the stiff beam's of `beam_paper_space_well_posed.toml`
+    /// 2.4e-13 against 1.5e-13. With a closed-form Jacobian a fresh one is
+    /// the cheaper cure of a slow contraction.
+    #[must_use]
+    pub(crate) fn keeping_evaluated_jacobians(mut self) -> Self {
+        self.carry_secant = false;
+        self
+    }
+
+    /// Drives the solve to its end with the evaluations of `legendre`
+    /// (what [`solve_legendre_from`] does), leaving the factors in use at
+    /// the end in `kept` (`None` after a failure).
+    pub(crate) fn run(
+        mut self,
+        kept: &mut Option<SmallLu<M>>,
+        mut legendre: impl FnMut(&F::Point<f64>, Option<&mut SMatrix<f64, M, M>>) -> (SVector<f64, M>, f64),
+    ) -> (F::Point<f64>, VertexOutcome) {
+        // Where an evaluation writes a fresh Jacobian (no copy moves it).
+        let mut jacobian = SMatrix::<f64, M, M>::zeros();
+        while let Some(with_jacobian) = self.wants_jacobian() {
+            let (leg, scale) = legendre(self.point(), with_jacobian.then_some(&mut jacobian));
+            self.feed(&leg, scale, &jacobian);
+        }
+        let (z, outcome, factors) = self.finish();
+        *kept = factors;
+        (z, outcome)
     }
 
     /// Whether Leg at [`point`](Self::point) is wanted with its Jacobian

@@ -12,10 +12,11 @@
 //! with c the terms of the other increment, of ∇Π(y₁) and (in space) of the
 //! force, fixed during the solve. Newton iterates on x ∈ ℝ^M — the same
 //! simplified Newton as every vertex solve
-//! ([`solve_legendre_from_closed_form`],
-//! on the vector space of increments, from the node's Jacobian of the last
-//! level while it contracts; the factors it keeps are always an evaluated
-//! Jacobian's), a fresh Jacobian one dual pass over this
+//! ([`LegendreNewton`] on the vector space of increments, from the node's
+//! Jacobian of the last level while it contracts; the factors it keeps are
+//! always an evaluated Jacobian's,
+//! [`LegendreNewton::keeping_evaluated_jacobians`]), a fresh Jacobian one
+//! dual pass over this
 //! function alone — and the value is y₁·τ(x) at the end: no group product,
 //! inverse or τ⁻¹ inside the iteration. A last pass takes the residual at
 //! the increment read back from the stored value (where the terms cancel,
@@ -32,7 +33,7 @@ use num_dual::DualSVec64;
 use super::{Increment, SplitDensity, SplitLagrangian};
 use crate::ad::Scalar;
 use crate::field::fibre::{Euclidean, Fibre};
-use crate::field::legendre::{CauchyOptions, Failure, VertexOutcome, solve_legendre_from_closed_form};
+use crate::field::legendre::{CauchyOptions, Failure, LegendreNewton, VertexOutcome};
 use crate::solve::SmallLu;
 
 impl<I, S> SplitLagrangian<I, S> {
@@ -233,7 +234,7 @@ impl<I, S> SplitLagrangian<I, S> {
         // rounding floor at which the solve stops, so it is solved through
         // the stored value alone, as the chart solve is.
         let (x, mut outcome) = if equation == 0 {
-            solve_legendre_from_closed_form::<Euclidean<M>, M>(mu, mu_scale, start, options, kept, evaluate)
+            newton_in_increments::<M>(mu, mu_scale, start, options, kept).run(kept, evaluate)
         } else {
             (start, VertexOutcome::default())
         };
@@ -248,15 +249,14 @@ impl<I, S> SplitLagrangian<I, S> {
         // evaluation confirms it.
         // The last stored value evaluated: the one returned on success.
         let last = std::cell::Cell::new(None);
-        let (x, polish) =
-            solve_legendre_from_closed_form::<Euclidean<M>, M>(mu, mu_scale, x, options, kept, |x, jacobian| {
-                let (z, read) = stored(x);
-                last.set(Some((*x, z)));
-                match read {
-                    Ok(read) => evaluate(&read, jacobian),
-                    Err(_) => (SVector::from_element(f64::NAN), f64::NAN),
-                }
-            });
+        let (x, polish) = newton_in_increments::<M>(mu, mu_scale, x, options, kept).run(kept, |x, jacobian| {
+            let (z, read) = stored(x);
+            last.set(Some((*x, z)));
+            match read {
+                Ok(read) => evaluate(&read, jacobian),
+                Err(_) => (SVector::from_element(f64::NAN), f64::NAN),
+            }
+        });
         outcome.iterations += polish.iterations;
         outcome.jacobians += polish.jacobians;
         outcome.relative_residual = polish.relative_residual;
@@ -272,6 +272,19 @@ impl<I, S> SplitLagrangian<I, S> {
         }
         Some((z, outcome))
     }
+}
+
+/// The Newton of a split solve: on the increments, from the factors `kept`
+/// by the last solve of this equation, keeping evaluated Jacobians only
+/// ([`LegendreNewton::keeping_evaluated_jacobians`]).
+fn newton_in_increments<const M: usize>(
+    mu: &SVector<f64, M>,
+    mu_scale: f64,
+    start: SVector<f64, M>,
+    options: &CauchyOptions,
+    kept: &mut Option<SmallLu<M>>,
+) -> LegendreNewton<Euclidean<M>, M> {
+    LegendreNewton::new(*mu, mu_scale, start, *options, kept.take()).keeping_evaluated_jacobians()
 }
 
 #[cfg(test)]
