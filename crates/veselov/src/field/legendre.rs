@@ -561,7 +561,7 @@ mod tests {
     }
 
     /// The matrix whose LU factors `lu` holds.
-    fn matrix_of(lu: &SmallLu<3>) -> SMatrix<f64, 3, 3> {
+    fn matrix_of<const N: usize>(lu: &SmallLu<N>) -> SMatrix<f64, N, N> {
         let mut lu = *lu;
         lu.keep_inverse();
         lu.inverse().expect("kept").try_inverse().expect("regular")
@@ -638,7 +638,7 @@ mod tests {
             assert!(outcome.failure.is_none(), "{outcome:?}");
             assert!((z[0] - 0.7).abs() < 1e-15, "root missed by {:e}", z[0] - 0.7);
             let residual = (evaluate(&z, None).0 - mu).amax();
-            (residual, matrix_of_one(&kept.expect("factors left")))
+            (residual, matrix_of(&kept.expect("factors left"))[(0, 0)])
         };
         let (residual, stalled) = slope_left(1e-16);
         assert!(
@@ -651,13 +651,6 @@ mod tests {
             (converged - J).abs() < 1e-3 * J,
             "Broyden's slope {converged:e}, the Jacobian {J:e}"
         );
-    }
-
-    /// The 1 × 1 matrix of LU factors.
-    fn matrix_of_one(lu: &SmallLu<1>) -> f64 {
-        let mut lu = *lu;
-        lu.keep_inverse();
-        1.0 / lu.inverse().expect("kept")[(0, 0)]
     }
 
     /// From kept factors 15 % off the Jacobian at the root (a chord
