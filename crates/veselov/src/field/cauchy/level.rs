@@ -34,8 +34,9 @@ type RunSlot<'a, P, const M: usize> = (
 
 /// The work one thread takes at least: the chunk is sized from the cost per
 /// vertex measured on the last level solved on one thread so that it holds
-/// about this much (and at most a thread's share of the level, so that a
-/// level worth splitting is split). The first level is always solved on the
+/// about this much or more (and at most a thread's share of the level, so
+/// that a level worth splitting is split), in a number of chunks that is a
+/// multiple of the thread count. The first level is always solved on the
 /// calling thread (a level solved in parallel is never measured: if the
 /// first one were, the chunk would keep its first guess for the whole
 /// march). Chunking decides only who solves which vertex, never what is
@@ -288,10 +289,16 @@ where
         } else {
             PARALLEL_LEVEL_NS
         };
-        if threads < 2 || vertex_ns * (size as f64) < least {
+        let level_ns = vertex_ns * size as f64;
+        if threads < 2 || level_ns < least {
             return size;
         }
-        ((CHUNK_WORK_NS / vertex_ns).ceil() as usize).clamp(1, (size / threads).max(1))
+        // As many chunks of at least CHUNK_WORK_NS as fit, rounded up to a
+        // multiple of the thread count so that every thread gets the same
+        // number: seven chunks of 164 vertices on two threads left one
+        // thread 57 % of the level.
+        let rounds = (level_ns / (threads as f64 * CHUNK_WORK_NS)).floor().max(1.0) as usize;
+        size.div_ceil(threads * rounds).max(1)
     }
 
     /// Solves every vertex of level `level()`, which determines level
