@@ -66,6 +66,21 @@ const SMALL_STAR: usize = 6;
 /// Vertices of a cell of a gathered star (n + 1 ≤ 4).
 const SMALL_CELL: usize = 4;
 
+/// The vertices per chunk of a level of `size` vertices costing `vertex_ns`
+/// each on `threads` threads, `size` (one chunk) below `least` ns of work
+/// or on one thread: as many chunks of at least [`CHUNK_WORK_NS`] as fit,
+/// in a multiple of the thread count so that every thread gets the same
+/// number (seven chunks of 164 vertices on two threads left one thread
+/// 57 % of the level).
+fn chunk_len(size: usize, vertex_ns: f64, threads: usize, least: f64) -> usize {
+    let level_ns = vertex_ns * size as f64;
+    if threads < 2 || level_ns < least {
+        return size;
+    }
+    let rounds = (level_ns / (threads as f64 * CHUNK_WORK_NS)).floor().max(1.0) as usize;
+    size.div_ceil(threads * rounds).max(1)
+}
+
 impl<F, L, const M: usize> CauchyMarcher<F, L, M>
 where
     F: Fibre<M>,
@@ -289,16 +304,7 @@ where
         } else {
             PARALLEL_LEVEL_NS
         };
-        let level_ns = vertex_ns * size as f64;
-        if threads < 2 || level_ns < least {
-            return size;
-        }
-        // As many chunks of at least CHUNK_WORK_NS as fit, rounded up to a
-        // multiple of the thread count so that every thread gets the same
-        // number: seven chunks of 164 vertices on two threads left one
-        // thread 57 % of the level.
-        let rounds = (level_ns / (threads as f64 * CHUNK_WORK_NS)).floor().max(1.0) as usize;
-        size.div_ceil(threads * rounds).max(1)
+        chunk_len(size, vertex_ns, threads, least)
     }
 
     /// Solves every vertex of level `level()`, which determines level
@@ -431,5 +437,44 @@ where
         self.forces_level = Some(w);
         self.level += 1;
         Ok(report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// With k = ⌊level work / (threads · CHUNK_WORK_NS)⌋ (at least 1)
+    /// rounds, each chunk holds at least CHUNK_WORK_NS of work (when the
+    /// level holds a round) and a thread taking its even share of the
+    /// chunks solves at most k vertices more than its share of the level;
+    /// a level too cheap to split, or one thread, is one chunk.
+    #[test]
+    fn chunks_share_a_level_evenly() {
+        for size in [7, 51, 100, 1024, 4096, 100_000] {
+            for vertex_ns in [50.0, 122.0, 400.0, 5_000.0] {
+                assert_eq!(chunk_len(size, vertex_ns, 1, 0.0), size);
+                for threads in [2, 3, 4, 8] {
+                    let chunk = chunk_len(size, vertex_ns, threads, 10_000.0);
+                    let level_ns = vertex_ns * size as f64;
+                    if level_ns < 10_000.0 {
+                        assert_eq!(chunk, size);
+                        continue;
+                    }
+                    let rounds = (level_ns / (threads as f64 * CHUNK_WORK_NS)).floor().max(1.0) as usize;
+                    if rounds as f64 * threads as f64 * CHUNK_WORK_NS <= level_ns {
+                        assert!(chunk as f64 * vertex_ns >= CHUNK_WORK_NS, "{size} x {vertex_ns} ns");
+                    }
+                    let most = size.div_ceil(chunk).div_ceil(threads) * chunk;
+                    assert!(
+                        most <= size.div_ceil(threads) + rounds,
+                        "{size} x {vertex_ns} ns on {threads} threads: chunks of {chunk}, {most} on one thread"
+                    );
+                }
+            }
+        }
+        // The level that was cut into seven runs of 164 vertices, one thread
+        // taking 656 of 1024: six chunks of 171 now.
+        assert_eq!(chunk_len(1024, 122.0, 2, 10_000.0), 171);
     }
 }
