@@ -68,17 +68,20 @@ const SMALL_CELL: usize = 4;
 
 /// The vertices per chunk of a level of `size` vertices costing `vertex_ns`
 /// each on `threads` threads, `size` (one chunk) below `least` ns of work
-/// or on one thread: as many chunks of at least [`CHUNK_WORK_NS`] as fit,
-/// in a multiple of the thread count so that every thread gets the same
-/// number (seven chunks of 164 vertices on two threads left one thread
-/// 57 % of the level).
+/// or on one thread: the level cut into k·threads equal chunks (and a
+/// remainder of fewer than k·threads vertices), k the number of chunks of
+/// about [`CHUNK_WORK_NS`] each thread can take (at least one), so that
+/// every thread gets the same number (seven chunks of 164 vertices on two
+/// threads left one thread 57 % of the level). Rounded down, so that rayon,
+/// which halves a range while each half keeps the chunk length, splits a
+/// level of two chunks (25 + 26 vertices for chunks of 26 would not be).
 fn chunk_len(size: usize, vertex_ns: f64, threads: usize, least: f64) -> usize {
     let level_ns = vertex_ns * size as f64;
     if threads < 2 || level_ns < least {
         return size;
     }
     let rounds = (level_ns / (threads as f64 * CHUNK_WORK_NS)).floor().max(1.0) as usize;
-    size.div_ceil(threads * rounds).max(1)
+    (size / (threads * rounds)).max(1)
 }
 
 impl<F, L, const M: usize> CauchyMarcher<F, L, M>
@@ -445,10 +448,11 @@ mod tests {
     use super::*;
 
     /// With k = ⌊level work / (threads · CHUNK_WORK_NS)⌋ (at least 1)
-    /// rounds, each chunk holds at least CHUNK_WORK_NS of work (when the
-    /// level holds a round) and a thread taking its even share of the
-    /// chunks solves at most k vertices more than its share of the level;
-    /// a level too cheap to split, or one thread, is one chunk.
+    /// rounds: the chunk is at most half the level (so that rayon splits
+    /// it), holds CHUNK_WORK_NS of work less at most one vertex (when the
+    /// level holds a round), and k·threads chunks leave fewer than
+    /// k·threads vertices over; a level too cheap to split, or one thread,
+    /// is one chunk.
     #[test]
     fn chunks_share_a_level_evenly() {
         for size in [7, 51, 100, 1024, 4096, 100_000] {
@@ -457,24 +461,25 @@ mod tests {
                 for threads in [2, 3, 4, 8] {
                     let chunk = chunk_len(size, vertex_ns, threads, 10_000.0);
                     let level_ns = vertex_ns * size as f64;
+                    let case = format!("{size} x {vertex_ns} ns on {threads} threads: chunks of {chunk}");
                     if level_ns < 10_000.0 {
-                        assert_eq!(chunk, size);
+                        assert_eq!(chunk, size, "{case}");
                         continue;
                     }
+                    assert!(2 * chunk <= size.max(2), "{case}");
                     let rounds = (level_ns / (threads as f64 * CHUNK_WORK_NS)).floor().max(1.0) as usize;
-                    if rounds as f64 * threads as f64 * CHUNK_WORK_NS <= level_ns {
-                        assert!(chunk as f64 * vertex_ns >= CHUNK_WORK_NS, "{size} x {vertex_ns} ns");
+                    if threads as f64 * CHUNK_WORK_NS <= level_ns {
+                        assert!((chunk + 1) as f64 * vertex_ns >= CHUNK_WORK_NS, "{case}");
                     }
-                    let most = size.div_ceil(chunk).div_ceil(threads) * chunk;
-                    assert!(
-                        most <= size.div_ceil(threads) + rounds,
-                        "{size} x {vertex_ns} ns on {threads} threads: chunks of {chunk}, {most} on one thread"
-                    );
+                    let even = threads * rounds;
+                    assert!(chunk == 1 || size - even * chunk < even, "{case}");
                 }
             }
         }
         // The level that was cut into seven runs of 164 vertices, one thread
-        // taking 656 of 1024: six chunks of 171 now.
-        assert_eq!(chunk_len(1024, 122.0, 2, 10_000.0), 171);
+        // taking 656 of 1024: six of 170 (and 4 over) now; and the
+        // 100-element rod's level of 51 vertices, split in two.
+        assert_eq!(chunk_len(1024, 122.0, 2, 10_000.0), 170);
+        assert_eq!(chunk_len(51, 400.0, 2, 10_000.0), 25);
     }
 }
