@@ -118,6 +118,7 @@ mod family;
 pub mod retraction;
 pub mod se3;
 pub(crate) mod series;
+pub(crate) mod series_lanes;
 pub mod so3;
 
 pub use family::{GroupFamily, RigidMotions, Rotations};

@@ -155,7 +155,7 @@ const ATAN_C: [f64; 12] = [
 
 /// Upper ends of the ranges of x on which an `f64` evaluation sums only the
 /// leading terms of a series ([`term_counts`]).
-const TIERS: [f64; 5] = [1e-6, 1e-4, 1e-2, 0.1, 1.0];
+pub(super) const TIERS: [f64; 5] = [1e-6, 1e-4, 1e-2, 0.1, 1.0];
 
 /// For each bound X of [`TIERS`], the number N of leading coefficients of
 /// Σ cₙxⁿ whose omitted tail Σ_{n ≥ N} |cₙ|Xⁿ is at most 2⁻⁵⁸|c₀|: below
@@ -187,9 +187,9 @@ const fn term_counts<const N: usize>(c: &[f64; N]) -> [usize; 5] {
 }
 
 /// A truncated Taylor series Σ cₙxⁿ with its term counts per tier.
-struct Series<const N: usize> {
-    coeffs: [f64; N],
-    counts: [usize; 5],
+pub(super) struct Series<const N: usize> {
+    pub(super) coeffs: [f64; N],
+    pub(super) counts: [usize; 5],
 }
 
 impl<const N: usize> Series<N> {
@@ -252,14 +252,14 @@ fn horner(c: &[f64], x: f64) -> f64 {
     }
 }
 
-const SIN: Series<16> = Series::new(SIN_C);
-const COS: Series<16> = Series::new(COS_C);
+pub(super) const SIN: Series<16> = Series::new(SIN_C);
+pub(super) const COS: Series<16> = Series::new(COS_C);
 const SIN3: Series<16> = Series::new(SIN3_C);
 const Q2: Series<16> = Series::new(Q2_C);
 const Q3: Series<16> = Series::new(Q3_C);
-const DLOG: Series<16> = Series::new(DLOG_C);
-const ATAN: Series<12> = Series::new(ATAN_C);
-const DLOG_PRIME: Series<15> = Series::new(derivative(&DLOG_C));
+pub(super) const DLOG: Series<16> = Series::new(DLOG_C);
+pub(super) const ATAN: Series<12> = Series::new(ATAN_C);
+pub(super) const DLOG_PRIME: Series<15> = Series::new(derivative(&DLOG_C));
 
 /// The coefficients (n + 1)c_{n+1} of the derivative of Σ cₙxⁿ.
 const fn derivative(c: &[f64; 16]) -> [f64; 15] {

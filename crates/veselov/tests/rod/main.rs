@@ -9,6 +9,7 @@ mod threads;
 mod rod_ends;
 mod rod_fast;
 mod rod_free;
+mod rod_lanes;
 mod rod_loads;
 mod rod_stability;
 mod sample;

@@ -211,12 +211,46 @@ where
     /// The vertices of a level solved together: the model's
     /// [`DiscreteLagrangian::vertex_lanes`] (at most [`MAX_VERTEX_LANES`](super::MAX_VERTEX_LANES)),
     /// 1 with a window or Dirichlet data (whose vertices differ from one
-    /// another).
+    /// another) unless the model
+    /// [solves confined runs](DiscreteLagrangian::solves_confined_runs).
     fn vertex_lanes(&self) -> usize {
-        if self.window.is_some() || self.dirichlet.is_some() {
+        if self.confined() && !self.lag.solves_confined_runs() {
             return 1;
         }
         self.lag.vertex_lanes().clamp(1, self.lanes_cap)
+    }
+
+    /// Whether the march has a window or Dirichlet data.
+    fn confined(&self) -> bool {
+        self.window.is_some() || self.dirichlet.is_some()
+    }
+
+    /// Whether vertex (w, i) has an equation to solve: its base is in the
+    /// window and y_{Δv} is not prescribed (as [`solve_vertex`](Self::solve_vertex) decides).
+    fn is_free(&self, w: i64, i: usize) -> bool {
+        if !self.base_active(&self.base(w, i)) {
+            return false;
+        }
+        let n = self.torus.dimension();
+        self.dirichlet
+            .as_ref()
+            .is_none_or(|data| data(&self.origin(w + n as i64, self.up(i, 0, n))).is_none())
+    }
+
+    /// Solves vertex (w, i) alone into its value, cell terms and result.
+    #[inline]
+    fn solve_one(
+        &self,
+        w: i64,
+        rows: &LevelRows,
+        i: usize,
+        value: &mut F::Point<f64>,
+        terms: &mut [SVector<f64, M>],
+        result: &mut VertexResult<M>,
+    ) {
+        let (z, o, written) = self.solve_vertex(w, rows, i, terms, &mut result.factors);
+        *value = z;
+        self.store_vertex(w, rows, i, (z, o, written), terms, result);
     }
 
     /// The solve of vertex (w, i) (y_{Δv}, its outcome and which of its
@@ -245,13 +279,64 @@ where
         }
     }
 
-    /// Solves the vertices `first …` of level `w` (as many as `values`) as
-    /// one run by the model's [`DiscreteLagrangian::solve_vertex_run`]
-    /// (groups of at most `lanes`) and stores each
-    /// ([`store_vertex`](Self::store_vertex)); `false` (nothing stored)
-    /// when the model declines.
+    /// Solves the vertices `first …` of level `w` (as many as `values`) by
+    /// the model's [`DiscreteLagrangian::solve_vertex_run`] (groups of at
+    /// most `lanes`) and stores each ([`store_vertex`](Self::store_vertex));
+    /// in a confined march each stretch of vertices with an equation is a
+    /// run, the others are solved alone. `false` (nothing stored) when the
+    /// model declines an unconfined run.
     #[allow(clippy::too_many_arguments)]
     fn solve_run(
+        &self,
+        w: i64,
+        rows: &LevelRows,
+        first: usize,
+        lanes: usize,
+        values: &mut [F::Point<f64>],
+        terms: &mut [SVector<f64, M>],
+        results: &mut [VertexResult<M>],
+        solved: &mut [SolvedVertex<F::Point<f64>>],
+    ) -> bool {
+        if !self.confined() {
+            return self.solve_free_run(w, rows, first, lanes, values, terms, results, solved);
+        }
+        let (stride, len) = (self.stride(), values.len());
+        let mut k = 0;
+        while k < len {
+            let start = k;
+            while k < len && self.is_free(w, first + k) {
+                k += 1;
+            }
+            if k > start
+                && !self.solve_free_run(
+                    w,
+                    rows,
+                    first + start,
+                    lanes,
+                    &mut values[start..k],
+                    &mut terms[start * stride..k * stride],
+                    &mut results[start..k],
+                    &mut solved[start..k],
+                )
+            {
+                for j in start..k {
+                    let terms = &mut terms[j * stride..(j + 1) * stride];
+                    self.solve_one(w, rows, first + j, &mut values[j], terms, &mut results[j]);
+                }
+            }
+            if k < len {
+                let terms = &mut terms[k * stride..(k + 1) * stride];
+                self.solve_one(w, rows, first + k, &mut values[k], terms, &mut results[k]);
+                k += 1;
+            }
+        }
+        true
+    }
+
+    /// [`solve_run`](Self::solve_run) for vertices that all have an
+    /// equation to solve.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_free_run(
         &self,
         w: i64,
         rows: &LevelRows,
@@ -270,6 +355,7 @@ where
             first,
             len: values.len(),
             lanes,
+            confined: self.confined(),
         };
         if !self.lag.solve_vertex_run(&run, &self.options, terms, stride, solved) {
             return false;
@@ -332,15 +418,19 @@ where
         {
             let this = &*self;
             let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {
-                let (z, o, written) = this.solve_vertex(w, &rows, i, terms, &mut result.factors);
-                *value = z;
-                this.store_vertex(w, &rows, i, (z, o, written), terms, result);
+                this.solve_one(w, &rows, i, value, terms, result);
             };
             let lanes = self.vertex_lanes();
             if lanes > 1 {
-                // Runs of whole groups: a vertex's group never depends on
-                // the partition (nor do its bits on its group).
-                let run_len = chunk.div_ceil(lanes) * lanes;
+                // Runs of whole groups (a vertex's bits never depend on its
+                // group or on the partition); a confined march's runs are
+                // cut again at the vertices without an equation, so its
+                // model groups them itself and its runs are the chunks.
+                let run_len = if self.confined() {
+                    chunk
+                } else {
+                    chunk.div_ceil(lanes) * lanes
+                };
                 let solve_run = |(r, (((values, terms), results), solved)): RunSlot<'_, F::Point<f64>, M>| {
                     let first = r * run_len;
                     if !this.solve_run(w, &rows, first, lanes, values, terms, results, solved) {

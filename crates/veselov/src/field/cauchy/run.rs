@@ -8,8 +8,9 @@ use crate::field::cell::{DiscreteLagrangian, VertexLane, VertexRun};
 use crate::field::complex::TopCell;
 use crate::field::fibre::Fibre;
 
-/// The vertices `first … first + len − 1` of level `w` of a march without
-/// a window or prescribed values (every cell in the action).
+/// The vertices `first … first + len − 1` of level `w`, every one with an
+/// equation to solve; `confined` for a march with a window or prescribed
+/// values (its cells then tested one by one).
 pub(super) struct LevelRun<'a, F: Fibre<M>, L, const M: usize> {
     pub(super) marcher: &'a CauchyMarcher<F, L, M>,
     pub(super) rows: &'a LevelRows,
@@ -17,6 +18,7 @@ pub(super) struct LevelRun<'a, F: Fibre<M>, L, const M: usize> {
     pub(super) first: usize,
     pub(super) len: usize,
     pub(super) lanes: usize,
+    pub(super) confined: bool,
 }
 
 impl<F, L, const M: usize> VertexRun<F::Point<f64>, M> for LevelRun<'_, F, L, M>
@@ -48,6 +50,25 @@ where
             shape: sigma,
             origin: self.marcher.origin(self.w, self.first + k),
         }
+    }
+
+    fn confined(&self) -> bool {
+        self.confined
+    }
+
+    #[inline(always)]
+    fn star(&self, k: usize, sigma: usize, out: &mut [F::Point<f64>]) -> Option<TopCell> {
+        let m = self.marcher;
+        if sigma >= m.perms.len() {
+            return None;
+        }
+        if !self.confined {
+            m.star_values_at(self.rows, self.first + k, sigma, out);
+            return Some(self.star_cell(k, sigma));
+        }
+        let base = m.base(self.w, self.first + k);
+        m.cell_active_at(&base, sigma)
+            .then(|| m.cell_values_at(self.rows, &base, sigma, None, out))
     }
 
     #[inline(always)]

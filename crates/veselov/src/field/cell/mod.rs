@@ -164,6 +164,15 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
         1
     }
 
+    /// Whether [`solve_vertex_run`](Self::solve_vertex_run) takes runs of a
+    /// march confined to a window or with prescribed values
+    /// ([`VertexRun::confined`]: some cells of a vertex's star outside the
+    /// action, read through [`VertexRun::star`]); `false` (default): such
+    /// a march solves its vertices one at a time.
+    fn solves_confined_runs(&self) -> bool {
+        false
+    }
+
     /// A model's own solve of a run of consecutive vertices of one Cauchy
     /// level ([`VertexRun`]), in groups of at most
     /// [`VertexRun::lanes`] vertices solved together: vertex k is the
@@ -220,9 +229,11 @@ pub trait DiscreteLagrangian<F: Fibre<M>, const M: usize>: Send + Sync {
 
 /// Consecutive vertices of one Cauchy level handed to a model's
 /// [`DiscreteLagrangian::solve_vertex_run`], vertex k = 0 … `len() − 1`
-/// of the run. Every cell of every vertex of a run is in the action (a
-/// march confined to a window, or with prescribed values, solves its
-/// vertices one at a time).
+/// of the run, each with an equation to solve (a vertex outside a window
+/// or with a prescribed value is never in a run). Every cell of every
+/// vertex of a run is in the action unless the run is
+/// [`confined`](Self::confined) (handed only to a model that
+/// [solves confined runs](DiscreteLagrangian::solves_confined_runs)).
 pub trait VertexRun<P, const M: usize> {
     /// The number of vertices of the run.
     fn len(&self) -> usize;
@@ -249,6 +260,25 @@ pub trait VertexRun<P, const M: usize> {
 
     /// Vertex k's momentum μ_v, the size of its terms and y_{v−Δ}.
     fn lane(&self, k: usize) -> VertexLane<P, M>;
+
+    /// Whether some cells of the run's stars may lie outside the action (a
+    /// march confined to a window or with prescribed values): they are
+    /// then known only through [`star`](Self::star).
+    fn confined(&self) -> bool {
+        false
+    }
+
+    /// The cell σ based at vertex k with its values written as by
+    /// [`star_values`](Self::star_values), or `None` when the cell is not
+    /// part of the action (or σ ≥ n!): the star of
+    /// [`DiscreteLagrangian::solve_last_vertex`].
+    fn star(&self, k: usize, sigma: usize, out: &mut [P]) -> Option<TopCell> {
+        if sigma >= (1..=self.dimension()).product() {
+            return None;
+        }
+        self.star_values(k, sigma, out);
+        Some(self.star_cell(k, sigma))
+    }
 }
 
 /// One vertex equation of [`DiscreteLagrangian::solve_vertex_run`]:

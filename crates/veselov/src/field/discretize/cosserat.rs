@@ -18,15 +18,21 @@ use super::smooth::SmoothDensity;
 use super::suitability::{CellCheck, check_rotations};
 use crate::ad::{Scalar, const_mat3_vec, mat3_vec};
 use crate::error::Result;
-use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexStar};
+use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexRun, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::lattice::invalid;
 use crate::field::legendre::CauchyOptions;
 use crate::lie::so3;
 
+mod lane_run;
+mod lane_step;
+mod lanes;
 mod loads;
 pub use loads::RodLoads;
+
+/// The vertices of a level the rod's split step solves side by side.
+const ROD_LANES: usize = 8;
 
 /// Constant material parameters of the rod (6.1): mass density ρ ≥ 0,
 /// inertia J (symmetric positive semidefinite), elasticities C₁, C₂
@@ -624,6 +630,38 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
     ) -> Option<SolvedVertex<Pose<f64>>> {
         self.analytic
             .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, previous, options, gradients))
+    }
+
+    /// [`ROD_LANES`] with the closed forms and without loads (the split
+    /// step side by side, [`lane_step`]), else 1.
+    fn vertex_lanes(&self) -> usize {
+        if self.analytic && self.loads.is_none() {
+            ROD_LANES
+        } else {
+            1
+        }
+    }
+
+    /// A rod is always confined to its material window.
+    fn solves_confined_runs(&self) -> bool {
+        true
+    }
+
+    /// The split step of every vertex of the run, [`ROD_LANES`] at a time
+    /// where their stars are whole ([`lane_step`]), else one at a time;
+    /// each vertex with the bits of its own split step.
+    fn solve_vertex_run<R>(
+        &self,
+        run: &R,
+        options: &CauchyOptions,
+        gradients: &mut [SVector<f64, 6>],
+        stride: usize,
+        solved: &mut [SolvedVertex<Pose<f64>>],
+    ) -> bool
+    where
+        R: VertexRun<Pose<f64>, 6>,
+    {
+        self.solve_run(run, options, gradients, stride, solved)
     }
 }
 

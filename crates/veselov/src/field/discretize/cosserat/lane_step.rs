@@ -1,0 +1,447 @@
+//! The split vertex step of note 003 §3.6 ([`super::super::cosserat_step`])
+//! for `L` vertices of a level side by side ([`CosseratCell::solve_group`]):
+//! the same operations in the same order, in lanes ([`super::lanes`]), so
+//! that every vertex gets the bits of its own scalar solve whatever the
+//! others. It covers the common vertex — both cells of its star in the
+//! action, no loads, rotations within the series branches of the SO(3)
+//! maps, a Newton solve that ends by the tolerance, the stall test or the
+//! remainder bound — and leaves any other vertex to the scalar step, which
+//! then reproduces its failure or solves it; a group with a lane outside
+//! the series branches is left to it whole.
+//!
+//! A vertex v of the leapfrog lattice solves for r₂, then for
+//! b = log(R₀ᵀR₂) from T(b) = target ([`RotationEquation`]'s formulas).
+//!
+//! [`RotationEquation`]: super::super::cosserat_step::RotationEquation
+
+use nalgebra::{Matrix3, SVector, Vector3};
+
+use super::super::rod_potential::RodPotential;
+use super::CosseratCell;
+use super::lane_run::LaneInput;
+use super::lanes::{
+    Lanes, M3, V3, add, cross, dexp_inv, dot, exp, gather_m3, gather_v3, inverse, lane_m3, lane_v3, largest_abs,
+    largest_abs_m3, log, mm, mv, neg, renormalize, row_sum_norm, scale, scale_by, sub, tmm, tmv,
+};
+use crate::field::cell::SolvedVertex;
+use crate::field::fibre::Pose;
+use crate::field::legendre::{CauchyOptions, VertexOutcome};
+use crate::lie::series_lanes;
+use crate::lie::so3::SO3;
+
+/// [`RotationEquation`](super::super::cosserat_step::RotationEquation) in
+/// lanes: T(b) = D_b x(b) + y(b), x = Xb + x₀, y = Yb + y₀.
+struct LaneEquation<const L: usize> {
+    linear: M3<L>,
+    linear_norm: Lanes<L>,
+    offset: V3<L>,
+    slope: M3<L>,
+    constant: V3<L>,
+}
+
+const SQRT_3: f64 = 1.732_050_807_568_877_2;
+
+impl<const L: usize> LaneEquation<L> {
+    /// T(b) and dT/db (`RotationEquation::value_and_jacobian`), `None`
+    /// unless every |b|² < 4.
+    #[inline(always)]
+    fn value_and_jacobian(&self, b: &V3<L>) -> Option<(V3<L>, M3<L>)> {
+        let l = &self.linear;
+        let x = add(&mv(l, b), &self.offset);
+        let b2 = dot(b, b);
+        let (k, dk) = series_lanes::dlog_and_derivative(&b2.0)?;
+        let (k, dk) = (Lanes(k), Lanes(dk));
+        let bx = dot(b, &x);
+        let w = sub(&scale(b, bx), &scale(&x, b2));
+        let value = add(
+            &add(
+                &add(&add(&x, &scale_by(&cross(b, &x), 0.5)), &scale(&w, k)),
+                &mv(&self.slope, b),
+            ),
+            &self.constant,
+        );
+        let bl = tmv(l, b);
+        let diag = Lanes::splat(1.0) - k * b2;
+        let dk2 = dk * 2.0;
+        let mut jacobian: M3<L> = [[Lanes::splat(0.0); 3]; 3];
+        for j in 0..3 {
+            let crossed = [
+                b[1] * l[2][j] - b[2] * l[1][j],
+                b[2] * l[0][j] - b[0] * l[2][j],
+                b[0] * l[1][j] - b[1] * l[0][j],
+            ];
+            for i in 0..3 {
+                jacobian[i][j] = l[i][j] * diag
+                    + crossed[i] * 0.5
+                    + k * (b[i] * (bl[j] + x[j]) - x[i] * 2.0 * b[j])
+                    + dk2 * w[i] * b[j]
+                    + self.slope[i][j];
+            }
+        }
+        let kbx = k * bx;
+        for i in 0..3 {
+            jacobian[i][i] = jacobian[i][i] + kbx;
+        }
+        jacobian[0][1] = jacobian[0][1] + x[2] * 0.5;
+        jacobian[0][2] = jacobian[0][2] - x[1] * 0.5;
+        jacobian[1][0] = jacobian[1][0] - x[2] * 0.5;
+        jacobian[1][2] = jacobian[1][2] + x[0] * 0.5;
+        jacobian[2][0] = jacobian[2][0] + x[1] * 0.5;
+        jacobian[2][1] = jacobian[2][1] - x[0] * 0.5;
+        Some((value, jacobian))
+    }
+
+    /// `RotationEquation::newton_remainder_bound` in lane `l` from |b|²,
+    /// |b + δ|², max|δᵢ| and max|x(b)ᵢ| there (`None` unless |b| ≤ 1 and
+    /// |b + δ| ≤ 1).
+    #[inline(always)]
+    fn remainder_bound(&self, b2: f64, next2: f64, delta_size: f64, x_size: f64, l: usize) -> Option<f64> {
+        if b2 > 1.0 || next2 > 1.0 {
+            return None;
+        }
+        let d = SQRT_3 * delta_size;
+        let norm = self.linear_norm.0[l];
+        let x = SQRT_3 * x_size + norm * d;
+        Some(0.5 * (1.5 * norm + 0.25 * x) * d * d)
+    }
+}
+
+/// max |vᵢ| of lane `l`, NaN if any entry is (`solve::max_abs`).
+#[inline(always)]
+fn max_abs_lane<const L: usize>(v: &V3<L>, l: usize) -> f64 {
+    let mut largest = 0.0_f64;
+    let mut nan = false;
+    for x in v {
+        largest = largest.max(x.0[l].abs());
+        nan |= x.0[l].is_nan();
+    }
+    if nan { f64::NAN } else { largest }
+}
+
+/// ε = R₀ᵀ(2r₁ − r₀ − r₂)/(σΔs) − e (`CosseratCell::linear_strain`).
+#[inline(always)]
+fn linear_strain<const L: usize>(
+    sigma_inv_ds: f64,
+    r0m: &M3<L>,
+    r0: &V3<L>,
+    r1: &V3<L>,
+    r2: &V3<L>,
+    strain: &V3<L>,
+) -> V3<L> {
+    let g = scale_by(&sub(&sub(&scale_by(r1, 2.0), r0), r2), sigma_inv_ds);
+    sub(&tmv(r0m, &g), strain)
+}
+
+/// The solve's state in one lane.
+#[derive(Clone, Copy)]
+enum LaneState {
+    Iterating,
+    Solved,
+    Scalar,
+}
+
+impl<P: RodPotential> CosseratCell<P> {
+    /// Solves the equations `v` side by side (see the module
+    /// documentation), writing the value and outcome of lane l < `count`,
+    /// if solved, to `solved[slots[l]]` and its cells' gradients to
+    /// `gradients[slots[l]·stride..]`; returns which lanes it solved (the
+    /// others are left to the scalar step), `None` for a group with a lane
+    /// outside the series branches (nothing written).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(super) fn solve_group<const L: usize>(
+        &self,
+        v: &LaneInput<L>,
+        options: &CauchyOptions,
+        slots: &[usize; L],
+        count: usize,
+        solved: &mut [SolvedVertex<Pose<f64>>],
+        gradients: &mut [SVector<f64, 6>],
+        stride: usize,
+    ) -> Option<[bool; L]> {
+        if self.loads.is_some() {
+            return None;
+        }
+        let (ds, dt) = (self.ds, self.dt);
+        let mut state = [LaneState::Iterating; L];
+        let mut outcome = [VertexOutcome::default(); L];
+        // The rotation arms a_σ = log(R₀ᵀR₁) and D_a = dlog a.
+        let (r0m, r0) = (v.r0m, v.r0);
+        let mut arms_a = [[Lanes::splat(0.0); 3]; 2];
+        let mut arms_da = [[[Lanes::splat(0.0); 3]; 3]; 2];
+        let mut r1 = [[Lanes::splat(0.0); 3]; 2];
+        for c in 0..2 {
+            arms_a[c] = log(&tmm(&r0m, &v.r1m[c]))?;
+            arms_da[c] = dexp_inv(&neg(&arms_a[c]))?;
+            r1[c] = v.r1[c];
+        }
+        let sigma = [1.0, -1.0];
+        // The material point's parameters and constants, lane by lane.
+        let s0 = v.s0;
+        let p: [_; L] = std::array::from_fn(|l| self.parameters_at(s0[l]));
+        let constants: [_; L] = std::array::from_fn(|l| self.constants_at(s0[l]));
+        let c1 = gather_m3::<L>(|l| &p[l].c1);
+        let strain = gather_v3::<L>(|l| p[l].strain);
+        let n = 2.0;
+        // Position: Σ_σ ∇_{r₀}L at the start r₂ = 2r₀ − r₋, then one 3×3 solve.
+        let start = sub(&scale_by(&r0, 2.0), &v.previous_r);
+        let kinetic = scale(&sub(&start, &r0), Lanes::from_fn(|l| -p[l].rho * ds / (4.0 * dt)));
+        let weight = scale_by(
+            &gather_v3::<L>(|l| self.density.potential.gradient(s0[l], &lane_v3(&r0, l))),
+            -(ds * dt / 8.0),
+        );
+        let mut total = v.mu_scale + (largest_abs(&kinetic) + largest_abs(&weight)) * n;
+        let mut strain_sum = [Lanes::splat(0.0); 3];
+        for c in 0..2 {
+            let eps = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &start, &strain);
+            let c1e = scale_by(&mv(&c1, &eps), 0.25 * dt);
+            total = total + largest_abs(&c1e);
+            strain_sum = add(&strain_sum, &scale_by(&c1e, sigma[c]));
+        }
+        let leg_r = add(
+            &add(&scale_by(&add(&kinetic, &weight), n), &mv(&r0m, &strain_sum)),
+            &[Lanes::splat(0.0); 3],
+        );
+        let zero = Matrix3::zeros();
+        for (l, k) in constants.iter().enumerate() {
+            if k.compliance.is_none() {
+                state[l] = LaneState::Scalar;
+            }
+        }
+        let compliance = gather_m3::<L>(|l| constants[l].compliance.as_ref().unwrap_or(&zero));
+        let stiffness = gather_m3::<L>(|l| &constants[l].stiffness);
+        let rhs = tmv(&r0m, &sub(&v.mu_r, &leg_r));
+        let z = mv(&compliance, &rhs);
+        let r2 = sub(&start, &scale_by(&mv(&r0m, &z), 0.5));
+        let residual_r = largest_abs(&sub(&mv(&stiffness, &z), &rhs));
+        for l in 0..L {
+            if !residual_r.0[l].is_finite() || !lane_v3(&r2, l).iter().all(|x| x.is_finite()) {
+                state[l] = LaneState::Scalar;
+            }
+        }
+        // Rotation: the b-independent terms with r₂ known, then T(b) = target.
+        let area = 0.25 * self.ds * self.dt;
+        let mut fixed = [Lanes::splat(0.0); 3];
+        let mut fixed_scale = Lanes::splat(0.0);
+        let mut eps = [[Lanes::splat(0.0); 3]; 2];
+        for c in 0..2 {
+            eps[c] = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &r2, &strain);
+            let torque = scale_by(&cross(&add(&eps[c], &strain), &mv(&c1, &eps[c])), area);
+            fixed = add(&fixed, &torque);
+            fixed_scale = fixed_scale + largest_abs(&torque);
+        }
+        let target = sub(&v.mu_q, &fixed);
+        let equation = self.lane_equation(&constants, &arms_a, &arms_da);
+        let mut b = log(&tmm(&v.previous_m, &r0m))?;
+        let mut previous = [f64::INFINITY; L];
+        let mut last_step = [f64::INFINITY; L];
+        let scale_total = total + fixed_scale;
+        for it in 0..=options.max_iterations {
+            // A lane left to the scalar step no longer iterates: its b is
+            // zeroed so that it cannot take the group off the series.
+            for l in 0..L {
+                if matches!(state[l], LaneState::Scalar) {
+                    for x in b.iter_mut() {
+                        x.0[l] = 0.0;
+                    }
+                }
+            }
+            if !state.iter().any(|s| matches!(s, LaneState::Iterating)) {
+                break;
+            }
+            let (value, jacobian) = equation.value_and_jacobian(&b)?;
+            let residual = sub(&value, &target);
+            let terms = (scale_total + largest_abs(&value)).max(Lanes::splat(f64::MIN_POSITIVE));
+            let (inv, regular) = inverse(&jacobian);
+            let delta = neg(&mv(&inv, &residual));
+            let next = add(&b, &delta);
+            let (jacobian_size, b_size, delta_size) = (largest_abs_m3(&jacobian), largest_abs(&b), largest_abs(&delta));
+            let (b2, next2) = (dot(&b, &b), dot(&next, &next));
+            let angle = next2.map(f64::sqrt);
+            let x_size = largest_abs(&add(&mv(&equation.linear, &b), &equation.offset));
+            let (jacobian_norm, inverse_norm) = (row_sum_norm(&jacobian), row_sum_norm(&inv));
+            let take_next = |b: &mut V3<L>, l: usize| {
+                for i in 0..3 {
+                    b[i].0[l] = next[i].0[l];
+                }
+            };
+            for l in 0..L {
+                if !matches!(state[l], LaneState::Iterating) {
+                    continue;
+                }
+                let o = &mut outcome[l];
+                o.jacobians += 1;
+                let r = max_abs_lane(&residual, l);
+                o.iterations = it;
+                let t = terms.0[l];
+                o.relative_residual = r.max(residual_r.0[l]) / t;
+                if !r.is_finite() || !regular[l] && r > options.tolerance * t {
+                    state[l] = LaneState::Scalar;
+                    continue;
+                }
+                let stalled = r > 0.5 * previous[l]
+                    && (r <= 100.0 * options.tolerance * (t + jacobian_size.0[l] * (1.0 + b_size.0[l]))
+                        || last_step[l] <= 64.0 * f64::EPSILON * (1.0 + b_size.0[l]));
+                if r <= options.tolerance * t || stalled {
+                    if regular[l] && delta_size.0[l] < 1e-3 {
+                        take_next(&mut b, l);
+                    }
+                    state[l] = LaneState::Solved;
+                    continue;
+                }
+                previous[l] = r;
+                if it == options.max_iterations {
+                    state[l] = LaneState::Scalar;
+                    continue;
+                }
+                let remainder = equation.remainder_bound(b2.0[l], next2.0[l], delta_size.0[l], x_size.0[l], l);
+                last_step[l] = delta_size.0[l];
+                take_next(&mut b, l);
+                let angle = angle.0[l];
+                if angle.is_nan() || angle >= std::f64::consts::PI {
+                    state[l] = LaneState::Scalar;
+                    continue;
+                }
+                if let Some(remainder) = remainder
+                    && remainder <= options.tolerance * t
+                {
+                    let (nj, ni) = (jacobian_norm.0[l], inverse_norm.0[l]);
+                    let bound = remainder + 12.0 * f64::EPSILON * nj * ni * r;
+                    if bound <= options.tolerance * t {
+                        o.iterations = it + 1;
+                        o.relative_residual = bound.max(residual_r.0[l]) / t;
+                        state[l] = LaneState::Solved;
+                    }
+                }
+            }
+        }
+        // The solved vertices: R₂ = R₀ exp(b̂) renormalised, b recomputed
+        // from the stored value, and the cells' gradients from it.
+        for l in 0..L {
+            if matches!(state[l], LaneState::Iterating) {
+                state[l] = LaneState::Scalar;
+            }
+            if matches!(state[l], LaneState::Solved) && lane_v3(&b, l).norm() >= std::f64::consts::PI {
+                state[l] = LaneState::Scalar;
+            }
+            if !matches!(state[l], LaneState::Solved) {
+                for x in b.iter_mut() {
+                    x.0[l] = 0.0;
+                }
+            }
+        }
+        let rotation = renormalize(&mm(&r0m, &exp(&b)?));
+        let b = log(&tmm(&r0m, &rotation))?;
+        let db = dexp_inv(&neg(&b))?;
+        let later = self.lane_gradients(&p, &r0m, &r0, &r2, (&arms_a, &arms_da), &eps, &b, &db);
+        let mut done = [false; L];
+        for l in 0..count.min(L) {
+            if !matches!(state[l], LaneState::Solved) {
+                continue;
+            }
+            done[l] = true;
+            solved[slots[l]] = SolvedVertex {
+                value: Pose::new(lane_v3(&r2, l), SO3::from_matrix_unchecked(lane_m3(&rotation, l))),
+                outcome: outcome[l],
+                gradients_written: true,
+                forces_written: false,
+            };
+            let terms = &mut gradients[slots[l] * stride..(slots[l] + 1) * stride];
+            terms.fill(SVector::zeros());
+            for (c, [first_r, first_q, second_r, second_q]) in later.iter().enumerate() {
+                terms[3 * c + 1] = join(first_r, first_q, l);
+                terms[3 * c + 2] = join(second_r, second_q, l);
+            }
+        }
+        Some(done)
+    }
+
+    /// `RotationEquation::new` for the two cells based at each vertex,
+    /// without damping.
+    #[inline(always)]
+    fn lane_equation<const L: usize>(
+        &self,
+        constants: &[&super::StepConstants; L],
+        arms_a: &[V3<L>; 2],
+        arms_da: &[M3<L>; 2],
+    ) -> LaneEquation<L> {
+        let n = 2.0;
+        let c2 = gather_m3::<L>(|l| &constants[l].c2_minus_two_kappa);
+        let zero_v = [Lanes::splat(0.0); 3];
+        let (mut a_sum, mut da_sum, mut constant) = (zero_v, [zero_v; 3], zero_v);
+        for c in 0..2 {
+            a_sum = add(&a_sum, &arms_a[c]);
+            for (sum, row) in da_sum.iter_mut().zip(&arms_da[c]) {
+                *sum = add(sum, row);
+            }
+            constant = add(&constant, &mv(&arms_da[c], &mv(&c2, &arms_a[c])));
+        }
+        let mut slope = mm(&da_sum, &c2);
+        for (i, row) in slope.iter_mut().enumerate() {
+            row[i] = row[i] - n * 0.0;
+        }
+        let mut linear = gather_m3::<L>(|l| &constants[l].rotation_linear);
+        for x in linear.iter_mut().flatten() {
+            *x = *x * n;
+        }
+        LaneEquation {
+            linear,
+            linear_norm: Lanes::from_fn(|l| constants[l].rotation_linear_norm) * n,
+            offset: mv(&c2, &a_sum),
+            slope,
+            constant: scale_by(&constant, -2.0),
+        }
+    }
+
+    /// The gradients at positions 1 and 2 of both cells of each lane
+    /// (`CosseratCell::later_gradients` of the cells' quantities with
+    /// b = log(R₀ᵀR₂) and r₂), in the marcher's layout.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn lane_gradients<const L: usize>(
+        &self,
+        p: &[&super::RodParameters; L],
+        r0m: &M3<L>,
+        r0: &V3<L>,
+        r2: &V3<L>,
+        (arms_a, arms_da): (&[V3<L>; 2], &[M3<L>; 2]),
+        eps: &[V3<L>; 2],
+        b: &V3<L>,
+        db: &M3<L>,
+    ) -> [[V3<L>; 4]; 2] {
+        let (c1, c2, inertia) = (
+            gather_m3::<L>(|l| &p[l].c1),
+            gather_m3::<L>(|l| &p[l].c2),
+            gather_m3::<L>(|l| &p[l].inertia),
+        );
+        let rho = Lanes::from_fn(|l| p[l].rho);
+        let ds = self.ds;
+        let omega = scale_by(b, self.inv_dt);
+        let velocity = scale_by(&sub(r2, r0), self.inv_dt);
+        let mut out = [[[Lanes::splat(0.0); 3]; 4]; 2];
+        for (c, cell) in out.iter_mut().enumerate() {
+            let sigma = if c == 0 { 1.0 } else { -1.0 };
+            let st = sigma * self.dt;
+            let u = scale_by(&sub(&scale_by(&arms_a[c], 2.0), b), sigma * self.inv_ds);
+            let c1e = mv(r0m, &mv(&c1, &eps[c]));
+            let c2u = mv(&c2, &u);
+            *cell = [
+                scale_by(&neg(&c1e), st / 2.0),
+                scale_by(&neg(&tmv(&arms_da[c], &c2u)), st / 2.0),
+                add(&scale(&velocity, rho * ds / 4.0), &scale_by(&c1e, st / 4.0)),
+                tmv(
+                    db,
+                    &add(&scale_by(&mv(&inertia, &omega), ds / 4.0), &scale_by(&c2u, st / 4.0)),
+                ),
+            ];
+        }
+        out
+    }
+}
+
+/// (x; y) of lane `l`.
+#[inline(always)]
+fn join<const L: usize>(x: &V3<L>, y: &V3<L>, l: usize) -> SVector<f64, 6> {
+    let (x, y): (Vector3<f64>, Vector3<f64>) = (lane_v3(x, l), lane_v3(y, l));
+    SVector::<f64, 6>::new(x[0], x[1], x[2], y[0], y[1], y[2])
+}

@@ -1,0 +1,164 @@
+//! The rod's vertices solved side by side (groups of the split step in
+//! vector lanes) against the same march one vertex at a time
+//! (`with_vertex_lanes(1)`): the same bits at every vertex of every level,
+//! on one and two threads, for a free tumbling rod, a clamped rod under a
+//! potential with parameters varying along it, and a rod twisted so hard
+//! that its groups leave the series branches and fall back.
+
+use nalgebra::Vector3;
+use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
+use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential, RodParameters};
+use veselov::field::fibre::{Fibre, Pose, PositionRotation};
+use veselov::lie::so3;
+use veselov::models::rod::{EndCondition, RodEnds, RodLattice};
+
+use crate::sample::{tumbling, unit_rod};
+use crate::threads::on_threads;
+
+type Rod<P> = CauchyMarcher<PositionRotation, CosseratCell<P>, 6>;
+
+/// Every coordinate of the last `levels` levels of a march of `levels`
+/// levels, as bits, with the iterations and Jacobians it reported.
+fn history<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
+    mut m: Rod<P>,
+    levels: usize,
+) -> (Vec<u64>, usize, usize) {
+    let (mut bits, mut iterations, mut jacobians) = (Vec::new(), 0, 0);
+    for _ in 0..levels {
+        let report = m.step().expect("stable step");
+        iterations += report.iterations;
+        jacobians += report.jacobians;
+        for y in m.level_values(m.top_level()).expect("level") {
+            let mut c = [0.0; 12];
+            PositionRotation::write(y, &mut c);
+            bits.extend(c.iter().map(|x| x.to_bits()));
+        }
+    }
+    (bits, iterations, jacobians)
+}
+
+/// The march `make(lanes)` with the model's lanes and one vertex at a
+/// time, on one and two threads: all four the same.
+fn same_bits<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
+    make: impl Fn(usize) -> Rod<P> + Sync,
+    levels: usize,
+) {
+    let reference = on_threads(1, || history(make(1), levels));
+    for threads in [1, 2] {
+        let lanes = on_threads(threads, || history(make(8), levels));
+        assert!(lanes.0 == reference.0, "{threads} threads: the bits differ");
+        assert_eq!((lanes.1, lanes.2), (reference.1, reference.2), "{threads} threads");
+    }
+}
+
+fn options(tolerance: f64) -> CauchyOptions {
+    CauchyOptions {
+        tolerance,
+        ..CauchyOptions::default()
+    }
+}
+
+#[test]
+fn free_rod_in_lanes_has_the_bits_of_one_vertex_at_a_time() {
+    let lattice = RodLattice::new(61, 1.0, 0.005).expect("lattice");
+    for tolerance in [1e-16, CauchyOptions::default().tolerance] {
+        same_bits(
+            |lanes| {
+                let cell = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
+                    .expect("spacings");
+                let data = lattice.cauchy_data(tumbling(lattice.length()));
+                CauchyMarcher::with_window(
+                    cell,
+                    lattice.torus().clone(),
+                    0,
+                    &data,
+                    options(tolerance),
+                    lattice.window(),
+                )
+                .expect("marcher")
+                .with_vertex_lanes(lanes)
+            },
+            120,
+        );
+    }
+}
+
+#[test]
+fn clamped_profiled_rod_under_a_potential_in_lanes_has_the_same_bits() {
+    let nodes = 41;
+    let lattice = RodLattice::new(nodes, 1.0, 0.004).expect("lattice");
+    let profile: Vec<RodParameters> = (0..nodes).map(|k| unit_rod(0.08 + 0.001 * k as f64)).collect();
+    let motion = |s: f64, t: f64| {
+        Pose::new(
+            Vector3::new(0.03 * (3.0 * s).sin() + 0.1 * t, 0.0, s),
+            so3::exp(&Vector3::new(0.1 * s * t, 0.09 * (3.0 * s).cos(), 0.2 * s)),
+        )
+    };
+    let ends = RodEnds {
+        start: EndCondition::Clamped(motion(0.0, 0.0)),
+        end: EndCondition::Free,
+    };
+    same_bits(
+        |lanes| {
+            let cell = CosseratCell::new(
+                CosseratDensity {
+                    parameters: unit_rod(0.1),
+                    potential: LinearPotential {
+                        gradient: Vector3::new(0.0, -0.5, 0.1),
+                    },
+                },
+                lattice.ds(),
+                lattice.dt(),
+            )
+            .expect("spacings")
+            .with_profile(profile.clone())
+            .expect("profile");
+            let mut data = lattice.cauchy_data(motion);
+            ends.apply(&lattice, 0, &mut data);
+            let m = CauchyMarcher::with_window(
+                cell,
+                lattice.torus().clone(),
+                0,
+                &data,
+                options(1e-16),
+                lattice.window(),
+            )
+            .expect("marcher")
+            .with_vertex_lanes(lanes);
+            match ends.dirichlet(&lattice) {
+                Some(d) => m.with_dirichlet(d),
+                None => m,
+            }
+        },
+        100,
+    );
+}
+
+#[test]
+fn a_rod_twisted_beyond_the_series_falls_back_with_the_same_bits() {
+    // About 0.12 rad of twist between neighbouring material points: the
+    // logarithms of the cells' arms leave the series branch (tan θ ≤ 0.1)
+    // at some vertices, whose groups are solved one vertex at a time.
+    let lattice = RodLattice::new(31, 1.0, 0.004).expect("lattice");
+    same_bits(
+        |lanes| {
+            let cell =
+                CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt()).expect("spacings");
+            let data = lattice.cauchy_data(|s: f64, t: f64| {
+                let twist = 4.0 * s * (1.0 + 0.5 * (7.0 * s).sin()) + 0.3 * t;
+                Pose::new(Vector3::new(0.0, 0.01 * t, s), so3::exp(&Vector3::new(0.0, 0.0, twist)))
+            });
+            CauchyMarcher::with_window(
+                cell,
+                lattice.torus().clone(),
+                0,
+                &data,
+                options(1e-16),
+                lattice.window(),
+            )
+            .expect("marcher")
+            .with_vertex_lanes(lanes)
+        },
+        60,
+    );
+}
