@@ -14,7 +14,10 @@
 //! ([`veselov::run::on_pool`]), as the command line runs them. A third case
 //! damps the 100-element rod and loads its end ([`RodLoads`]) and takes
 //! each level's impulse of the loads as well, the work a run of a loaded
-//! rod does per level.
+//! rod does per level (its vertices are solved one at a time: the vertex
+//! groups in vector lanes cover the rod without loads), and a fourth the
+//! free 100-element rod one vertex at a time (`with_vertex_lanes(1)`), the
+//! same bits as its default groups of eight.
 //!
 //! `cargo bench -p veselov --bench rod_step -- --quick`
 
@@ -175,7 +178,25 @@ fn bench(c: &mut Criterion) {
             });
         });
     }
+    // The same 100-element rod one vertex at a time (the scalar split
+    // step; by default eight vertices are solved side by side, with the
+    // same bits).
     let elements = 100;
+    let dl = LENGTH / elements as f64;
+    group.bench_function(format!("{elements} elements, one vertex at a time (two levels)"), |b| {
+        let (m, _) = rod(elements, 0.0705 * dl);
+        let mut m = m.with_vertex_lanes(1);
+        b.iter_custom(|steps| {
+            on_pool(|| {
+                let started = std::time::Instant::now();
+                for _ in 0..steps {
+                    black_box(m.step().expect("stable"));
+                    black_box(m.step().expect("stable"));
+                }
+                started.elapsed()
+            })
+        });
+    });
     let loads = RodLoads {
         damping_linear: 1.0,
         damping_angular: 0.01,

@@ -23,10 +23,13 @@
 //! Each cell's vertex gradients are computed once, when its last vertex is
 //! solved, and kept in a ring of n + 1 base levels; μ_v gathers them in a
 //! fixed order. The vertices of one level are solved in parallel (rayon, in
-//! chunks sized from the previous level's cost per vertex), in fixed groups
-//! of consecutive vertices where the model solves several at once
+//! chunks sized from the previous level's cost per vertex), in groups of
+//! vertices where the model solves several at once
 //! ([`DiscreteLagrangian::vertex_lanes`], in runs handed to
-//! [`DiscreteLagrangian::solve_vertex_run`]), and every vertex's arithmetic is
+//! [`DiscreteLagrangian::solve_vertex_run`]; in a march confined to a window
+//! or with prescribed values, only to a model that
+//! [solves confined runs](DiscreteLagrangian::solves_confined_runs), each run
+//! cut at the vertices without an equation), and every vertex's arithmetic is
 //! independent of the partition and of the grouping, so results are
 //! bit-identical for every thread count. Storage is allocated once: 2n + 1
 //! levels of values, n + 1 levels of cell gradients and n levels of kept

@@ -31,7 +31,9 @@ mod lanes;
 mod loads;
 pub use loads::RodLoads;
 
-/// The vertices of a level the rod's split step solves side by side.
+/// The vertices of a level the rod's split step solves side by side (eight
+/// in the documentation of its `vertex_lanes`: a group is one AVX-512
+/// instruction wide).
 const ROD_LANES: usize = 8;
 
 /// Constant material parameters of the rod (6.1): mass density ρ ≥ 0,
@@ -632,8 +634,8 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
             .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, previous, options, gradients))
     }
 
-    /// [`ROD_LANES`] with the closed forms and without loads (the split
-    /// step side by side, [`lane_step`]), else 1.
+    /// Eight with the closed forms and without loads (the split step of
+    /// eight vertices side by side in vector lanes), else 1.
     fn vertex_lanes(&self) -> usize {
         if self.analytic && self.loads.is_none() {
             ROD_LANES
@@ -647,9 +649,9 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
         true
     }
 
-    /// The split step of every vertex of the run, [`ROD_LANES`] at a time
-    /// where their stars are whole ([`lane_step`]), else one at a time;
-    /// each vertex with the bits of its own split step.
+    /// The split step of every vertex of the run, eight at a time where
+    /// their stars are whole (in vector lanes), else one at a time; each
+    /// vertex with the bits of its own split step.
     fn solve_vertex_run<R>(
         &self,
         run: &R,
