@@ -2,15 +2,16 @@
 //! vector lanes) against the same march one vertex at a time
 //! (`with_vertex_lanes(1)`): the same bits at every vertex of every level,
 //! on one and two threads, for a free tumbling rod, a clamped rod under a
-//! potential with parameters varying along it, and a rod twisted so hard
-//! that its groups leave the series branches and fall back.
+//! potential with parameters varying along it, a damped cantilever with an
+//! end load (the loads' impulses too), and a rod twisted so hard that its
+//! groups leave the series branches and fall back.
 
 use nalgebra::Vector3;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
-use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential, RodParameters};
+use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential, RodLoads, RodParameters};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 use veselov::lie::so3;
-use veselov::models::rod::{EndCondition, RodEnds, RodLattice};
+use veselov::models::rod::{EndCondition, RodEnds, RodLattice, load_impulse};
 
 use crate::sample::{tumbling, unit_rod};
 use crate::threads::on_threads;
@@ -28,6 +29,10 @@ fn history<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
         let report = m.step().expect("stable step");
         iterations += report.iterations;
         jacobians += report.jacobians;
+        // The impulse of the loads, if any: the forces the solves stored.
+        if let Some((p, l)) = load_impulse(&m) {
+            bits.extend(p.iter().chain(l.iter()).map(|x| x.to_bits()));
+        }
         for y in m.level_values(m.top_level()).expect("level") {
             let mut c = [0.0; 12];
             PositionRotation::write(y, &mut c);
@@ -160,5 +165,50 @@ fn a_rod_twisted_beyond_the_series_falls_back_with_the_same_bits() {
             .with_vertex_lanes(lanes)
         },
         60,
+    );
+}
+
+#[test]
+fn damped_end_loaded_cantilever_in_lanes_has_the_same_bits_and_impulses() {
+    let nodes = 33;
+    let lattice = RodLattice::new(nodes, 1.0, 0.004).expect("lattice");
+    let straight = |s: f64, _t: f64| Pose::new(Vector3::new(0.0, 0.0, s), so3::exp(&Vector3::zeros()));
+    let ends = RodEnds {
+        start: EndCondition::Clamped(straight(0.0, 0.0)),
+        end: EndCondition::Free,
+    };
+    let loads = RodLoads {
+        damping_linear: 0.5,
+        damping_angular: 0.01,
+        end_force: Vector3::new(0.02, -0.01, 0.0),
+        end_torque: Vector3::new(0.0, 0.0, 0.003),
+        tip: (nodes - 1) as i64,
+        ramp: 0.05,
+        start: 0.0,
+    };
+    same_bits(
+        |lanes| {
+            let cell = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
+                .expect("spacings")
+                .with_loads(loads)
+                .expect("loads");
+            let mut data = lattice.cauchy_data(straight);
+            ends.apply(&lattice, 0, &mut data);
+            let m = CauchyMarcher::with_window(
+                cell,
+                lattice.torus().clone(),
+                0,
+                &data,
+                options(1e-16),
+                lattice.window(),
+            )
+            .expect("marcher")
+            .with_vertex_lanes(lanes);
+            match ends.dirichlet(&lattice) {
+                Some(d) => m.with_dirichlet(d),
+                None => m,
+            }
+        },
+        150,
     );
 }

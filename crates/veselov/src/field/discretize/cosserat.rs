@@ -634,14 +634,10 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
             .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, previous, options, gradients))
     }
 
-    /// Eight with the closed forms and without loads (the split step of
-    /// eight vertices side by side in vector lanes), else 1.
+    /// Eight with the closed forms (the split step of eight vertices side
+    /// by side in vector lanes), else 1.
     fn vertex_lanes(&self) -> usize {
-        if self.analytic && self.loads.is_none() {
-            ROD_LANES
-        } else {
-            1
-        }
+        if self.analytic { ROD_LANES } else { 1 }
     }
 
     /// A rod is always confined to its material window.

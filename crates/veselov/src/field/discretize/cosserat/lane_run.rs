@@ -2,8 +2,9 @@
 //! ([`DiscreteLagrangian::solve_vertex_run`](crate::field::cell::DiscreteLagrangian::solve_vertex_run)):
 //! the vertices with whole stars gathered, in run order, into groups of
 //! [`ROD_LANES`] solved side by side ([`super::lane_step`]), the others —
-//! the ends of the rod, the vertices a group leaves, the last few of a run
-//! — by the scalar split step. Every vertex gets the bits of its own
+//! the ends of the rod, a vertex whose cell carries the end load, the
+//! vertices a group leaves, the last few of a run — by the scalar split
+//! step. Every vertex gets the bits of its own
 //! scalar step, so neither the grouping nor the partition of a level
 //! among threads changes a result.
 
@@ -14,6 +15,7 @@ use super::super::rod_potential::RodPotential;
 use super::lanes::{Lanes, M3, V3};
 use super::{CosseratCell, ROD_LANES};
 use crate::field::cell::{SolvedVertex, VertexLane, VertexRun};
+use crate::field::complex::TopCell;
 use crate::field::fibre::Pose;
 use crate::field::legendre::CauchyOptions;
 use crate::lie::so3::SO3;
@@ -108,8 +110,8 @@ impl<P: RodPotential> CosseratCell<P> {
     /// of [`ROD_LANES`] vertices whose stars are whole by
     /// [`solve_group`](Self::solve_group), every other vertex (and every
     /// vertex a group leaves) by the scalar split step; `false` (solve one
-    /// at a time) without the closed forms, with loads or for a run that is
-    /// not a rod's.
+    /// at a time) without the closed forms or for a run that is not a
+    /// rod's.
     pub(super) fn solve_run<R>(
         &self,
         run: &R,
@@ -122,10 +124,10 @@ impl<P: RodPotential> CosseratCell<P> {
         R: VertexRun<Pose<f64>, 6>,
     {
         let len = run.len();
+        let terms_per_vertex = if self.loads.is_some() { 12 } else { 6 };
         if !self.analytic
-            || self.loads.is_some()
             || run.dimension() != 2
-            || stride < 6
+            || stride < terms_per_vertex
             || gradients.len() < len * stride
             || solved.len() < len
         {
@@ -164,7 +166,9 @@ impl<P: RodPotential> CosseratCell<P> {
             } else {
                 None
             };
-            let Some((cell, _)) = cells else {
+            // A vertex whose cell carries the end load is solved alone.
+            let loaded = |cell: &TopCell| self.loads.is_some_and(|l| self.end_load(&l, cell, &y[0][0]).is_some());
+            let Some((cell, _)) = cells.filter(|(a, b)| !loaded(a) && !loaded(b)) else {
                 solved[k] = scalar(k, &mut gradients[k * stride..(k + 1) * stride]);
                 continue;
             };
@@ -286,13 +290,14 @@ mod tests {
         cell: &CosseratCell<Q>,
         v: &Vertex,
         options: &CauchyOptions,
-    ) -> (SolvedVertex<Pose<f64>>, [SVector<f64, 6>; 6]) {
+    ) -> (SolvedVertex<Pose<f64>>, Vec<SVector<f64, 6>>) {
         let star = |shape: usize, out: &mut [Pose<f64>]| {
             let y = v.y.get(shape)?;
             out[..3].copy_from_slice(y);
             Some(v.cells[shape])
         };
-        let mut terms = [SVector::repeat(f64::NAN); 6];
+        let stride = if cell.loads().is_some() { 12 } else { 6 };
+        let mut terms = vec![SVector::repeat(f64::NAN); stride];
         let s = split_solve(
             cell,
             &star,
@@ -327,9 +332,19 @@ mod tests {
         let slots: [usize; L] = std::array::from_fn(|l| l);
         let blank = scalar(cell, &vertices[0], options).0;
         let mut solved = [blank; L];
-        let mut gradients = [SVector::<f64, 6>::repeat(f64::NAN); 6 * L];
-        let done = solve_group_dispatched(cell, &input, options, &slots, count, &mut solved, &mut gradients, 6)
-            .unwrap_or([false; L]);
+        let stride = if cell.loads().is_some() { 12 } else { 6 };
+        let mut gradients = vec![SVector::<f64, 6>::repeat(f64::NAN); stride * L];
+        let done = solve_group_dispatched(
+            cell,
+            &input,
+            options,
+            &slots,
+            count,
+            &mut solved,
+            &mut gradients,
+            stride,
+        )
+        .unwrap_or([false; L]);
         for (l, v) in vertices.iter().enumerate().filter(|&(l, _)| done[l]) {
             let (s, terms) = scalar(cell, v, options);
             let mut c = [[0.0; 12]; 2];
@@ -342,8 +357,10 @@ mod tests {
                 s.outcome,
                 solved[l].outcome
             );
-            assert!(s.gradients_written && solved[l].gradients_written && !solved[l].forces_written);
-            for (a, b) in terms.iter().zip(&gradients[6 * l..6 * (l + 1)]) {
+            assert!(s.gradients_written && solved[l].gradients_written);
+            assert_eq!(s.forces_written, solved[l].forces_written);
+            assert_eq!(solved[l].forces_written, cell.loads().is_some());
+            for (a, b) in terms.iter().zip(&gradients[stride * l..stride * (l + 1)]) {
                 assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "lane {l}: gradients");
             }
         }
@@ -374,6 +391,18 @@ mod tests {
             DT,
         )
         .expect("spacings");
+        let damped = free
+            .clone()
+            .with_loads(super::super::RodLoads {
+                damping_linear: 0.7,
+                damping_angular: 0.05,
+                end_force: Vector3::new(0.1, 0.0, 0.0),
+                end_torque: Vector3::new(0.0, 0.02, 0.0),
+                tip: 0,
+                ramp: 0.0,
+                start: 0.0,
+            })
+            .expect("loads");
         let profiled = free
             .clone()
             .with_profile((0..20).map(|k| parameters(1.0 + 0.1 * k as f64)).collect())
@@ -385,7 +414,7 @@ mod tests {
             };
             for trial in 0..8 {
                 let bend = [0.001, 0.01, 0.05][trial % 3];
-                for cell in [&free, &stiff, &profiled] {
+                for cell in [&free, &stiff, &profiled, &damped] {
                     let vertices: Vec<Vertex> = (0..L as i64).map(|k| vertex(cell, k + 1, bend, &mut next)).collect();
                     assert_eq!(check_group(cell, &vertices, &options), L, "trial {trial}");
                     // Padded: the first five.

@@ -3,9 +3,10 @@
 //! the same operations in the same order, in lanes ([`super::lanes`]), so
 //! that every vertex gets the bits of its own scalar solve whatever the
 //! others. It covers the common vertex — both cells of its star in the
-//! action, no loads, rotations within the series branches of the SO(3)
-//! maps, a Newton solve that ends by the tolerance, the stall test or the
-//! remainder bound — and leaves any other vertex to the scalar step, which
+//! action and without the end load (damping included), rotations within the
+//! series branches of the SO(3) maps, a Newton solve that ends by the
+//! tolerance, the stall test or the remainder bound — and leaves any other
+//! vertex to the scalar step, which
 //! then reproduces its failure or solves it; a group with a lane outside
 //! the series branches is left to it whole.
 //!
@@ -159,10 +160,10 @@ impl<P: RodPotential> CosseratCell<P> {
         gradients: &mut [SVector<f64, 6>],
         stride: usize,
     ) -> Option<[bool; L]> {
-        if self.loads.is_some() {
-            return None;
-        }
         let (ds, dt) = (self.ds, self.dt);
+        // Damping (an end load's cells are never in a group).
+        let loads = self.loads.as_ref();
+        let zero_v = [Lanes::splat(0.0); 3];
         let mut state = [LaneState::Iterating; L];
         let mut outcome = [VertexOutcome::default(); L];
         // The rotation arms a_σ = log(R₀ᵀR₁) and D_a = dlog a.
@@ -192,15 +193,25 @@ impl<P: RodPotential> CosseratCell<P> {
         );
         let mut total = v.mu_scale + (largest_abs(&kinetic) + largest_abs(&weight)) * n;
         let mut strain_sum = [Lanes::splat(0.0); 3];
+        let mut forces = zero_v;
         for c in 0..2 {
             let eps = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &start, &strain);
             let c1e = scale_by(&mv(&c1, &eps), 0.25 * dt);
             total = total + largest_abs(&c1e);
             strain_sum = add(&strain_sum, &scale_by(&c1e, sigma[c]));
+            if let Some(loads) = loads {
+                // F⁰'s position part at (start, R₀): the linear damping.
+                let mut f = zero_v;
+                if loads.damped() {
+                    f = add(&f, &self.lane_linear_damping(loads, &r0, &start));
+                }
+                forces = add(&forces, &f);
+                total = total + largest_abs(&f);
+            }
         }
         let leg_r = add(
             &add(&scale_by(&add(&kinetic, &weight), n), &mv(&r0m, &strain_sum)),
-            &[Lanes::splat(0.0); 3],
+            &forces,
         );
         let zero = Matrix3::zeros();
         for (l, k) in constants.iter().enumerate() {
@@ -229,9 +240,15 @@ impl<P: RodPotential> CosseratCell<P> {
             let torque = scale_by(&cross(&add(&eps[c], &strain), &mv(&c1, &eps[c])), area);
             fixed = add(&fixed, &torque);
             fixed_scale = fixed_scale + largest_abs(&torque);
+            if loads.is_some() {
+                // F⁰'s rotation part at (r₂, R₀): no end load here.
+                fixed = add(&fixed, &zero_v);
+                fixed_scale = fixed_scale + largest_abs(&zero_v);
+            }
         }
         let target = sub(&v.mu_q, &fixed);
-        let equation = self.lane_equation(&constants, &arms_a, &arms_da);
+        let damping = self.area() * loads.map_or(0.0, |l| l.damping_angular) / (2.0 * dt);
+        let equation = self.lane_equation(&constants, &arms_a, &arms_da, damping);
         let mut b = log(&tmm(&v.previous_m, &r0m))?;
         let mut previous = [f64::INFINITY; L];
         let mut last_step = [f64::INFINITY; L];
@@ -333,6 +350,7 @@ impl<P: RodPotential> CosseratCell<P> {
         let rotation = renormalize(&mm(&r0m, &exp(&b)?));
         let b = log(&tmm(&r0m, &rotation))?;
         let db = dexp_inv(&neg(&b))?;
+        let cell_forces = loads.map(|loads| self.lane_damping_forces(loads, &r0, &r2, &b));
         let later = self.lane_gradients(&p, &r0m, &r0, &r2, (&arms_a, &arms_da), &eps, &b, &db);
         let mut done = [false; L];
         for l in 0..count.min(L) {
@@ -344,26 +362,59 @@ impl<P: RodPotential> CosseratCell<P> {
                 value: Pose::new(lane_v3(&r2, l), SO3::from_matrix_unchecked(lane_m3(&rotation, l))),
                 outcome: outcome[l],
                 gradients_written: true,
-                forces_written: false,
+                forces_written: loads.is_some(),
             };
             let terms = &mut gradients[slots[l] * stride..(slots[l] + 1) * stride];
             terms.fill(SVector::zeros());
             for (c, [first_r, first_q, second_r, second_q]) in later.iter().enumerate() {
                 terms[3 * c + 1] = join(first_r, first_q, l);
                 terms[3 * c + 2] = join(second_r, second_q, l);
+                if let Some([first, last]) = &cell_forces {
+                    // (F⁰, F¹ = 0, F²) after the gradients (`forces_with`).
+                    terms[6 + 3 * c] = join(&first[0], &first[1], l);
+                    terms[6 + 3 * c + 2] = join(&last[0], &last[1], l);
+                }
             }
         }
         Some(done)
     }
 
-    /// `RotationEquation::new` for the two cells based at each vertex,
-    /// without damping.
+    /// −(A_β/2)c_r(r₂ − r₀)/Δt in lanes (`CosseratCell::linear_damping`).
+    #[inline(always)]
+    fn lane_linear_damping<const L: usize>(&self, loads: &super::RodLoads, r0: &V3<L>, r2: &V3<L>) -> V3<L> {
+        scale_by(&sub(r2, r0), self.damping_weight() * loads.damping_linear)
+    }
+
+    /// The damping forces F⁰ = F² of a cell in lanes (`forces_with` on a
+    /// cell without the end load): 0 + (linear damping; (A_β/2)c_R b/Δt),
+    /// as position and rotation parts; zero without damping.
+    #[inline(always)]
+    fn lane_damping_forces<const L: usize>(
+        &self,
+        loads: &super::RodLoads,
+        r0: &V3<L>,
+        r2: &V3<L>,
+        b: &V3<L>,
+    ) -> [[V3<L>; 2]; 2] {
+        let zero = [Lanes::splat(0.0); 3];
+        if !loads.damped() {
+            return [[zero; 2]; 2];
+        }
+        let v = self.lane_linear_damping(loads, r0, r2);
+        let o = scale_by(b, self.damping_weight() * loads.damping_angular);
+        let first = [add(&zero, &v), add(&zero, &o)];
+        [first, first]
+    }
+
+    /// `RotationEquation::new` for the two cells based at each vertex, with
+    /// the angular damping c per cell.
     #[inline(always)]
     fn lane_equation<const L: usize>(
         &self,
         constants: &[&super::StepConstants; L],
         arms_a: &[V3<L>; 2],
         arms_da: &[M3<L>; 2],
+        damping: f64,
     ) -> LaneEquation<L> {
         let n = 2.0;
         let c2 = gather_m3::<L>(|l| &constants[l].c2_minus_two_kappa);
@@ -378,7 +429,7 @@ impl<P: RodPotential> CosseratCell<P> {
         }
         let mut slope = mm(&da_sum, &c2);
         for (i, row) in slope.iter_mut().enumerate() {
-            row[i] = row[i] - n * 0.0;
+            row[i] = row[i] - n * damping;
         }
         let mut linear = gather_m3::<L>(|l| &constants[l].rotation_linear);
         for x in linear.iter_mut().flatten() {

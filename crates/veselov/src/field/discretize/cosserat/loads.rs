@@ -92,7 +92,7 @@ impl<P: RodPotential> CosseratCell<P> {
     }
 
     /// −A_β/(2Δt): the weight of the damping forces on the time edge.
-    fn damping_weight(&self) -> f64 {
+    pub(super) fn damping_weight(&self) -> f64 {
         -0.5 * self.area() / self.dt
     }
 
