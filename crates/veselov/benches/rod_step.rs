@@ -14,10 +14,10 @@
 //! ([`veselov::run::on_pool`]), as the command line runs them. A third case
 //! damps the 100-element rod and loads its end ([`RodLoads`]) and takes
 //! each level's impulse of the loads as well, the work a run of a loaded
-//! rod does per level (its vertices are solved one at a time: the vertex
-//! groups in vector lanes cover the rod without loads), and a fourth the
-//! free 100-element rod one vertex at a time (`with_vertex_lanes(1)`), the
-//! same bits as its default groups of eight.
+//! rod does per level (the vertex at the loaded end is solved alone, the
+//! others in groups of eight), and a fourth the free 100-element rod one
+//! vertex at a time (`with_vertex_lanes(1)`), the same bits as its default
+//! groups of eight.
 //!
 //! `cargo bench -p veselov --bench rod_step -- --quick`
 
