@@ -159,6 +159,19 @@ fn report() {
     }
 }
 
+/// The wall time of `steps` steps (two levels each) of `m` on a thread of
+/// the pool.
+fn time_steps(m: &mut Rod, steps: u64) -> std::time::Duration {
+    on_pool(|| {
+        let started = std::time::Instant::now();
+        for _ in 0..steps {
+            black_box(m.step().expect("stable"));
+            black_box(m.step().expect("stable"));
+        }
+        started.elapsed()
+    })
+}
+
 fn bench(c: &mut Criterion) {
     report();
     let mut group = c.benchmark_group("rod_step");
@@ -166,16 +179,7 @@ fn bench(c: &mut Criterion) {
         let dl = LENGTH / elements as f64;
         group.bench_function(format!("{elements} elements, dt = 0.0705 dl (two levels)"), |b| {
             let (mut m, _) = rod(elements, 0.0705 * dl);
-            b.iter_custom(|steps| {
-                on_pool(|| {
-                    let started = std::time::Instant::now();
-                    for _ in 0..steps {
-                        black_box(m.step().expect("stable"));
-                        black_box(m.step().expect("stable"));
-                    }
-                    started.elapsed()
-                })
-            });
+            b.iter_custom(|steps| time_steps(&mut m, steps));
         });
     }
     // The same 100-element rod one vertex at a time (the scalar split
@@ -186,16 +190,7 @@ fn bench(c: &mut Criterion) {
     group.bench_function(format!("{elements} elements, one vertex at a time (two levels)"), |b| {
         let (m, _) = rod(elements, 0.0705 * dl);
         let mut m = m.with_vertex_lanes(1);
-        b.iter_custom(|steps| {
-            on_pool(|| {
-                let started = std::time::Instant::now();
-                for _ in 0..steps {
-                    black_box(m.step().expect("stable"));
-                    black_box(m.step().expect("stable"));
-                }
-                started.elapsed()
-            })
-        });
+        b.iter_custom(|steps| time_steps(&mut m, steps));
     });
     let loads = RodLoads {
         damping_linear: 1.0,

@@ -21,6 +21,15 @@ use crate::{Error, Result};
 /// value, its cells' gradients and its result.
 type VertexSlot<'a, P, const M: usize> = (usize, ((&'a mut P, &'a mut [SVector<f64, M>]), &'a mut VertexResult<M>));
 
+/// The slots of a run of consecutive vertices of a level: their new values,
+/// their cells' terms, their results and the model's results.
+struct RunSlots<'a, P, const M: usize> {
+    values: &'a mut [P],
+    terms: &'a mut [SVector<f64, M>],
+    results: &'a mut [VertexResult<M>],
+    solved: &'a mut [SolvedVertex<P>],
+}
+
 /// A run of consecutive vertices of a level handed to the model: the run's
 /// index, their new values, their cells' gradients, their results and the
 /// model's results.
@@ -279,54 +288,54 @@ where
         }
     }
 
-    /// Solves the vertices `first …` of level `w` (as many as `values`) by
+    /// Solves the vertices `first …` of level `w` (as many as `slots`) by
     /// the model's [`DiscreteLagrangian::solve_vertex_run`] (groups of at
     /// most `lanes`) and stores each ([`store_vertex`](Self::store_vertex));
     /// in a confined march each stretch of vertices with an equation is a
     /// run, the others are solved alone. `false` (nothing stored) when the
     /// model declines an unconfined run.
-    #[allow(clippy::too_many_arguments)]
     fn solve_run(
         &self,
         w: i64,
         rows: &LevelRows,
         first: usize,
         lanes: usize,
-        values: &mut [F::Point<f64>],
-        terms: &mut [SVector<f64, M>],
-        results: &mut [VertexResult<M>],
-        solved: &mut [SolvedVertex<F::Point<f64>>],
+        slots: RunSlots<'_, F::Point<f64>, M>,
     ) -> bool {
         if !self.confined() {
-            return self.solve_free_run(w, rows, first, lanes, values, terms, results, solved);
+            return self.solve_free_run(w, rows, first, lanes, slots);
         }
-        let (stride, len) = (self.stride(), values.len());
+        let (stride, len) = (self.stride(), slots.values.len());
+        let RunSlots {
+            values,
+            terms,
+            results,
+            solved,
+        } = slots;
+        let alone =
+            |j: usize, values: &mut [F::Point<f64>], terms: &mut [SVector<f64, M>], results: &mut [VertexResult<M>]| {
+                let terms = &mut terms[j * stride..(j + 1) * stride];
+                self.solve_one(w, rows, first + j, &mut values[j], terms, &mut results[j]);
+            };
         let mut k = 0;
         while k < len {
             let start = k;
             while k < len && self.is_free(w, first + k) {
                 k += 1;
             }
-            if k > start
-                && !self.solve_free_run(
-                    w,
-                    rows,
-                    first + start,
-                    lanes,
-                    &mut values[start..k],
-                    &mut terms[start * stride..k * stride],
-                    &mut results[start..k],
-                    &mut solved[start..k],
-                )
-            {
+            let stretch = RunSlots {
+                values: &mut values[start..k],
+                terms: &mut terms[start * stride..k * stride],
+                results: &mut results[start..k],
+                solved: &mut solved[start..k],
+            };
+            if k > start && !self.solve_free_run(w, rows, first + start, lanes, stretch) {
                 for j in start..k {
-                    let terms = &mut terms[j * stride..(j + 1) * stride];
-                    self.solve_one(w, rows, first + j, &mut values[j], terms, &mut results[j]);
+                    alone(j, values, terms, results);
                 }
             }
             if k < len {
-                let terms = &mut terms[k * stride..(k + 1) * stride];
-                self.solve_one(w, rows, first + k, &mut values[k], terms, &mut results[k]);
+                alone(k, values, terms, results);
                 k += 1;
             }
         }
@@ -335,19 +344,21 @@ where
 
     /// [`solve_run`](Self::solve_run) for vertices that all have an
     /// equation to solve.
-    #[allow(clippy::too_many_arguments)]
     fn solve_free_run(
         &self,
         w: i64,
         rows: &LevelRows,
         first: usize,
         lanes: usize,
-        values: &mut [F::Point<f64>],
-        terms: &mut [SVector<f64, M>],
-        results: &mut [VertexResult<M>],
-        solved: &mut [SolvedVertex<F::Point<f64>>],
+        slots: RunSlots<'_, F::Point<f64>, M>,
     ) -> bool {
         let stride = self.stride();
+        let RunSlots {
+            values,
+            terms,
+            results,
+            solved,
+        } = slots;
         let run = LevelRun {
             marcher: self,
             rows,
@@ -433,7 +444,13 @@ where
                 };
                 let solve_run = |(r, (((values, terms), results), solved)): RunSlot<'_, F::Point<f64>, M>| {
                     let first = r * run_len;
-                    if !this.solve_run(w, &rows, first, lanes, values, terms, results, solved) {
+                    let slots = RunSlots {
+                        values: &mut *values,
+                        terms: &mut *terms,
+                        results: &mut *results,
+                        solved,
+                    };
+                    if !this.solve_run(w, &rows, first, lanes, slots) {
                         for (l, ((value, terms), result)) in values
                             .iter_mut()
                             .zip(terms.chunks_mut(stride))
