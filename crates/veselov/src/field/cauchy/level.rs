@@ -44,8 +44,8 @@ type RunSlot<'a, P, const M: usize> = (
 /// The work one thread takes at least: the chunk is sized from the cost per
 /// vertex measured on the last level solved on one thread so that it holds
 /// about this much or more (and at most a thread's share of the level, so
-/// that a level worth splitting is split), in a number of chunks that is a
-/// multiple of the thread count. The first level is always solved on the
+/// that a level worth splitting is split), the same number for every
+/// thread ([`chunk_len`]). The first level is always solved on the
 /// calling thread (a level solved in parallel is never measured: if the
 /// first one were, the chunk would keep its first guess for the whole
 /// march). Chunking decides only who solves which vertex, never what is
