@@ -56,7 +56,6 @@ impl<const L: usize> LaneInput<L> {
 
     /// Lane `l` from the vertex's star values `y` (cell σ's values at
     /// `y[σ]`), its momentum and the value one flow step back.
-    #[allow(clippy::too_many_arguments)]
     fn set(&mut self, l: usize, s0: f64, y: &[[Pose<f64>; 3]; 2], lane: &VertexLane<Pose<f64>, 6>) {
         self.s0[l] = s0;
         set_pose(&mut self.r0, &mut self.r0m, l, &y[0][0]);
