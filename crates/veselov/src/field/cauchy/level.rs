@@ -119,11 +119,8 @@ where
         if !self.base_active(&base) {
             return (self.value(w, i), VertexOutcome::default(), Written::default());
         }
-        if let Some(data) = &self.dirichlet {
-            let target = self.up(i, 0, n);
-            if let Some(z) = data(&self.origin(w + n as i64, target)) {
-                return (z, VertexOutcome::default(), Written::default());
-            }
+        if let Some(z) = self.prescribed(w, i) {
+            return (z, VertexOutcome::default(), Written::default());
         }
         let (mu, mu_scale) = self.momentum(rows, i);
         let previous = self.values[rows.previous + self.down(i, 0, n)];
@@ -234,16 +231,18 @@ where
         self.window.is_some() || self.dirichlet.is_some()
     }
 
+    /// The value prescribed at y_{Δv}, v = (w, i), by the Dirichlet data,
+    /// if any.
+    fn prescribed(&self, w: i64, i: usize) -> Option<F::Point<f64>> {
+        let data = self.dirichlet.as_ref()?;
+        let n = self.torus.dimension();
+        data(&self.origin(w + n as i64, self.up(i, 0, n)))
+    }
+
     /// Whether vertex (w, i) has an equation to solve: its base is in the
     /// window and y_{Δv} is not prescribed (as [`solve_vertex`](Self::solve_vertex) decides).
     fn is_free(&self, w: i64, i: usize) -> bool {
-        if !self.base_active(&self.base(w, i)) {
-            return false;
-        }
-        let n = self.torus.dimension();
-        self.dirichlet
-            .as_ref()
-            .is_none_or(|data| data(&self.origin(w + n as i64, self.up(i, 0, n))).is_none())
+        self.base_active(&self.base(w, i)) && self.prescribed(w, i).is_none()
     }
 
     /// Solves vertex (w, i) alone into its value, cell terms and result.

@@ -110,14 +110,13 @@ impl RotationEquation {
     /// max-norms (no square roots). `None` unless |b| ≤ 1 and |b + δ| ≤ 1.
     #[inline]
     pub(super) fn newton_remainder_bound(&self, b: &Vector3<f64>, delta: &Vector3<f64>) -> Option<f64> {
-        if b.norm_squared() > 1.0 || (b + delta).norm_squared() > 1.0 {
-            return None;
-        }
-        const SQRT_3: f64 = 1.732_050_807_568_877_2;
-        let d = SQRT_3 * largest_abs(delta);
-        let l = self.linear_norm;
-        let x = SQRT_3 * largest_abs(&(mat3_vec(&self.linear, b) + self.offset)) + l * d;
-        Some(0.5 * (1.5 * l + 0.25 * x) * d * d)
+        remainder_bound(
+            b.norm_squared(),
+            (b + delta).norm_squared(),
+            largest_abs(delta),
+            largest_abs(&(mat3_vec(&self.linear, b) + self.offset)),
+            self.linear_norm,
+        )
     }
 
     /// T(b) with D_b given.
@@ -175,6 +174,19 @@ impl RotationEquation {
         jacobian[(2, 1)] -= 0.5 * x[0];
         (value, jacobian)
     }
+}
+
+/// [`RotationEquation::newton_remainder_bound`] from |b|², |b + δ|²,
+/// max|δᵢ|, max|x(b)ᵢ| and ‖X‖_F (the scalar and the lane solves alike).
+#[inline]
+pub(super) fn remainder_bound(b2: f64, next2: f64, delta_size: f64, x_size: f64, linear_norm: f64) -> Option<f64> {
+    if b2 > 1.0 || next2 > 1.0 {
+        return None;
+    }
+    const SQRT_3: f64 = 1.732_050_807_568_877_2;
+    let d = SQRT_3 * delta_size;
+    let x = SQRT_3 * x_size + linear_norm * d;
+    Some(0.5 * (1.5 * linear_norm + 0.25 * x) * d * d)
 }
 
 /// One cell based at v: the cell (σ = + for shape 0) and the position at

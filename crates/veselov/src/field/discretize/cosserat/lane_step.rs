@@ -15,20 +15,22 @@
 //!
 //! [`RotationEquation`]: super::super::cosserat_step::RotationEquation
 
-use nalgebra::{Matrix3, SVector, Vector3};
+use nalgebra::{Matrix3, SVector};
 
+use super::super::cosserat_step::remainder_bound;
 use super::super::rod_potential::RodPotential;
-use super::CosseratCell;
 use super::lane_run::LaneInput;
 use super::lanes::{
     Lanes, M3, V3, add, cross, dexp_inv, dot, exp, gather_m3, gather_v3, inverse, lane_m3, lane_v3, largest_abs,
     largest_abs_m3, log, mm, mv, neg, renormalize, row_sum_norm, scale, scale_by, sub, tmm, tmv,
 };
+use super::{CosseratCell, join};
 use crate::field::cell::SolvedVertex;
 use crate::field::fibre::Pose;
 use crate::field::legendre::{CauchyOptions, VertexOutcome};
 use crate::lie::series_lanes;
 use crate::lie::so3::SO3;
+use crate::solve::max_abs;
 
 /// [`RotationEquation`](super::super::cosserat_step::RotationEquation) in
 /// lanes: T(b) = D_b x(b) + y(b), x = Xb + x₀, y = Yb + y₀.
@@ -39,8 +41,6 @@ struct LaneEquation<const L: usize> {
     slope: M3<L>,
     constant: V3<L>,
 }
-
-const SQRT_3: f64 = 1.732_050_807_568_877_2;
 
 impl<const L: usize> LaneEquation<L> {
     /// T(b) and dT/db (`RotationEquation::value_and_jacobian`), `None`
@@ -91,32 +91,6 @@ impl<const L: usize> LaneEquation<L> {
         jacobian[2][1] = jacobian[2][1] - x[0] * 0.5;
         Some((value, jacobian))
     }
-
-    /// `RotationEquation::newton_remainder_bound` in lane `l` from |b|²,
-    /// |b + δ|², max|δᵢ| and max|x(b)ᵢ| there (`None` unless |b| ≤ 1 and
-    /// |b + δ| ≤ 1).
-    #[inline(always)]
-    fn remainder_bound(&self, b2: f64, next2: f64, delta_size: f64, x_size: f64, l: usize) -> Option<f64> {
-        if b2 > 1.0 || next2 > 1.0 {
-            return None;
-        }
-        let d = SQRT_3 * delta_size;
-        let norm = self.linear_norm.0[l];
-        let x = SQRT_3 * x_size + norm * d;
-        Some(0.5 * (1.5 * norm + 0.25 * x) * d * d)
-    }
-}
-
-/// max |vᵢ| of lane `l`, NaN if any entry is (`solve::max_abs`).
-#[inline(always)]
-fn max_abs_lane<const L: usize>(v: &V3<L>, l: usize) -> f64 {
-    let mut largest = 0.0_f64;
-    let mut nan = false;
-    for x in v {
-        largest = largest.max(x.0[l].abs());
-        nan |= x.0[l].is_nan();
-    }
-    if nan { f64::NAN } else { largest }
 }
 
 /// ε = R₀ᵀ(2r₁ − r₀ − r₂)/(σΔs) − e (`CosseratCell::linear_strain`).
@@ -234,10 +208,12 @@ impl<P: RodPotential> CosseratCell<P> {
         let area = 0.25 * self.ds * self.dt;
         let mut fixed = [Lanes::splat(0.0); 3];
         let mut fixed_scale = Lanes::splat(0.0);
-        let mut eps = [[Lanes::splat(0.0); 3]; 2];
+        // C₁ε_σ at r₂, kept for the gradients.
+        let mut c1_eps = [zero_v; 2];
         for c in 0..2 {
-            eps[c] = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &r2, &strain);
-            let torque = scale_by(&cross(&add(&eps[c], &strain), &mv(&c1, &eps[c])), area);
+            let eps = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &r2, &strain);
+            c1_eps[c] = mv(&c1, &eps);
+            let torque = scale_by(&cross(&add(&eps, &strain), &c1_eps[c]), area);
             fixed = add(&fixed, &torque);
             fixed_scale = fixed_scale + largest_abs(&torque);
             if loads.is_some() {
@@ -288,7 +264,7 @@ impl<P: RodPotential> CosseratCell<P> {
                 }
                 let o = &mut outcome[l];
                 o.jacobians += 1;
-                let r = max_abs_lane(&residual, l);
+                let r = max_abs(&lane_v3(&residual, l));
                 o.iterations = it;
                 let t = terms.0[l];
                 o.relative_residual = r.max(residual_r.0[l]) / t;
@@ -311,7 +287,8 @@ impl<P: RodPotential> CosseratCell<P> {
                     state[l] = LaneState::Scalar;
                     continue;
                 }
-                let remainder = equation.remainder_bound(b2.0[l], next2.0[l], delta_size.0[l], x_size.0[l], l);
+                let norm = equation.linear_norm.0[l];
+                let remainder = remainder_bound(b2.0[l], next2.0[l], delta_size.0[l], x_size.0[l], norm);
                 last_step[l] = delta_size.0[l];
                 take_next(&mut b, l);
                 let angle = angle.0[l];
@@ -351,7 +328,7 @@ impl<P: RodPotential> CosseratCell<P> {
         let b = log(&tmm(&r0m, &rotation))?;
         let db = dexp_inv(&neg(&b))?;
         let cell_forces = loads.map(|loads| self.lane_damping_forces(loads, &r0, &r2, &b));
-        let later = self.lane_gradients(&p, &r0m, &r0, &r2, (&arms_a, &arms_da), &eps, &b, &db);
+        let later = self.lane_gradients(&p, &r0m, &r0, &r2, (&arms_a, &arms_da), &c1_eps, &b, &db);
         let mut done = [false; L];
         for l in 0..count.min(L) {
             if !matches!(state[l], LaneState::Solved) {
@@ -367,12 +344,12 @@ impl<P: RodPotential> CosseratCell<P> {
             let terms = &mut gradients[slots[l] * stride..(slots[l] + 1) * stride];
             terms.fill(SVector::zeros());
             for (c, [first_r, first_q, second_r, second_q]) in later.iter().enumerate() {
-                terms[3 * c + 1] = join(first_r, first_q, l);
-                terms[3 * c + 2] = join(second_r, second_q, l);
+                terms[3 * c + 1] = join(lane_v3(first_r, l), lane_v3(first_q, l));
+                terms[3 * c + 2] = join(lane_v3(second_r, l), lane_v3(second_q, l));
                 if let Some([first, last]) = &cell_forces {
                     // (F⁰, F¹ = 0, F²) after the gradients (`forces_with`).
-                    terms[6 + 3 * c] = join(&first[0], &first[1], l);
-                    terms[6 + 3 * c + 2] = join(&last[0], &last[1], l);
+                    terms[6 + 3 * c] = join(lane_v3(&first[0], l), lane_v3(&first[1], l));
+                    terms[6 + 3 * c + 2] = join(lane_v3(&last[0], l), lane_v3(&last[1], l));
                 }
             }
         }
@@ -446,7 +423,7 @@ impl<P: RodPotential> CosseratCell<P> {
 
     /// The gradients at positions 1 and 2 of both cells of each lane
     /// (`CosseratCell::later_gradients` of the cells' quantities with
-    /// b = log(R₀ᵀR₂) and r₂), in the marcher's layout.
+    /// b = log(R₀ᵀR₂) and r₂, from C₁ε_σ), in the marcher's layout.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn lane_gradients<const L: usize>(
@@ -456,15 +433,11 @@ impl<P: RodPotential> CosseratCell<P> {
         r0: &V3<L>,
         r2: &V3<L>,
         (arms_a, arms_da): (&[V3<L>; 2], &[M3<L>; 2]),
-        eps: &[V3<L>; 2],
+        c1_eps: &[V3<L>; 2],
         b: &V3<L>,
         db: &M3<L>,
     ) -> [[V3<L>; 4]; 2] {
-        let (c1, c2, inertia) = (
-            gather_m3::<L>(|l| &p[l].c1),
-            gather_m3::<L>(|l| &p[l].c2),
-            gather_m3::<L>(|l| &p[l].inertia),
-        );
+        let (c2, inertia) = (gather_m3::<L>(|l| &p[l].c2), gather_m3::<L>(|l| &p[l].inertia));
         let rho = Lanes::from_fn(|l| p[l].rho);
         let ds = self.ds;
         let omega = scale_by(b, self.inv_dt);
@@ -474,7 +447,7 @@ impl<P: RodPotential> CosseratCell<P> {
             let sigma = if c == 0 { 1.0 } else { -1.0 };
             let st = sigma * self.dt;
             let u = scale_by(&sub(&scale_by(&arms_a[c], 2.0), b), sigma * self.inv_ds);
-            let c1e = mv(r0m, &mv(&c1, &eps[c]));
+            let c1e = mv(r0m, &c1_eps[c]);
             let c2u = mv(&c2, &u);
             *cell = [
                 scale_by(&neg(&c1e), st / 2.0),
@@ -488,11 +461,4 @@ impl<P: RodPotential> CosseratCell<P> {
         }
         out
     }
-}
-
-/// (x; y) of lane `l`.
-#[inline(always)]
-fn join<const L: usize>(x: &V3<L>, y: &V3<L>, l: usize) -> SVector<f64, 6> {
-    let (x, y): (Vector3<f64>, Vector3<f64>) = (lane_v3(x, l), lane_v3(y, l));
-    SVector::<f64, 6>::new(x[0], x[1], x[2], y[0], y[1], y[2])
 }
