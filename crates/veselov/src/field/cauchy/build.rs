@@ -90,7 +90,13 @@ where
                 }
             }
         }
-        let origins = (0..size).map(|i| torus.vertex(0, i)).collect();
+        // Level 0's coordinates; with a window, its representatives.
+        let origins = (0..size)
+            .map(|i| {
+                let v = torus.vertex(0, i);
+                window.as_ref().map_or(v, |m| m.unwrap(&v))
+            })
+            .collect();
         // Ring storage, allocated once; refuse (rather than abort on) a
         // request the machine cannot hold.
         let too_large = |what: &str| Error::InvalidParameter {
@@ -188,7 +194,7 @@ where
         let vertices = (0..self.torus.level_size()).filter(|&i| self.is_active(w, i));
         let rows = self.level_rows(w);
         for i in vertices.take(CHECKED_VERTICES) {
-            let at = self.base(w, i);
+            let at = self.base(&rows, i);
             for sigma in (0..self.perms.len()).filter(|&s| self.cell_active_at(&at, s)) {
                 let cell = self.cell_values_at(&rows, &at, sigma, None, &mut y);
                 check_closed_form::<F, L, M>(&self.lag, &cell, &y[..=n], || {

@@ -115,7 +115,7 @@ where
         *factors = None;
         let n = self.torus.dimension();
         // The base's canonical coordinates serve the window test and the star.
-        let base = self.base(w, i);
+        let base = self.base(rows, i);
         if !self.base_active(&base) {
             return (self.value(w, i), VertexOutcome::default(), Written::default());
         }
@@ -241,8 +241,8 @@ where
 
     /// Whether vertex (w, i) has an equation to solve: its base is in the
     /// window and y_{Δv} is not prescribed (as [`solve_vertex`](Self::solve_vertex) decides).
-    fn is_free(&self, w: i64, i: usize) -> bool {
-        self.base_active(&self.base(w, i)) && self.prescribed(w, i).is_none()
+    fn is_free(&self, rows: &LevelRows, i: usize) -> bool {
+        self.is_active_in(rows, i) && self.prescribed(rows.level, i).is_none()
     }
 
     /// Solves vertex (w, i) alone into its value, cell terms and result.
@@ -279,9 +279,9 @@ where
             // Checked here, not only in `cell_terms`: its stack frame alone
             // cost about 50 instructions per vertex.
             if !written.covers(self.lag.has_forces()) {
-                self.cell_terms(w, rows, i, Some(z), written, terms);
+                self.cell_terms(rows, i, Some(z), written, terms);
             }
-            if self.lag.has_forces() && self.is_active(w, i) {
+            if self.lag.has_forces() && self.is_active_in(rows, i) {
                 result.force = self.vertex_force(w, i, terms);
             }
         }
@@ -319,7 +319,7 @@ where
         let mut k = 0;
         while k < len {
             let start = k;
-            while k < len && self.is_free(w, first + k) {
+            while k < len && self.is_free(rows, first + k) {
                 k += 1;
             }
             let stretch = RunSlots {
@@ -361,7 +361,6 @@ where
         let run = LevelRun {
             marcher: self,
             rows,
-            w,
             first,
             len: values.len(),
             lanes,

@@ -45,7 +45,7 @@ use std::sync::Arc;
 use nalgebra::SVector;
 
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex};
-use super::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell};
+use super::complex::{CfkTorus, LevelReduction, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell};
 use super::fibre::Fibre;
 use super::legendre::VertexOutcome;
 pub use super::legendre::{CauchyOptions, LevelReport};
@@ -88,6 +88,10 @@ struct LevelRows {
     values: [usize; MAX_LATTICE_DIMENSION + 1],
     previous: usize,
     grads: [usize; MAX_LATTICE_DIMENSION + 1],
+    /// The level w.
+    level: i64,
+    /// With a window, its reduction of level w ([`MaterialWindow::level_reduction`]).
+    reduction: Option<LevelReduction>,
 }
 
 /// A vertex (w, i) as the base of its cells ([`CauchyMarcher::base`]).
@@ -283,6 +287,12 @@ where
         self.window.as_ref().is_none_or(|m| m.contains(&self.origin(w, i)))
     }
 
+    /// [`is_active`](Self::is_active) for a vertex of the level of `rows`.
+    #[inline]
+    fn is_active_in(&self, rows: &LevelRows, i: usize) -> bool {
+        self.base_active(&self.base(rows, i))
+    }
+
     /// Whether the simplex (v, σ) based at v ([`base`](Self::base)) enters
     /// the action.
     #[inline]
@@ -294,9 +304,10 @@ where
 
     /// The vertex (w, i) as the base of its cells: its index and
     /// canonical coordinates, computed once for all of them.
+    /// `rows` are the [`level_rows`](Self::level_rows) of v's level.
     #[inline]
-    fn base(&self, w: i64, i: usize) -> Base {
-        let origin = self.origin(w, i);
+    fn base(&self, rows: &LevelRows, i: usize) -> Base {
+        let origin = self.origin_in(rows, i);
         Base {
             index: i,
             origin,
@@ -348,18 +359,31 @@ where
 
     /// Canonical coordinates of the vertex (w, i); with a window, the
     /// representative whose material point lies in 0 ≤ p < 2N.
-    #[inline(always)]
     fn origin(&self, w: i64, i: usize) -> [i64; MAX_LATTICE_DIMENSION] {
+        self.origin_at(w, self.window.as_ref().map(|m| m.level_reduction(w)), i)
+    }
+
+    /// [`origin`](Self::origin) of a vertex of the level of `rows`, whose
+    /// window reduction they hold (no division per vertex).
+    #[inline(always)]
+    fn origin_in(&self, rows: &LevelRows, i: usize) -> [i64; MAX_LATTICE_DIMENSION] {
+        self.origin_at(rows.level, rows.reduction, i)
+    }
+
+    /// [`origin`](Self::origin) with level w's window reduction given
+    /// (`Some` exactly with a window).
+    #[inline(always)]
+    fn origin_at(&self, w: i64, reduction: Option<LevelReduction>, i: usize) -> [i64; MAX_LATTICE_DIMENSION] {
+        let (o, last) = (&self.origins[i], self.torus.dimension() - 1);
+        if let (Some(m), Some(level)) = (&self.window, reduction) {
+            // The origins are the window's representatives at level 0.
+            return m.unwrap_shifted(o, level);
+        }
         // Added whole (in vector lanes) rather than one element stored into
         // a copy: an element stored and then read back within a vector
         // load stalls on store-to-load forwarding.
-        let (o, last) = (&self.origins[i], self.torus.dimension() - 1);
         let shift: [i64; MAX_LATTICE_DIMENSION] = std::array::from_fn(|k| if k == last { w } else { 0 });
-        let v = std::array::from_fn(|k| o[k] + shift[k]);
-        match &self.window {
-            Some(m) => m.unwrap(&v),
-            None => v,
-        }
+        std::array::from_fn(|k| o[k] + shift[k])
     }
 
     fn value_slot(&self, w: i64) -> usize {
@@ -388,6 +412,8 @@ where
             values: [0; MAX_LATTICE_DIMENSION + 1],
             previous: self.value_slot(w - n as i64) * size,
             grads: [0; MAX_LATTICE_DIMENSION + 1],
+            level: w,
+            reduction: self.window.as_ref().map(|m| m.level_reduction(w)),
         };
         for (l, row) in rows.values.iter_mut().enumerate().take(n + 1) {
             *row = if slot + l >= ring { slot + l - ring } else { slot + l } * size;

@@ -57,7 +57,7 @@ where
         let mut gathered: [Option<TopCell>; GATHERED_CELLS] = [None; GATHERED_CELLS];
         let rows = self.level_rows(w);
         for i in vertices {
-            let at = self.base(w, i);
+            let at = self.base(&rows, i);
             for first in (0..cells).step_by(GATHERED_CELLS) {
                 let count = GATHERED_CELLS.min(cells - first);
                 for (k, (y, cell)) in values.iter_mut().zip(&mut gathered).take(count).enumerate() {

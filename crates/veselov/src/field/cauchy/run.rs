@@ -8,13 +8,12 @@ use crate::field::cell::{DiscreteLagrangian, VertexLane, VertexRun};
 use crate::field::complex::TopCell;
 use crate::field::fibre::Fibre;
 
-/// The vertices `first … first + len − 1` of level `w`, every one with an
+/// The vertices `first … first + len − 1` of the level of `rows`, every one with an
 /// equation to solve; `confined` for a march with a window or prescribed
 /// values (its cells then tested one by one).
 pub(super) struct LevelRun<'a, F: Fibre<M>, L, const M: usize> {
     pub(super) marcher: &'a CauchyMarcher<F, L, M>,
     pub(super) rows: &'a LevelRows,
-    pub(super) w: i64,
     pub(super) first: usize,
     pub(super) len: usize,
     pub(super) lanes: usize,
@@ -48,7 +47,7 @@ where
         TopCell {
             index: 0,
             shape: sigma,
-            origin: self.marcher.origin(self.w, self.first + k),
+            origin: self.marcher.origin_in(self.rows, self.first + k),
         }
     }
 
@@ -66,7 +65,7 @@ where
             m.star_values_at(self.rows, self.first + k, sigma, out);
             return Some(self.star_cell(k, sigma));
         }
-        let base = m.base(self.w, self.first + k);
+        let base = m.base(self.rows, self.first + k);
         m.cell_active_at(&base, sigma)
             .then(|| m.cell_values_at(self.rows, &base, sigma, None, out))
     }

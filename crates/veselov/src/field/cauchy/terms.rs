@@ -46,7 +46,7 @@ where
             let slot = self.grad_slot(base);
             let rows = self.level_rows(base);
             for i in 0..size {
-                self.cell_terms(base, &rows, i, None, Written::default(), &mut out);
+                self.cell_terms(&rows, i, None, Written::default(), &mut out);
                 self.grads[slot][i * stride..(i + 1) * stride].copy_from_slice(&out);
             }
         }
@@ -74,7 +74,6 @@ where
     /// `rows` are the [`level_rows`](Self::level_rows) of level w.
     pub(super) fn cell_terms(
         &self,
-        w: i64,
         rows: &LevelRows,
         i: usize,
         top: Option<F::Point<f64>>,
@@ -86,7 +85,7 @@ where
         let (grads, forces) = out.split_at_mut(self.perms.len() * width);
         let with_forces = !forces.is_empty() && !written.forces;
         // Each cell's values are gathered once for both its terms.
-        let base = self.base(w, i);
+        let base = self.base(rows, i);
         let mut y = [self.values[rows.values[0] + i]; MAX_LATTICE_DIMENSION + 1];
         for sigma in 0..self.perms.len() {
             let g = &mut grads[sigma * width..(sigma + 1) * width];

@@ -19,6 +19,15 @@
 use super::{CfkTorus, MAX_LATTICE_DIMENSION};
 use crate::{Error, Result};
 
+/// The shift of one level along e₁ split by the window's wrap 2N
+/// ([`MaterialWindow::level_reduction`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LevelReduction {
+    shift: i64,
+    quotient: i64,
+    remainder: i64,
+}
+
 /// The material window 0 ≤ p ≤ `last` of a 2-D CFK torus.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MaterialWindow {
@@ -123,6 +132,36 @@ impl MaterialWindow {
         out
     }
 
+    /// The split −w = q·2N + r (0 ≤ r < 2N) of the shift w along e₁ that
+    /// takes level 0's vertices to level w's (one division for the whole
+    /// level), for [`unwrap_shifted`](Self::unwrap_shifted).
+    pub fn level_reduction(&self, w: i64) -> LevelReduction {
+        LevelReduction {
+            shift: w,
+            quotient: (-w).div_euclid(self.wrap),
+            remainder: (-w).rem_euclid(self.wrap),
+        }
+    }
+
+    /// [`unwrap`](Self::unwrap) of u + w·e₁ for a representative `u`
+    /// (0 ≤ u₀ − u₁ < 2N, as [`unwrap`](Self::unwrap) gives) and `level`
+    /// = [`level_reduction`](Self::level_reduction)(w): the same
+    /// coordinates, with a comparison in place of the division. The
+    /// material point u₀ − u₁ − w = (u₀ − u₁ + r) + q·2N has
+    /// u₀ − u₁ + r ∈ [0, 4N), so ⌊p/2N⌋ = q + [u₀ − u₁ + r ≥ 2N].
+    #[inline]
+    pub fn unwrap_shifted(
+        &self,
+        u: &[i64; MAX_LATTICE_DIMENSION],
+        level: LevelReduction,
+    ) -> [i64; MAX_LATTICE_DIMENSION] {
+        let t = u[0] - u[1] + level.remainder;
+        let k = -(level.quotient + i64::from(t >= self.wrap));
+        let step = k * self.period;
+        let shift = [step, level.shift - step];
+        std::array::from_fn(|i| if i < 2 { u[i] + shift[i] } else { u[i] })
+    }
+
     /// Whether the path simplex (v, σ) based at `v` lies in the body: its
     /// vertices are v, v + e_{σ(0)} and v + (1, 1), with material points
     /// p, p ± 1, p.
@@ -171,6 +210,30 @@ mod tests {
                 assert_eq!(w.contains_point(p), w.contains(&v));
                 for perm in [&plus, &minus] {
                     assert_eq!(w.contains_cell_at(p, perm), w.contains_cell(&v, perm));
+                }
+            }
+        }
+    }
+
+    /// A representative shifted by a level's reduction is the
+    /// representative of the shifted vertex, for shifts across many wraps
+    /// either way (the ends of every range included).
+    #[test]
+    fn level_reductions_unwrap_as_a_division_does() {
+        let torus = CfkTorus::new(2, &[6]).expect("torus");
+        let window = MaterialWindow::new(&torus, 10).expect("window");
+        for w in (-100..100).chain([i64::MIN / 4, i64::MAX / 4, -(1 << 40) - 5, (1 << 40) + 7]) {
+            let level = window.level_reduction(w);
+            for v0 in -15..15 {
+                for v1 in -15..15 {
+                    let u = window.unwrap(&[v0, v1, 0, 0, 0, 0, 0, 0]);
+                    let mut shifted = u;
+                    shifted[1] += w;
+                    assert_eq!(
+                        window.unwrap_shifted(&u, level),
+                        window.unwrap(&shifted),
+                        "u {u:?}, w {w}"
+                    );
                 }
             }
         }

@@ -57,7 +57,7 @@ pub mod cfk_slab;
 pub mod material_window;
 
 pub use cfk_slab::{CfkSlab, CfkTorus, factorial, permutation};
-pub use material_window::MaterialWindow;
+pub use material_window::{LevelReduction, MaterialWindow};
 
 /// Largest lattice dimension whose cells carry their coordinates inline in
 /// [`TopCell::origin`].
