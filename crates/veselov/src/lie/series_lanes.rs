@@ -14,7 +14,18 @@ impl<const N: usize> Series<N> {
     /// the highest, c_{K−1}, as the scalar sum does.
     #[inline(always)]
     fn eval_lanes<const L: usize>(&self, x: &[f64; L]) -> [f64; L] {
-        let count = x.map(|v| TIERS.iter().position(|&b| v.abs() <= b).map_or(N, |t| self.counts[t]));
+        // The first tier whose bound holds |x| (N terms past the last, or
+        // for NaN), as `Series::eval` picks it, by selects over the lanes.
+        let count: [usize; L] = std::array::from_fn(|l| {
+            let a = x[l].abs();
+            let mut count = N;
+            for t in (0..TIERS.len()).rev() {
+                if a <= TIERS[t] {
+                    count = self.counts[t];
+                }
+            }
+            count
+        });
         if let Some(&k) = count.first()
             && k > 0
             && count.iter().all(|&c| c == k)
