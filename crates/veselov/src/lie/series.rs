@@ -193,11 +193,16 @@ pub(super) struct Series<const N: usize> {
 }
 
 impl<const N: usize> Series<N> {
+    /// The series of `coeffs`; refused at compile time unless its term
+    /// counts grow with the tier (which the lanes' evaluation relies on).
     const fn new(coeffs: [f64; N]) -> Self {
-        Self {
-            counts: term_counts(&coeffs),
-            coeffs,
+        let counts = term_counts(&coeffs);
+        let mut t = 1;
+        while t < counts.len() {
+            assert!(counts[t - 1] <= counts[t], "term counts must grow with the tier");
+            t += 1;
         }
+        Self { counts, coeffs }
     }
 
     /// Horner evaluation on the scalar type: every term for dual numbers (so

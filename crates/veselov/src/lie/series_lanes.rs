@@ -14,6 +14,25 @@ impl<const N: usize> Series<N> {
     /// the highest, c_{K−1}, as the scalar sum does.
     #[inline(always)]
     fn eval_lanes<const L: usize>(&self, x: &[f64; L]) -> [f64; L] {
+        // The count grows with |x| (`Series::new` checks it), so lanes whose
+        // smallest and largest |x| take the same count all take it.
+        let count_at = |a: f64| TIERS.iter().position(|&b| a <= b).map_or(N, |t| self.counts[t]);
+        let (mut low, mut high) = (f64::INFINITY, 0.0_f64);
+        for v in x {
+            low = low.min(v.abs());
+            high = high.max(v.abs());
+        }
+        let k = count_at(high);
+        if k > 0 && count_at(low) == k {
+            // One count for all: the same Horner steps side by side.
+            let mut acc = [self.coeffs[k - 1]; L];
+            for &c in self.coeffs[..k - 1].iter().rev() {
+                for (a, &x) in acc.iter_mut().zip(x) {
+                    *a = *a * x + c;
+                }
+            }
+            return acc;
+        }
         // The first tier whose bound holds |x| (N terms past the last, or
         // for NaN), as `Series::eval` picks it, by selects over the lanes.
         let count: [usize; L] = std::array::from_fn(|l| {
@@ -26,19 +45,6 @@ impl<const N: usize> Series<N> {
             }
             count
         });
-        if let Some(&k) = count.first()
-            && k > 0
-            && count.iter().all(|&c| c == k)
-        {
-            // One tier for all: the same Horner steps side by side.
-            let mut acc = [self.coeffs[k - 1]; L];
-            for &c in self.coeffs[..k - 1].iter().rev() {
-                for (a, &x) in acc.iter_mut().zip(x) {
-                    *a = *a * x + c;
-                }
-            }
-            return acc;
-        }
         let most = count.iter().copied().max().unwrap_or(0);
         let mut acc = [0.0; L];
         for k in (0..most).rev() {
