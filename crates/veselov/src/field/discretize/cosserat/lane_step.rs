@@ -151,18 +151,20 @@ impl<P: RodPotential> CosseratCell<P> {
             r1[c] = v.r1[c];
         }
         let sigma = [1.0, -1.0];
-        // The material point's parameters and constants, lane by lane.
+        // The material point's parameters and constants, lane by lane (one
+        // for all lanes without a profile).
         let s0 = v.s0;
+        let same = self.profile.is_none();
         let p: [_; L] = std::array::from_fn(|l| self.parameters_at(s0[l]));
         let constants: [_; L] = std::array::from_fn(|l| self.constants_at(s0[l]));
-        let c1 = gather_m3::<L>(|l| &p[l].c1);
-        let strain = gather_v3::<L>(|l| p[l].strain);
+        let c1 = gather_m3::<L>(same, |l| &p[l].c1);
+        let strain = gather_v3::<L>(same, |l| p[l].strain);
         let n = 2.0;
         // Position: Σ_σ ∇_{r₀}L at the start r₂ = 2r₀ − r₋, then one 3×3 solve.
         let start = sub(&scale_by(&r0, 2.0), &v.previous_r);
         let kinetic = scale(&sub(&start, &r0), Lanes::from_fn(|l| -p[l].rho * ds / (4.0 * dt)));
         let weight = scale_by(
-            &gather_v3::<L>(|l| self.density.potential.gradient(s0[l], &lane_v3(&r0, l))),
+            &gather_v3::<L>(false, |l| self.density.potential.gradient(s0[l], &lane_v3(&r0, l))),
             -(ds * dt / 8.0),
         );
         let mut total = v.mu_scale + (largest_abs(&kinetic) + largest_abs(&weight)) * n;
@@ -193,8 +195,8 @@ impl<P: RodPotential> CosseratCell<P> {
                 state[l] = LaneState::Scalar;
             }
         }
-        let compliance = gather_m3::<L>(|l| constants[l].compliance.as_ref().unwrap_or(&zero));
-        let stiffness = gather_m3::<L>(|l| &constants[l].stiffness);
+        let compliance = gather_m3::<L>(same, |l| constants[l].compliance.as_ref().unwrap_or(&zero));
+        let stiffness = gather_m3::<L>(same, |l| &constants[l].stiffness);
         let rhs = tmv(&r0m, &sub(&v.mu_r, &leg_r));
         let z = mv(&compliance, &rhs);
         let r2 = sub(&start, &scale_by(&mv(&r0m, &z), 0.5));
@@ -224,7 +226,7 @@ impl<P: RodPotential> CosseratCell<P> {
         }
         let target = sub(&v.mu_q, &fixed);
         let damping = self.area() * loads.map_or(0.0, |l| l.damping_angular) / (2.0 * dt);
-        let equation = self.lane_equation(&constants, &arms_a, &arms_da, damping);
+        let equation = self.lane_equation(&constants, same, &arms_a, &arms_da, damping);
         let mut b = log(&tmm(&v.previous_m, &r0m))?;
         let mut previous = [f64::INFINITY; L];
         let mut last_step = [f64::INFINITY; L];
@@ -328,7 +330,7 @@ impl<P: RodPotential> CosseratCell<P> {
         let b = log(&tmm(&r0m, &rotation))?;
         let db = dexp_inv(&neg(&b))?;
         let cell_forces = loads.map(|loads| self.lane_damping_forces(loads, &r0, &r2, &b));
-        let later = self.lane_gradients(&p, &r0m, &r0, &r2, (&arms_a, &arms_da), &c1_eps, &b, &db);
+        let later = self.lane_gradients((&p, same), &r0m, &r0, &r2, (&arms_a, &arms_da), &c1_eps, &b, &db);
         let mut done = [false; L];
         for l in 0..count.min(L) {
             if !matches!(state[l], LaneState::Solved) {
@@ -389,12 +391,13 @@ impl<P: RodPotential> CosseratCell<P> {
     fn lane_equation<const L: usize>(
         &self,
         constants: &[&super::StepConstants; L],
+        same: bool,
         arms_a: &[V3<L>; 2],
         arms_da: &[M3<L>; 2],
         damping: f64,
     ) -> LaneEquation<L> {
         let n = 2.0;
-        let c2 = gather_m3::<L>(|l| &constants[l].c2_minus_two_kappa);
+        let c2 = gather_m3::<L>(same, |l| &constants[l].c2_minus_two_kappa);
         let zero_v = [Lanes::splat(0.0); 3];
         let (mut a_sum, mut da_sum, mut constant) = (zero_v, [zero_v; 3], zero_v);
         for c in 0..2 {
@@ -408,7 +411,7 @@ impl<P: RodPotential> CosseratCell<P> {
         for (i, row) in slope.iter_mut().enumerate() {
             row[i] = row[i] - n * damping;
         }
-        let mut linear = gather_m3::<L>(|l| &constants[l].rotation_linear);
+        let mut linear = gather_m3::<L>(same, |l| &constants[l].rotation_linear);
         for x in linear.iter_mut().flatten() {
             *x = *x * n;
         }
@@ -428,7 +431,7 @@ impl<P: RodPotential> CosseratCell<P> {
     #[inline(always)]
     fn lane_gradients<const L: usize>(
         &self,
-        p: &[&super::RodParameters; L],
+        (p, same): (&[&super::RodParameters; L], bool),
         r0m: &M3<L>,
         r0: &V3<L>,
         r2: &V3<L>,
@@ -437,7 +440,10 @@ impl<P: RodPotential> CosseratCell<P> {
         b: &V3<L>,
         db: &M3<L>,
     ) -> [[V3<L>; 4]; 2] {
-        let (c2, inertia) = (gather_m3::<L>(|l| &p[l].c2), gather_m3::<L>(|l| &p[l].inertia));
+        let (c2, inertia) = (
+            gather_m3::<L>(same, |l| &p[l].c2),
+            gather_m3::<L>(same, |l| &p[l].inertia),
+        );
         let rho = Lanes::from_fn(|l| p[l].rho);
         let ds = self.ds;
         let omega = scale_by(b, self.inv_dt);

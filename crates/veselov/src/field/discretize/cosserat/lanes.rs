@@ -97,10 +97,18 @@ pub(super) type V3<const L: usize> = [Lanes<L>; 3];
 /// A 3×3 matrix in lanes, `m[i][j]` its entry (i, j).
 pub(super) type M3<const L: usize> = [[Lanes<L>; 3]; 3];
 
-/// The vectors `f(l)` of the lanes.
+/// The vectors `f(l)` of the lanes; with `same`, `f(0)` in every lane
+/// (broadcast, for values known to be one for all lanes).
 #[inline(always)]
-pub(super) fn gather_v3<const L: usize>(f: impl Fn(usize) -> Vector3<f64>) -> V3<L> {
+pub(super) fn gather_v3<const L: usize>(same: bool, f: impl Fn(usize) -> Vector3<f64>) -> V3<L> {
     let mut out = [Lanes::splat(0.0); 3];
+    if same {
+        let v = f(0);
+        for i in 0..3 {
+            out[i] = Lanes::splat(v[i]);
+        }
+        return out;
+    }
     for l in 0..L {
         let v = f(l);
         for i in 0..3 {
@@ -110,10 +118,20 @@ pub(super) fn gather_v3<const L: usize>(f: impl Fn(usize) -> Vector3<f64>) -> V3
     out
 }
 
-/// The matrices `f(l)` of the lanes.
+/// The matrices `f(l)` of the lanes; with `same`, `f(0)` in every lane
+/// (broadcast, for values known to be one for all lanes).
 #[inline(always)]
-pub(super) fn gather_m3<'a, const L: usize>(f: impl Fn(usize) -> &'a Matrix3<f64>) -> M3<L> {
+pub(super) fn gather_m3<'a, const L: usize>(same: bool, f: impl Fn(usize) -> &'a Matrix3<f64>) -> M3<L> {
     let mut out = [[Lanes::splat(0.0); 3]; 3];
+    if same {
+        let m = f(0);
+        for (i, row) in out.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                *x = Lanes::splat(m[(i, j)]);
+            }
+        }
+        return out;
+    }
     for l in 0..L {
         let m = f(l);
         for (i, row) in out.iter_mut().enumerate() {
@@ -399,8 +417,8 @@ mod tests {
         for _ in 0..200 {
             let (a, b) = (vectors(&mut next, 2.0), vectors(&mut next, 1e-3));
             let (m, n) = (matrices(&mut next), matrices(&mut next));
-            let (la, lb) = (gather_v3::<L>(|l| a[l]), gather_v3::<L>(|l| b[l]));
-            let (lm, ln) = (gather_m3::<L>(|l| &m[l]), gather_m3::<L>(|l| &n[l]));
+            let (la, lb) = (gather_v3::<L>(false, |l| a[l]), gather_v3::<L>(false, |l| b[l]));
+            let (lm, ln) = (gather_m3::<L>(false, |l| &m[l]), gather_m3::<L>(false, |l| &n[l]));
             let (prod, tprod, sq, tsq) = (mv(&lm, &la), tmv(&lm, &la), mm(&lm, &ln), tmm(&lm, &ln));
             let (cr, d, big, bigm, rows) = (
                 cross(&la, &lb),
@@ -410,7 +428,11 @@ mod tests {
                 row_sum_norm(&lm),
             );
             let (inv, regular) = inverse(&lm);
+            // A broadcast is the gather of one value into every lane.
+            let (ba, bm) = (gather_v3::<L>(true, |l| a[l]), gather_m3::<L>(true, |l| &m[l]));
             for l in 0..L {
+                same_v(&lane_v3(&ba, l), &a[0], "broadcast vector");
+                same_m(&lane_m3(&bm, l), &m[0], "broadcast matrix");
                 same_v(&lane_v3(&prod, l), &(m[l] * a[l]), "m v");
                 same_v(&lane_v3(&prod, l), &mat3_vec(&m[l], &a[l]), "mat3_vec");
                 same_v(&lane_v3(&tprod, l), &m[l].tr_mul(&a[l]), "mᵀ v");
@@ -432,7 +454,7 @@ mod tests {
             }
         }
         let zero = Matrix3::zeros();
-        let (_, regular) = inverse(&gather_m3::<L>(|_| &zero));
+        let (_, regular) = inverse(&gather_m3::<L>(false, |_| &zero));
         assert_eq!(regular, [false; L]);
     }
 
@@ -446,12 +468,12 @@ mod tests {
         for size in [0.0, 1e-9, 1e-5, 1e-3, 0.03, 0.09, 0.3] {
             for _ in 0..50 {
                 let w = vectors(&mut next, size);
-                let lw = gather_v3::<L>(|l| w[l]);
+                let lw = gather_v3::<L>(false, |l| w[l]);
                 let e = exp(&lw).expect("|ω|² < 1");
                 let d = dexp_inv(&lw).expect("|ω|² < 4");
                 let rotations: [SO3<f64>; L] = std::array::from_fn(|l| so3::exp(&w[l]));
                 let drifted: [Matrix3<f64>; L] = std::array::from_fn(|l| rotations[l].matrix() * (1.0 + 1e-9 * next()));
-                let renormalized = renormalize(&gather_m3::<L>(|l| &drifted[l]));
+                let renormalized = renormalize(&gather_m3::<L>(false, |l| &drifted[l]));
                 for l in 0..L {
                     same_m(&lane_m3(&e, l), rotations[l].matrix(), "exp");
                     same_m(&lane_m3(&d, l), &so3::dexp_inv(&w[l]), "dexp_inv");
@@ -460,7 +482,7 @@ mod tests {
                 }
                 // Angles with tan θ ≤ 0.1 take the series branch of log.
                 if size <= 0.03 {
-                    let logs = log(&gather_m3::<L>(|l| rotations[l].matrix())).expect("small angles");
+                    let logs = log(&gather_m3::<L>(false, |l| rotations[l].matrix())).expect("small angles");
                     for l in 0..L {
                         let scalar = so3::log(&rotations[l]).expect("small angle");
                         same_v(&lane_v3(&logs, l), &scalar, "log");
@@ -474,9 +496,9 @@ mod tests {
             Vector3::zeros(),
             Vector3::zeros(),
         ];
-        let lb = gather_v3::<L>(|l| big[l]);
+        let lb = gather_v3::<L>(false, |l| big[l]);
         assert!(exp(&lb).is_none());
         let turned: [SO3<f64>; L] = std::array::from_fn(|l| so3::exp(&big[l]));
-        assert!(log(&gather_m3::<L>(|l| turned[l].matrix())).is_none());
+        assert!(log(&gather_m3::<L>(false, |l| turned[l].matrix())).is_none());
     }
 }
