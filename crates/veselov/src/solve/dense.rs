@@ -175,19 +175,12 @@ impl DenseLu {
     }
 }
 
-/// max |mᵢⱼ| passing over NaN entries, as nalgebra's `amax`, by folds of
+/// max |mᵢⱼ| passing over NaN entries, as nalgebra's `amax`, by a fold of
 /// `f64::max` without branches: for the sizes of terms that scale a
-/// relative residual in the small solves' hot loops. The entries are
-/// folded into four running maxima, then those into one: the same value as
-/// one fold (max is associative and commutative, and each fold passes over
-/// NaN), in a quarter of its chain of dependent steps.
+/// relative residual in the small solves' hot loops.
 #[inline]
 pub fn largest_abs<const R: usize, const C: usize>(m: &nalgebra::SMatrix<f64, R, C>) -> f64 {
-    let mut largest = [0.0_f64; 4];
-    for (k, x) in m.iter().enumerate() {
-        largest[k % 4] = largest[k % 4].max(x.abs());
-    }
-    largest[0].max(largest[1]).max(largest[2].max(largest[3]))
+    m.iter().fold(0.0_f64, |largest, x| largest.max(x.abs()))
 }
 
 /// max |vᵢ| of a residual, NaN if any vᵢ is: nalgebra's `amax` passes over
@@ -463,33 +456,6 @@ pub fn solve_small<const N: usize>(
 mod tests {
     use super::*;
     use crate::test_support::uniform;
-
-    /// The four folds of `largest_abs` give one fold's value, with NaN,
-    /// infinite and signed zero entries anywhere.
-    #[test]
-    fn largest_abs_is_one_fold_of_max() {
-        fn check<const R: usize, const C: usize>(next: &mut impl FnMut() -> f64) {
-            let specials = [f64::NAN, f64::INFINITY, -0.0, 0.0, -1e300];
-            for trial in 0..200 {
-                let m = nalgebra::SMatrix::<f64, R, C>::from_fn(|_, _| {
-                    let u = next();
-                    if trial % 3 == 0 && u < 0.3 {
-                        specials[(u * 16.0) as usize % specials.len()]
-                    } else {
-                        (u - 0.5) * 10.0
-                    }
-                });
-                let one_fold = m.iter().fold(0.0_f64, |largest, x| largest.max(x.abs()));
-                assert_eq!(largest_abs(&m).to_bits(), one_fold.to_bits(), "{m}");
-            }
-        }
-        let mut next = uniform(0x6a09_e667_f3bc_c909);
-        check::<1, 1>(&mut next);
-        check::<3, 1>(&mut next);
-        check::<6, 1>(&mut next);
-        check::<3, 3>(&mut next);
-        check::<7, 2>(&mut next);
-    }
 
     /// Elimination with the right-hand side carried along, dividing by each
     /// pivot (the form [`SmallLu`] replaced; it multiplies by the reciprocal).
