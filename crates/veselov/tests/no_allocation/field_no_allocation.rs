@@ -128,7 +128,7 @@ where
 /// and an end load.
 #[test]
 fn cauchy_levels_do_not_allocate() {
-    use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
+    use veselov::field::cauchy::{CauchyMarcher, CauchyOptions, LevelSplitting};
     use veselov::field::complex::CfkTorus;
     use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, MidpointRule, RodParameters};
     use veselov::field::fibre::Pose;
@@ -153,7 +153,10 @@ fn cauchy_levels_do_not_allocate() {
         .map(|level| level.iter().map(|y| SVector::from([y[0]])).collect())
         .collect();
     let sg = MidpointRule::new(NonlinearWave(SineGordon), nodes);
-    let mut a = CauchyMarcher::new(sg, torus.clone(), 0, &scalar, CauchyOptions::default()).expect("marcher");
+    // Every level split on two threads (whatever the levels measure).
+    let mut a = CauchyMarcher::new(sg, torus.clone(), 0, &scalar, CauchyOptions::default())
+        .expect("marcher")
+        .with_level_splitting(LevelSplitting::Always);
     for threads in [1, 2] {
         assert_eq!(
             cauchy_levels_allocations(&mut a, 30, threads),
@@ -189,7 +192,7 @@ fn cauchy_levels_do_not_allocate() {
         nalgebra::Vector3::new(0.0, 0.0, 1.0),
     )
     .expect("parameters");
-    // 81 nodes: 41 vertices per level, enough work to split a level.
+    // 81 nodes: 41 vertices per level, each level split on two threads.
     let lattice = veselov::models::rod::RodLattice::new(81, 2.0, 0.002).expect("lattice");
     let cell = CosseratCell::new(CosseratDensity::free(p), lattice.ds(), 0.002).expect("cell");
     let rod = lattice.cauchy_data(|s, t| {
@@ -219,7 +222,8 @@ fn cauchy_levels_do_not_allocate() {
             CauchyOptions::default(),
             lattice.window(),
         )
-        .expect("marcher");
+        .expect("marcher")
+        .with_level_splitting(LevelSplitting::Always);
         for threads in [1, 2] {
             assert_eq!(
                 cauchy_levels_allocations(&mut d, 30, threads),

@@ -7,7 +7,7 @@
 //! groups leave the series branches and fall back.
 
 use nalgebra::Vector3;
-use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
+use veselov::field::cauchy::{CauchyMarcher, CauchyOptions, LevelSplitting};
 use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential, RodLoads, RodParameters};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 use veselov::lie::so3;
@@ -76,7 +76,8 @@ fn rod_march<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
     };
     let m = CauchyMarcher::with_window(cell, lattice.torus().clone(), 0, &data, options, lattice.window())
         .expect("marcher")
-        .with_vertex_lanes(lanes);
+        .with_vertex_lanes(lanes)
+        .with_level_splitting(LevelSplitting::Always);
     match ends.and_then(|e| e.dirichlet(lattice)) {
         Some(d) => m.with_dirichlet(d),
         None => m,

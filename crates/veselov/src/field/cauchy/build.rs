@@ -4,7 +4,7 @@
 
 use nalgebra::SVector;
 
-use super::{CauchyMarcher, MAX_VERTEX_LANES, VertexResult};
+use super::{CauchyMarcher, LevelSplitting, MAX_VERTEX_LANES, VertexResult};
 use crate::field::cell::{DiscreteLagrangian, SolvedVertex, check_closed_form};
 use crate::field::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, permutation};
 use crate::field::fibre::Fibre;
@@ -168,6 +168,9 @@ where
             reuse_jacobians: true,
             start_level: first_level + n as i64,
             vertex_ns: None,
+            split_ns: None,
+            whole_levels: 0,
+            splitting: LevelSplitting::Measured,
             lag,
             torus,
             options,

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use super::run::LevelRun;
 use super::terms::Written;
-use super::{Base, CauchyMarcher, LevelRows, VertexResult};
+use super::{Base, CauchyMarcher, LevelRows, LevelSplitting, VertexResult};
 use crate::field::cell::{DiscreteLagrangian, SolvedVertex, add_vertex_terms};
 use crate::field::complex::MAX_LATTICE_DIMENSION;
 use crate::field::fibre::Fibre;
@@ -45,11 +45,14 @@ type RunSlot<'a, P, const M: usize> = (
 /// vertex measured on the last level solved on one thread so that it holds
 /// about this much or more (and at most a thread's share of the level, so
 /// that a level worth splitting is split), the same number for every
-/// thread ([`chunk_len`]). The first level is always solved on the
-/// calling thread (a level solved in parallel is never measured: if the
-/// first one were, the chunk would keep its first guess for the whole
-/// march). Chunking decides only who solves which vertex, never what is
-/// computed: results stay bit-identical for every thread count.
+/// thread ([`chunk_len`]). The first two levels are always solved on the
+/// calling thread (the first with cold caches measured ten times the
+/// steady cost of a rod's vertex), and a split level's wall time, which
+/// holds the hand-over to the pool, is kept apart from this measure (it
+/// would shrink the chunks and feed on itself) and only decides whether to
+/// split ([`chosen_chunk`]). Chunking decides only who solves which vertex,
+/// never what is computed: results stay bit-identical for every thread
+/// count.
 pub(super) const CHUNK_WORK_NS: f64 = 20_000.0;
 
 /// The least work of a level solved in parallel when the march runs outside
@@ -66,6 +69,35 @@ const PARALLEL_LEVEL_NS: f64 = 150_000.0;
 /// the other workers through their queues, a few µs per level. A 100-element
 /// rod's levels (about 30 µs each) take 1.7× less wall time on two threads.
 const PARALLEL_LEVEL_NS_ON_POOL: f64 = 10_000.0;
+
+/// Every this many levels a march whose levels are split solves one whole
+/// on the calling thread, and a march that keeps them whole because split
+/// ones measured no faster splits one, so that each way's cost per vertex
+/// stays measured ([`chosen_chunk`]). The hand-over to the pool costs more
+/// when its threads fall asleep between levels (between levels of about
+/// 10 µs a caller that records every level kept a 100-element rod 40 %
+/// slower split than whole on two threads).
+const REMEASURE_EVERY: i64 = 128;
+
+/// How much slower per vertex split levels must measure than whole ones
+/// before levels are kept whole: a margin, so that a machine whose
+/// two-thread speed drifts from minute to minute (as the shared one the
+/// benches ran on) does not flip a march whose split levels are about as
+/// fast; a rod recording every level measured 1.4 times slower split.
+const SPLIT_SLOWER: f64 = 1.2;
+
+/// The chunk of a level of `size` vertices: `chunk`, the cost rule's
+/// ([`chunk_len`]), unless it splits the level and split levels measured
+/// (`split_ns`, per vertex, hand-over included) [`SPLIT_SLOWER`] times
+/// slower than whole ones (`whole_ns`) or more; on a `probe` level the
+/// other choice, which measures it.
+fn chosen_chunk(size: usize, chunk: usize, whole_ns: f64, split_ns: Option<f64>, probe: bool) -> usize {
+    if chunk >= size {
+        return size;
+    }
+    let split = split_ns.is_none_or(|split| split < SPLIT_SLOWER * whole_ns);
+    if split != probe { chunk } else { size }
+}
 
 /// Stars whose cells a generic vertex solve gathers once (3! cells, the
 /// lattices up to 2+1), of at most [`SMALL_CELL`] vertices each; larger
@@ -389,12 +421,21 @@ where
 
     /// The vertices per parallel chunk of a level of `size` vertices, `size`
     /// for a level solved on the calling thread alone: one thread in the
-    /// pool, no level measured yet, or a level too cheap to split from where
-    /// the march runs ([`PARALLEL_LEVEL_NS`] outside the pool,
-    /// [`PARALLEL_LEVEL_NS_ON_POOL`] on one of its threads).
+    /// pool, fewer than two levels measured, a level too cheap to split
+    /// from where the march runs ([`PARALLEL_LEVEL_NS`] outside the pool,
+    /// [`PARALLEL_LEVEL_NS_ON_POOL`] on one of its threads), or split levels
+    /// measured no faster ([`chosen_chunk`], which also remeasures the other
+    /// way every [`REMEASURE_EVERY`] levels).
     fn parallel_chunk(&self, size: usize) -> usize {
         let threads = rayon::current_num_threads();
-        let Some(vertex_ns) = self.vertex_ns else {
+        if self.splitting == LevelSplitting::Always {
+            // Chunks sized as measured if measured, else one per thread.
+            return match self.vertex_ns {
+                Some(vertex_ns) => chunk_len(size, vertex_ns, threads, 0.0),
+                None => (size / threads.max(1)).max(1),
+            };
+        }
+        let Some(vertex_ns) = self.vertex_ns.filter(|_| self.whole_levels >= 2) else {
             return size;
         };
         let least = if rayon::current_thread_index().is_some() {
@@ -402,7 +443,10 @@ where
         } else {
             PARALLEL_LEVEL_NS
         };
-        chunk_len(size, vertex_ns, threads, least)
+        let chunk = chunk_len(size, vertex_ns, threads, least);
+        let probe = self.level.rem_euclid(REMEASURE_EVERY) == 0;
+        // (`step` tells a probe's level by the same test.)
+        chosen_chunk(size, chunk, vertex_ns, self.split_ns, probe)
     }
 
     /// Solves every vertex of level `level()`, which determines level
@@ -494,12 +538,24 @@ where
                     .for_each(solve);
             }
         }
-        // The cost per vertex, measured on a level solved on this thread
-        // alone (a parallel level's wall time also holds the hand-over to
-        // the pool, which would shrink the chunks and feed on itself).
+        // The cost per vertex: a level solved on this thread alone sizes the
+        // chunks, a split one (hand-over included) is kept apart to compare
+        // the two ways ([`CHUNK_WORK_NS`]).
         let vertex_ns = started.elapsed().as_nanos() as f64 / size.max(1) as f64;
-        if !parallel && vertex_ns > 0.0 {
-            self.vertex_ns = Some(vertex_ns);
+        if vertex_ns > 0.0 {
+            if parallel {
+                // Averaged over split levels (weight 1/8 for the newest), so
+                // that one slow level, an interruption, does not keep levels
+                // whole; a probe's split level, among whole ones, replaces it.
+                let probe = w.rem_euclid(REMEASURE_EVERY) == 0;
+                self.split_ns = Some(match self.split_ns {
+                    Some(old) if !probe => old + (vertex_ns - old) / 8.0,
+                    _ => vertex_ns,
+                });
+            } else {
+                self.vertex_ns = Some(vertex_ns);
+                self.whole_levels = self.whole_levels.saturating_add(1);
+            }
         }
         let outcomes = || results.iter().map(|r| r.outcome);
         let failure = outcomes().enumerate().find_map(|(i, o)| o.failure.map(|f| (i, f, o)));
@@ -586,5 +642,27 @@ mod tests {
         // 100-element rod's level of 51 vertices, split in two.
         assert_eq!(chunk_len(1024, 122.0, 2, 10_000.0), 170);
         assert_eq!(chunk_len(51, 400.0, 2, 10_000.0), 25);
+    }
+
+    /// A level the cost rule splits stays split until split levels measure
+    /// SPLIT_SLOWER times slower than whole ones, then stays whole; a probe
+    /// level takes the other way; a level the cost rule keeps whole is
+    /// never split.
+    #[test]
+    fn levels_are_split_until_splitting_measures_slower() {
+        let (size, chunk) = (51, 25);
+        assert_eq!(chosen_chunk(size, chunk, 228.0, None, false), chunk);
+        assert_eq!(chosen_chunk(size, chunk, 228.0, Some(150.0), false), chunk);
+        assert_eq!(chosen_chunk(size, chunk, 228.0, Some(250.0), false), chunk);
+        assert_eq!(chosen_chunk(size, chunk, 228.0, Some(320.0), false), size);
+        assert_eq!(
+            chosen_chunk(size, chunk, 228.0, Some(SPLIT_SLOWER * 228.0), false),
+            size
+        );
+        assert_eq!(chosen_chunk(size, chunk, 228.0, Some(150.0), true), size);
+        assert_eq!(chosen_chunk(size, chunk, 228.0, Some(320.0), true), chunk);
+        for probe in [false, true] {
+            assert_eq!(chosen_chunk(size, size, 228.0, Some(150.0), probe), size);
+        }
     }
 }

@@ -94,6 +94,23 @@ struct LevelRows {
     reduction: Option<LevelReduction>,
 }
 
+/// How a march shares each level among the threads of the pool it runs in
+/// ([`CauchyMarcher::with_level_splitting`]). Which thread solves a vertex
+/// never changes what is computed: the results are the same, bit for bit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LevelSplitting {
+    /// Split a level when its work, measured on the levels solved whole,
+    /// is worth a hand-over to the pool, and while split levels measure
+    /// faster than whole ones (remeasured every 128 levels). The first two
+    /// levels are solved whole.
+    #[default]
+    Measured,
+    /// Split every level among the pool's threads, whatever it costs (to
+    /// check that the results do not depend on the thread count, or to
+    /// time the hand-over).
+    Always,
+}
+
 /// A vertex (w, i) as the base of its cells ([`CauchyMarcher::base`]).
 #[derive(Clone, Copy)]
 struct Base {
@@ -154,6 +171,16 @@ pub struct CauchyMarcher<F: Fibre<M>, L, const M: usize> {
     /// `None` before the first), which sizes the parallel chunks
     /// ([`level::CHUNK_WORK_NS`]).
     vertex_ns: Option<f64>,
+    /// Wall time per vertex of the levels split among threads, the
+    /// hand-over to the pool included, averaged with weight 1/8 for the
+    /// newest (a probe's split level restarts the average; ns; `None`
+    /// before the first): it decides whether to split
+    /// (`level::chosen_chunk`).
+    split_ns: Option<f64>,
+    /// Levels solved on one thread so far (saturating): the first is not
+    /// trusted to size the chunks (its caches are cold).
+    whole_levels: u32,
+    splitting: LevelSplitting,
     level: i64,
     /// In-level index of v + e_{σ(0)} + … + e_{σ(l−1)}: `up[(i·n! + σ)·(n+1) + l]`.
     up: Vec<u32>,
@@ -236,6 +263,15 @@ where
     #[must_use]
     pub fn with_dirichlet(mut self, data: Dirichlet<F::Point<f64>>) -> Self {
         self.dirichlet = Some(data);
+        self
+    }
+
+    /// How the levels are shared among the threads of the pool the march
+    /// runs in ([`LevelSplitting`]; the default measures). The results do
+    /// not depend on it, bit for bit.
+    #[must_use]
+    pub fn with_level_splitting(mut self, splitting: LevelSplitting) -> Self {
+        self.splitting = splitting;
         self
     }
 
