@@ -79,6 +79,12 @@ const PARALLEL_LEVEL_NS_ON_POOL: f64 = 10_000.0;
 /// slower split than whole on two threads).
 const REMEASURE_EVERY: i64 = 128;
 
+/// Whether level `w` takes the other way than [`chosen_chunk`] prefers,
+/// to measure it (every [`REMEASURE_EVERY`] levels).
+fn is_probe_level(w: i64) -> bool {
+    w.rem_euclid(REMEASURE_EVERY) == 0
+}
+
 /// How much slower per vertex split levels must measure than whole ones
 /// before levels are kept whole: a margin, so that a machine whose
 /// two-thread speed drifts from minute to minute (as the shared one the
@@ -131,21 +137,21 @@ where
     F::Point<f64>: Send + Sync,
     L: DiscreteLagrangian<F, M>,
 {
-    /// Solves EL_v = 0 for y_{Δv}, v = (w, i); returns y_{Δv}, the solve's
+    /// Solves EL_v = 0 for y_{Δv}, v = (w, i), w the level of `rows`
+    /// ([`LevelRows`]); returns y_{Δv}, the solve's
     /// outcome and which of the solved cells' terms the model's own solve
     /// already wrote into `terms` ([`DiscreteLagrangian::solve_last_vertex`]);
     /// the marcher's own solve leaves its Jacobian's factors in `factors`.
     /// Outside the window y_{Δv} = y_v (never read).
     fn solve_vertex(
         &self,
-        w: i64,
         rows: &LevelRows,
         i: usize,
         terms: &mut [SVector<f64, M>],
         factors: &mut Option<SmallLu<M>>,
     ) -> (F::Point<f64>, VertexOutcome, Written) {
         *factors = None;
-        let n = self.torus.dimension();
+        let (n, w) = (self.torus.dimension(), rows.level);
         // The base's canonical coordinates serve the window test and the star.
         let base = self.base(rows, i);
         if !self.base_active(&base) {
@@ -277,29 +283,28 @@ where
         self.is_active_in(rows, i) && self.prescribed(rows.level, i).is_none()
     }
 
-    /// Solves vertex (w, i) alone into its value, cell terms and result.
+    /// Solves vertex (w, i), w the level of `rows`, alone into its value,
+    /// cell terms and result.
     #[inline]
     fn solve_one(
         &self,
-        w: i64,
         rows: &LevelRows,
         i: usize,
         value: &mut F::Point<f64>,
         terms: &mut [SVector<f64, M>],
         result: &mut VertexResult<M>,
     ) {
-        let (z, o, written) = self.solve_vertex(w, rows, i, terms, &mut result.factors);
+        let (z, o, written) = self.solve_vertex(rows, i, terms, &mut result.factors);
         *value = z;
-        self.store_vertex(w, rows, i, (z, o, written), terms, result);
+        self.store_vertex(rows, i, (z, o, written), terms, result);
     }
 
-    /// The solve of vertex (w, i) (y_{Δv}, its outcome and which of its
+    /// The solve of vertex (w, i), w the level of `rows` (y_{Δv}, its outcome and which of its
     /// cells' terms the solve wrote) into its result, with its cells' terms
     /// and, with forces, Σ_β F^{l(v)}_β.
     #[inline]
     fn store_vertex(
         &self,
-        w: i64,
         rows: &LevelRows,
         i: usize,
         (z, outcome, written): (F::Point<f64>, VertexOutcome, Written),
@@ -314,27 +319,20 @@ where
                 self.cell_terms(rows, i, Some(z), written, terms);
             }
             if self.lag.has_forces() && self.is_active_in(rows, i) {
-                result.force = self.vertex_force(w, i, terms);
+                result.force = self.vertex_force(rows.level, i, terms);
             }
         }
     }
 
-    /// Solves the vertices `first …` of level `w` (as many as `slots`) by
+    /// Solves the vertices `first …` of the level of `rows` (as many as `slots`) by
     /// the model's [`DiscreteLagrangian::solve_vertex_run`] (groups of at
     /// most `lanes`) and stores each ([`store_vertex`](Self::store_vertex));
     /// in a confined march each stretch of vertices with an equation is a
     /// run, the others are solved alone. `false` (nothing stored) when the
     /// model declines an unconfined run.
-    fn solve_run(
-        &self,
-        w: i64,
-        rows: &LevelRows,
-        first: usize,
-        lanes: usize,
-        slots: RunSlots<'_, F::Point<f64>, M>,
-    ) -> bool {
+    fn solve_run(&self, rows: &LevelRows, first: usize, lanes: usize, slots: RunSlots<'_, F::Point<f64>, M>) -> bool {
         if !self.confined() {
-            return self.solve_free_run(w, rows, first, lanes, slots);
+            return self.solve_free_run(rows, first, lanes, slots);
         }
         let (stride, len) = (self.stride(), slots.values.len());
         let RunSlots {
@@ -346,7 +344,7 @@ where
         let alone =
             |j: usize, values: &mut [F::Point<f64>], terms: &mut [SVector<f64, M>], results: &mut [VertexResult<M>]| {
                 let terms = &mut terms[j * stride..(j + 1) * stride];
-                self.solve_one(w, rows, first + j, &mut values[j], terms, &mut results[j]);
+                self.solve_one(rows, first + j, &mut values[j], terms, &mut results[j]);
             };
         let mut k = 0;
         while k < len {
@@ -360,7 +358,7 @@ where
                 results: &mut results[start..k],
                 solved: &mut solved[start..k],
             };
-            if k > start && !self.solve_free_run(w, rows, first + start, lanes, stretch) {
+            if k > start && !self.solve_free_run(rows, first + start, lanes, stretch) {
                 for j in start..k {
                     alone(j, values, terms, results);
                 }
@@ -377,7 +375,6 @@ where
     /// equation to solve.
     fn solve_free_run(
         &self,
-        w: i64,
         rows: &LevelRows,
         first: usize,
         lanes: usize,
@@ -414,7 +411,7 @@ where
             };
             *value = s.value;
             result.factors = None;
-            self.store_vertex(w, rows, first + l, (s.value, s.outcome, written), terms, result);
+            self.store_vertex(rows, first + l, (s.value, s.outcome, written), terms, result);
         }
         true
     }
@@ -444,8 +441,7 @@ where
             PARALLEL_LEVEL_NS
         };
         let chunk = chunk_len(size, vertex_ns, threads, least);
-        let probe = self.level.rem_euclid(REMEASURE_EVERY) == 0;
-        // (`step` tells a probe's level by the same test.)
+        let probe = is_probe_level(self.level);
         chosen_chunk(size, chunk, vertex_ns, self.split_ns, probe)
     }
 
@@ -471,7 +467,7 @@ where
         {
             let this = &*self;
             let solve = |(i, ((value, terms), result)): VertexSlot<'_, F::Point<f64>, M>| {
-                this.solve_one(w, &rows, i, value, terms, result);
+                this.solve_one(&rows, i, value, terms, result);
             };
             let lanes = self.vertex_lanes();
             if lanes > 1 {
@@ -492,7 +488,7 @@ where
                         results: &mut *results,
                         solved,
                     };
-                    if !this.solve_run(w, &rows, first, lanes, slots) {
+                    if !this.solve_run(&rows, first, lanes, slots) {
                         for (l, ((value, terms), result)) in values
                             .iter_mut()
                             .zip(terms.chunks_mut(stride))
@@ -547,7 +543,7 @@ where
                 // Averaged over split levels (weight 1/8 for the newest), so
                 // that one slow level, an interruption, does not keep levels
                 // whole; a probe's split level, among whole ones, replaces it.
-                let probe = w.rem_euclid(REMEASURE_EVERY) == 0;
+                let probe = is_probe_level(w);
                 self.split_ns = Some(match self.split_ns {
                     Some(old) if !probe => old + (vertex_ns - old) / 8.0,
                     _ => vertex_ns,
