@@ -39,9 +39,9 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
-use super::affine_chain::{
-    AffineFrame, PartialFrame, completed_mean, metric_completed, metric_gradient_from, metric_known_part,
-    metric_table_row, potential_weight,
+use super::affine_chain::{AffineFrame, PartialFrame, completed_mean};
+use super::metric_terms::{
+    metric_completed, metric_gradient_from, metric_known_part, metric_table_row, potential_weight,
 };
 use super::nodes::NodeMap;
 use super::smooth::SmoothDensity;

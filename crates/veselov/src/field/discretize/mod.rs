@@ -71,6 +71,7 @@ pub mod cosserat_step;
 pub mod error;
 mod metric_run;
 mod metric_star;
+mod metric_terms;
 pub mod nodes;
 pub mod rod_potential;
 pub mod rules;
