@@ -1,0 +1,17 @@
+//! End-to-end tests of the `veselov` binary: scenario files run as the
+//! command would be run, their outputs and messages checked.
+//!
+//! One test binary: the modules below were one file, and are split by topic
+//! (`cargo test -p veselov-cli --test cli examples::` runs one of them).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod custom;
+mod examples;
+mod inputs;
+mod lattice;
+mod listings;
+mod mechanics;
+mod shared;
+mod verify;
