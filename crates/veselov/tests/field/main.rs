@@ -21,6 +21,7 @@ mod field_core;
 mod field_density;
 mod field_density_run;
 mod field_discretize;
+mod field_discretize_rod;
 mod field_errors;
 mod field_flows;
 mod field_generic;

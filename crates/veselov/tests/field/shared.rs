@@ -1,9 +1,10 @@
 //! Helpers that several field tests share: Cauchy data on the 2+1 CFK
-//! lattice and two small reproducible random generators.
+//! lattice, top cells with their nodes, relative errors and two small
+//! reproducible random generators.
 
 use nalgebra::{SMatrix, SVector, Vector3};
-use veselov::field::complex::CfkTorus;
-use veselov::field::discretize::CfkNodes;
+use veselov::field::complex::{CfkTorus, TopCell};
+use veselov::field::discretize::{CfkNodes, NodeMap};
 use veselov::lie::{SO3, so3};
 
 /// Cauchy data: the six levels of a prescribed space–time function f(x)
@@ -20,6 +21,36 @@ pub fn cauchy_data<const M: usize>(
                 .collect()
         })
         .collect()
+}
+
+/// The top cell `index` of the given shape at `origin` (missing coordinates
+/// are zero).
+pub fn cell(index: usize, shape: usize, origin: &[i64]) -> TopCell {
+    let mut o = [0; 8];
+    o[..origin.len()].copy_from_slice(origin);
+    TopCell {
+        index,
+        shape,
+        origin: o,
+    }
+}
+
+/// The `count` nodes of cell `c` under `map`, which must know the cell.
+pub fn nodes_of<const N: usize>(map: &impl NodeMap<N>, c: &TopCell, count: usize) -> Vec<SVector<f64, N>> {
+    let mut x = vec![SVector::<f64, N>::zeros(); 16];
+    assert_eq!(map.cell_nodes(c, &mut x), count, "node map knows the cell");
+    x.truncate(count);
+    x
+}
+
+/// |a − b| relative to the larger magnitude.
+pub fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / a.abs().max(b.abs()).max(1e-300)
+}
+
+/// |a − b| relative to the larger norm.
+pub fn rel_vec<const K: usize>(a: &SVector<f64, K>, b: &SVector<f64, K>) -> f64 {
+    (a - b).norm() / a.norm().max(b.norm()).max(1e-300)
 }
 
 /// Xorshift64 from a non-zero seed: numbers uniform in [−1, 1).
