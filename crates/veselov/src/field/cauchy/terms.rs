@@ -140,17 +140,22 @@ where
         let mut mu = SVector::zeros();
         let mut scale = 0.0;
         let terms = &self.momentum_terms[i * n * cells..(i + 1) * n * cells];
-        for (j, at) in (1..=n).zip(terms.chunks_exact(cells)) {
-            let slot = &self.grads[rows.grads[j]];
-            let forced = self.lag.has_force_at(j);
-            for &at in at {
-                let g = &slot[at as usize];
-                mu -= g;
-                scale += largest_abs(g);
-                if forced {
-                    let f = &slot[at as usize + per_vertex];
+        for j in 1..=n {
+            let slot = self.grads[rows.grads[j]].as_slice();
+            let at = &terms[(j - 1) * cells..j * cells];
+            if self.lag.has_force_at(j) {
+                for &at in at {
+                    let (g, f) = (&slot[at as usize], &slot[at as usize + per_vertex]);
+                    mu -= g;
+                    scale += largest_abs(g);
                     mu -= f;
                     scale += largest_abs(f);
+                }
+            } else {
+                for &at in at {
+                    let g = &slot[at as usize];
+                    mu -= g;
+                    scale += largest_abs(g);
                 }
             }
         }
