@@ -48,7 +48,9 @@ use veselov::models::beam::paper;
 use veselov::models::beam::{BeamProperties, CrossSection, Material, StepLimit};
 
 use crate::error::CliError;
-use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value, shear_from_keys};
+use crate::scenario::{
+    RowsOutputSpec, adjusted_step_note, finite_value, key_error, parse_toml, positive_value, shear_from_keys,
+};
 
 /// The model name of the beam kind.
 pub const BEAM_MODEL: &str = "beam";
@@ -321,9 +323,13 @@ impl BeamSetup {
                 Some(e.to_string()),
             ),
             Err(e) => {
+                let adjusted = match scenario.time.t_end {
+                    Some(t_end) => adjusted_step_note(dt_requested, dt, t_end),
+                    None => String::new(),
+                };
                 return Err(key(
                     "time.dt",
-                    format!("{e}; lower dt, or set [method] allow_unstable = true to run anyway"),
+                    format!("{e}{adjusted}; lower dt, or set [method] allow_unstable = true to run anyway"),
                 ));
             }
         };

@@ -57,7 +57,9 @@ use veselov::models::rod::{
 
 use crate::error::CliError;
 use crate::rod_motion::{Centreline, MotionSpec, driven_end, parse_expression};
-use crate::scenario::{RowsOutputSpec, finite_value, key_error, parse_toml, positive_value, shear_from_keys};
+use crate::scenario::{
+    RowsOutputSpec, adjusted_step_note, finite_value, key_error, parse_toml, positive_value, shear_from_keys,
+};
 
 /// The model name of the rod kind.
 pub const ROD_MODEL: &str = "cosserat-rod";
@@ -462,11 +464,12 @@ impl RodSetup {
             } else {
                 ("time.dt", "lower dt")
             };
+            let adjusted = adjusted_step_note(requested, dt, t_end);
             return Err(key(
                 name,
                 format!(
-                    "dt = {dt:e} exceeds the stability limit {dt_limit:e} of the rod's march (step number \
-                     {} > 1: the lattice waves would grow without bound); {lower}, or set \
+                    "dt = {dt:e}{adjusted} exceeds the stability limit {dt_limit:e} of the rod's march \
+                     (step number {} > 1: the lattice waves would grow without bound); {lower}, or set \
                      [method] allow_unstable = true to run anyway",
                     step_number_text(courant)
                 ),

@@ -417,6 +417,19 @@ pub fn shear_from_keys(
     }
 }
 
+/// For an error about the step a structure's march takes: where landing on
+/// `t_end` changed the `dt` asked for, the value asked for (empty otherwise),
+/// so that a message quoting the step the march would take does not read as
+/// a misreading of the scenario.
+pub fn adjusted_step_note(asked: Option<f64>, dt: f64, t_end: f64) -> String {
+    match asked {
+        Some(asked) if (asked - dt).abs() > 1e-12 * dt => {
+            format!(" (the {asked:e} asked for, adjusted to land on t_end = {t_end:e})")
+        }
+        _ => String::new(),
+    }
+}
+
 /// `v` if it is finite, positive and not subnormal, else an error naming `key`.
 pub fn positive_value(file: &Path, key: &str, v: f64) -> Result<f64, CliError> {
     // Subnormal values are refused as the library's parameter checks

@@ -66,6 +66,15 @@ fn step_limit_is_enforced_unless_overridden() {
         !ok && err.contains("time.dt") && err.contains("allow_unstable"),
         "{err}"
     );
+    // A dt changed to land on t_end: the value asked for is quoted too.
+    let (ok, err, _) = run(
+        "adjusted",
+        &set(&example("beam_free_free.toml"), "t_end", "0.05\ndt = 0.03"),
+    );
+    assert!(
+        !ok && err.contains("(the 3e-2 asked for, adjusted to land on t_end = 5e-2)"),
+        "{err}"
+    );
     let forced = text.replace("[method]", "[method]\nallow_unstable = true");
     let (_, err, out) = run("forced", &forced);
     assert!(err.starts_with("warning"), "{err}");
