@@ -1,7 +1,7 @@
 //! Custom models from a Lagrangian: against the built-in Kepler, declared
 //! symmetries, column names, and models beyond six coordinates.
 
-use crate::common::{Scratch, assert_mentions, csv, run, scenario, summary, veselov};
+use crate::common::{Scratch, assert_mentions, csv, run, run_scenario, scenario, summary, veselov};
 use crate::shared::failing;
 
 #[test]
@@ -13,12 +13,7 @@ fn custom_kepler_matches_built_in_kepler() {
         &dir,
         &format!("[model]\nname = \"kepler\"\nparams = {{ eccentricity = 0.6 }}\n{common}"),
     );
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(dir.join("a"))
-        .arg(&builtin)
-        .assert()
-        .success();
+    run_scenario(dir.join("a"), &builtin).success();
     let custom = scenario(
         &dir,
         &format!(
@@ -26,12 +21,7 @@ fn custom_kepler_matches_built_in_kepler() {
              symmetries = {{ angular = [\"-y\", \"x\"] }}\n{common}"
         ),
     );
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(dir.join("b"))
-        .arg(&custom)
-        .assert()
-        .success();
+    run_scenario(dir.join("b"), &custom).success();
     let read = |d: &str| std::fs::read_to_string(dir.join(d).join("trajectory.csv")).expect("csv");
     let (a, b) = (read("a"), read("b"));
     assert_eq!(a.lines().next(), b.lines().next());
@@ -75,12 +65,7 @@ fn declared_symmetries_are_checked() {
     let dir = Scratch::new("symmetry-check");
     let file = scenario(&dir, &model("[\"-y\", \"x\"]"));
     let out = dir.join("out");
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert()
-        .success();
+    run_scenario(&out, &file).success();
     let s = summary(&out);
     let drift = s["momentum_error_max"]["s"].as_f64().expect("number");
     assert!(drift < 1e-12, "{s}");

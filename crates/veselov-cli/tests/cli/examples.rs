@@ -3,35 +3,16 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::{self, Scratch, scenario, summary, veselov, workspace_root};
-use crate::shared::shorten;
+use crate::common::{self, Scratch, run_scenario, scenario, summary, workspace_root};
+use crate::shared::{shorten, with_time_table};
 
 /// A lattice-field example, run to t = 1: its outputs exist and agree with
 /// one another.
 fn check_field_example(name: &str, original: &str, dir: &Path) {
-    let mut text = String::new();
-    let mut skip = false;
-    for line in original.lines() {
-        if line.starts_with('[') {
-            skip = line.trim() == "[time]";
-            if skip {
-                text.push_str("[time]\nt_end = 1.0\n");
-                continue;
-            }
-        }
-        if !skip {
-            text.push_str(line);
-            text.push('\n');
-        }
-    }
+    let text = with_time_table(original, "t_end = 1.0\n");
     let file = scenario(dir, &text);
     let out = dir.join("out");
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert()
-        .success();
+    run_scenario(&out, &file).success();
     let s = summary(&out);
     assert_eq!(s["status"], "ok", "{name}: {s}");
     assert!(s["t_final"].as_f64().expect("t_final") >= 1.0, "{name}");
@@ -58,11 +39,7 @@ fn check_beam_example(name: &str, original: &str, dir: &Path) {
     let text = original.replace("t_end = 0.4 ", "t_end = 0.0125 ");
     let file = scenario(dir, &text);
     let out = dir.join("out");
-    let run = veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert();
+    let run = run_scenario(&out, &file);
     let s = summary(&out);
     if original.contains("shape = \"paper\"") {
         run.failure();
@@ -78,29 +55,10 @@ fn check_beam_example(name: &str, original: &str, dir: &Path) {
 
 /// A rod example, run for 20 steps: status ok and every output present.
 fn check_rod_example(name: &str, original: &str, dir: &Path) {
-    let mut text = String::new();
-    let mut skip = false;
-    for line in original.lines() {
-        if line.starts_with('[') {
-            skip = line.trim() == "[time]";
-            if skip {
-                text.push_str("[time]\nt_end = 0.02\ndt = 0.001\n");
-                continue;
-            }
-        }
-        if !skip {
-            text.push_str(line);
-            text.push('\n');
-        }
-    }
+    let text = with_time_table(original, "t_end = 0.02\ndt = 0.001\n");
     let file = scenario(dir, &text);
     let out = dir.join("out");
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert()
-        .success();
+    run_scenario(&out, &file).success();
     let s = summary(&out);
     assert_eq!(s["status"], "ok", "{name}: {s}");
     assert_eq!(s["time_steps"], 20, "{name}");
@@ -149,12 +107,7 @@ fn every_example_runs() {
         let text = shorten(&original, 40);
         let file = scenario(&dir, &text);
         let out = dir.join("out");
-        veselov()
-            .args(["run", "--quiet", "--out"])
-            .arg(&out)
-            .arg(&file)
-            .assert()
-            .success();
+        run_scenario(&out, &file).success();
         let s = summary(&out);
         assert_eq!(s["status"], "ok", "{name}: {s}");
         assert_eq!(s["steps"], 40, "{name}");
@@ -236,12 +189,7 @@ fn method_key_is_spelled_name_or_scheme_in_every_kind() {
             shorten(&text, 20)
         };
         let out = dir.join("out");
-        veselov()
-            .args(["run", "--quiet", "--out"])
-            .arg(&out)
-            .arg(scenario(&dir, &text))
-            .assert()
-            .success();
+        run_scenario(&out, scenario(&dir, &text)).success();
         assert_eq!(summary(&out)["status"], "ok", "{file}");
     }
 }

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::common::{self, Scratch, run, scenario, succeeds, summary, veselov};
+use crate::common::{self, Scratch, run, run_scenario, scenario, succeeds, summary, veselov};
 use crate::shared::failing;
 
 const KEPLER: &str = "[model]\nname = \"kepler\"\n[method]\nname = \"midpoint\"\ndt = 0.01\n[time]\nsteps = 10\n";
@@ -87,26 +87,11 @@ fn unwritable_or_non_empty_output_directory_is_refused() {
     let file = scenario(&dir, KEPLER);
     // A path below a regular file cannot be created.
     std::fs::write(dir.join("blocker"), "x").expect("write");
-    let out = veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(dir.join("blocker/out"))
-        .arg(&file)
-        .assert()
-        .failure();
+    let out = run_scenario(dir.join("blocker/out"), &file).failure();
     assert!(String::from_utf8_lossy(&out.get_output().stderr).contains("blocker"));
     // First run succeeds; a second into the same directory is refused; --force overwrites.
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(dir.join("o"))
-        .arg(&file)
-        .assert()
-        .success();
-    let out = veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(dir.join("o"))
-        .arg(&file)
-        .assert()
-        .failure();
+    run_scenario(dir.join("o"), &file).success();
+    let out = run_scenario(dir.join("o"), &file).failure();
     assert!(String::from_utf8_lossy(&out.get_output().stderr).contains("not empty"));
     veselov()
         .args(["run", "--quiet", "--force", "--out"])
@@ -219,12 +204,7 @@ fn failure_mid_run_keeps_partial_results() {
     let dir = Scratch::new("midway");
     let file = scenario(&dir, text);
     let out = dir.join("out");
-    let res = veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert()
-        .failure();
+    let res = run_scenario(&out, &file).failure();
     let err = String::from_utf8_lossy(&res.get_output().stderr).into_owned();
     assert!(err.contains("step"), "{err}");
     let s = summary(&out);

@@ -1,7 +1,7 @@
 //! Lattice fields in 1+1 and on the 2+1 CFK lattice: runs, their conserved
 //! quantities and outputs, and errors naming the key.
 
-use crate::common::{Scratch, scenario, summary, veselov};
+use crate::common::{Scratch, run_scenario, scenario, summary, veselov};
 use crate::shared::{failing, relative_energy_error_is_stated};
 
 /// A lattice's time step is the lattice's: a t_end it does not divide ends
@@ -252,12 +252,7 @@ fn cfk_lattice_fields_run_and_conserve_their_momenta() {
     ] {
         let out = dir.join(model);
         let file = scenario(&dir, &text(model, initial, 0.1));
-        veselov()
-            .args(["run", "--quiet", "--out"])
-            .arg(&out)
-            .arg(&file)
-            .assert()
-            .success();
+        run_scenario(&out, &file).success();
         let s = summary(&out);
         assert_eq!(s["status"], "ok", "{model}: {s}");
         assert_eq!(s["time_steps"], 30, "{model}");
@@ -285,12 +280,7 @@ fn cfk_lattice_fields_run_and_conserve_their_momenta() {
         .replace("dt = 0.1", "courant = 0.4")
         .replace("t_end = 3.0", "t_end = 0.2");
     let out = dir.join("at-limit");
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(scenario(&dir, &at_limit))
-        .assert()
-        .success();
+    run_scenario(&out, scenario(&dir, &at_limit)).success();
     let err = failing("cfk-initial", &text("sine-gordon", "plane-wave", 0.1));
     assert!(err.contains("`initial.kind`"), "{err}");
 }

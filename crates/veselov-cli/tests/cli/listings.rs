@@ -1,7 +1,7 @@
 //! The listing commands (`models`, `methods`, `expressions`): what they say,
 //! and a reader that closes the pipe early.
 
-use crate::common::{Scratch, assert_mentions, scenario, succeeds, veselov};
+use crate::common::{Scratch, assert_mentions, run_scenario, scenario, succeeds, veselov};
 use crate::shared::failing;
 
 #[test]
@@ -87,12 +87,7 @@ fn expression_language_is_documented_and_helpful() {
               [time]\nsteps = 10\n[initial]\nq = [1.0]\np = [0.0]\n";
     let dir = Scratch::new("expressions");
     let file = scenario(&dir, ok);
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(dir.join("out"))
-        .arg(&file)
-        .assert()
-        .success();
+    run_scenario(dir.join("out"), &file).success();
     let bad = ok.replace("cos(x)", "cosine(x)");
     let err = failing("expressions-bad", &bad);
     assert!(

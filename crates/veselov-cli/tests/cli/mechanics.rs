@@ -1,7 +1,7 @@
 //! Mechanics runs: their outputs, forced runs' energy balance, fixed steps
 //! landing on t_end, the Newton controls and output at chosen times.
 
-use crate::common::{Scratch, scenario, succeeds, summary, veselov};
+use crate::common::{Scratch, run_scenario, scenario, succeeds, summary, veselov};
 use crate::shared::{example_scenario, failing, relative_energy_error_is_stated};
 
 #[test]
@@ -9,12 +9,7 @@ fn run_writes_npy_json_and_momentum_columns() {
     let dir = Scratch::new("kepler-npy");
     let file = example_scenario(&dir, "kepler", 100);
     let out = dir.join("out");
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert()
-        .success();
+    run_scenario(&out, &file).success();
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).expect("csv");
     assert_eq!(csv.lines().next(), Some("t,x,y,p_x,p_y,energy,J_angular"));
     let npy = std::fs::read(out.join("trajectory.npy")).expect("npy");
@@ -157,12 +152,7 @@ fn exactly_conserved_momentum_is_plotted_visibly() {
                 [initial]\nq = [0.0]\np = [0.75]\n";
     let file = scenario(&dir, text);
     let out = dir.join("out");
-    veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert()
-        .success();
+    run_scenario(&out, &file).success();
     let svg = std::fs::read_to_string(out.join("momentum_error.svg")).expect("svg");
     assert!(svg.contains("exactly 0 at every row"), "title");
 }

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::{Scratch, scenario, veselov, workspace_root};
+use crate::common::{Scratch, run_scenario, scenario, workspace_root};
 
 /// The example `examples/<name>.toml` cut to `steps` steps, written into `dir`.
 pub(crate) fn example_scenario(dir: &Path, name: &str, steps: usize) -> PathBuf {
@@ -13,13 +13,20 @@ pub(crate) fn example_scenario(dir: &Path, name: &str, steps: usize) -> PathBuf 
 
 /// Replace the `[time]` table of an example with a short horizon.
 pub(crate) fn shorten(text: &str, steps: usize) -> String {
+    with_time_table(text, &format!("steps = {steps}\n"))
+}
+
+/// `text` with its `[time]` table's keys replaced by `keys` (lines ending in
+/// a newline).
+pub(crate) fn with_time_table(text: &str, keys: &str) -> String {
     let mut out = String::new();
     let mut skip = false;
     for line in text.lines() {
         if line.starts_with('[') {
             skip = line.trim() == "[time]";
             if skip {
-                out.push_str(&format!("[time]\nsteps = {steps}\n"));
+                out.push_str("[time]\n");
+                out.push_str(keys);
                 continue;
             }
         }
@@ -35,12 +42,7 @@ pub(crate) fn shorten(text: &str, steps: usize) -> String {
 pub(crate) fn failing(name: &str, text: &str) -> String {
     let dir = Scratch::new(name);
     let file = scenario(&dir, text);
-    let out = veselov()
-        .args(["run", "--quiet", "--out"])
-        .arg(dir.join("out"))
-        .arg(&file)
-        .assert()
-        .failure();
+    let out = run_scenario(dir.join("out"), &file).failure();
     String::from_utf8_lossy(&out.get_output().stderr).into_owned()
 }
 

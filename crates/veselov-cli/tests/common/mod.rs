@@ -20,6 +20,19 @@ pub fn veselov() -> Command {
     Command::cargo_bin("veselov").expect("binary built")
 }
 
+/// `veselov run --quiet --out <out> <scenario>`, asserted on: the caller
+/// says whether it must succeed or fail.
+pub fn run_scenario(
+    out: impl AsRef<std::ffi::OsStr>,
+    scenario: impl AsRef<std::ffi::OsStr>,
+) -> assert_cmd::assert::Assert {
+    veselov()
+        .args(["run", "--quiet", "--out"])
+        .arg(out)
+        .arg(scenario)
+        .assert()
+}
+
 /// Run `command`, which must succeed, and return its standard output.
 pub fn succeeds(command: &mut Command) -> String {
     let out = command.assert().success();
