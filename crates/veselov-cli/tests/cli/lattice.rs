@@ -50,14 +50,7 @@ fn lattice_field_run_reports_energy_and_charges() {
          [method]\nscheme = \"guo\"\n[initial]\nkind = \"dalembert\"\ndrift = 0.2\n\
          [time]\nt_end = 5.0\n[output]\nsnapshot_every = 8\nenergy_every = 4\nenergy_block = 20\nplots = false\n",
     );
-    veselov()
-        .arg("run")
-        .arg(&path)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .assert()
-        .success();
+    run_scenario(&out, &path).success();
     let s = summary(&out);
     assert_eq!(s["status"], "ok");
     assert_eq!(s["nodes"], 64);
@@ -149,14 +142,7 @@ fn lattice_field_errors_name_the_key() {
     for (i, (text, needle)) in cases.iter().enumerate() {
         let path = scenario(&dir, text);
         let out = dir.join(format!("out{i}"));
-        let assert = veselov()
-            .arg("run")
-            .arg(&path)
-            .arg("--out")
-            .arg(&out)
-            .arg("--quiet")
-            .assert()
-            .failure();
+        let assert = run_scenario(&out, &path).failure();
         let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
         assert!(stderr.contains(needle), "case {i}: `{needle}` not in: {stderr}");
     }
@@ -172,14 +158,7 @@ fn generic_lattice_paths_complex_field_and_fixed_ends() {
          [lattice]\nnodes = 32\nlength = 10.0\ncourant = 0.25\n[method]\nscheme = \"symmetric-rectangle\"\n\
          [initial]\nkind = \"plane-wave\"\namplitude = 0.8\nmode = 2\n[time]\nt_end = 2.0\n[output]\nplots = false\n",
     );
-    veselov()
-        .arg("run")
-        .arg(&path)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .assert()
-        .success();
+    run_scenario(&out, &path).success();
     let s = summary(&out);
     assert_eq!(s["status"], "ok", "{s}");
     assert_eq!(s["path"], "generic");
@@ -196,14 +175,7 @@ fn generic_lattice_paths_complex_field_and_fixed_ends() {
          courant = 0.25\n[method]\nscheme = \"triangle\"\n[initial]\nkind = \"kink\"\nx0 = 6.0\nspeed = 0.3\n\
          [time]\nt_end = 4.0\n[output]\nplots = false\n",
     );
-    veselov()
-        .arg("run")
-        .arg(&path)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .assert()
-        .success();
+    run_scenario(&out, &path).success();
     let s = summary(&out);
     assert_eq!(s["status"], "ok", "{s}");
     assert_eq!(s["boundary"], "dirichlet");
@@ -220,14 +192,7 @@ fn generic_lattice_paths_complex_field_and_fixed_ends() {
                  [method]\nscheme = \"{scheme}\"\n[initial]\nkind = \"dalembert\"\n[time]\nt_end = 1.0\n"
             ),
         );
-        let assert = veselov()
-            .arg("run")
-            .arg(&path)
-            .arg("--out")
-            .arg(dir.join(scheme))
-            .arg("--quiet")
-            .assert()
-            .failure();
+        let assert = run_scenario(dir.join(scheme), &path).failure();
         let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
         assert!(stderr.contains(needle), "`{needle}` not in {stderr}");
     }
