@@ -323,9 +323,11 @@ impl BeamSetup {
                 Some(e.to_string()),
             ),
             Err(e) => {
-                let adjusted = match scenario.time.t_end {
-                    Some(t_end) => adjusted_step_note(dt_requested, dt, t_end),
-                    None => String::new(),
+                // The step quoted again beside the one asked for, where
+                // landing on t_end changed it.
+                let adjusted = match scenario.time.t_end.map(|t| adjusted_step_note(dt_requested, dt, t)) {
+                    Some(note) if !note.is_empty() => format!("; dt = {dt:e}{note}"),
+                    _ => String::new(),
                 };
                 return Err(key(
                     "time.dt",
