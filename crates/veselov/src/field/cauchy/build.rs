@@ -194,8 +194,8 @@ where
     fn check_closed_forms(&self, w: i64) -> Result<()> {
         let n = self.torus.dimension();
         let mut y = [self.values[self.value_slot(w) * self.torus.level_size()]; MAX_LATTICE_DIMENSION + 1];
-        let vertices = (0..self.torus.level_size()).filter(|&i| self.is_active(w, i));
         let rows = self.level_rows(w);
+        let vertices = (0..self.torus.level_size()).filter(|&i| self.is_active_in(&rows, i));
         for i in vertices.take(CHECKED_VERTICES) {
             let at = self.base(&rows, i);
             for sigma in (0..self.perms.len()).filter(|&s| self.cell_active_at(&at, s)) {

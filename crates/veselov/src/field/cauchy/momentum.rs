@@ -224,8 +224,10 @@ where
         // parallel) or, after a failed step, from the stored forces by the
         // same operations.
         let fresh = self.forces_level == Some(c);
+        // The level's window reduction, formed once (no division per vertex).
+        let rows = self.level_rows(c);
         for i in 0..self.torus.level_size() {
-            if !self.is_active(c, i) {
+            if !self.is_active_in(&rows, i) {
                 continue;
             }
             let force = if fresh {
