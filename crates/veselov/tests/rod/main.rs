@@ -12,4 +12,5 @@ mod rod_free;
 mod rod_lanes;
 mod rod_loads;
 mod rod_stability;
+mod rod_vibration;
 mod sample;
