@@ -18,7 +18,10 @@ use crate::field::fibre::{Pose, PositionRotation};
 pub fn linear_momentum<L: DiscreteLagrangian<PositionRotation, 6>>(
     m: &CauchyMarcher<PositionRotation, L, 6>,
 ) -> Vector3<f64> {
-    let p = m.level_momenta(|y: &Pose<f64>| std::array::from_fn::<_, 3, _>(|k| generator(k, y)));
+    let p = m.level_momenta(|y: &Pose<f64>| {
+        let g = generators(y);
+        [g[0], g[1], g[2]]
+    });
     Vector3::from(p)
 }
 
@@ -27,7 +30,10 @@ pub fn linear_momentum<L: DiscreteLagrangian<PositionRotation, 6>>(
 pub fn angular_momentum<L: DiscreteLagrangian<PositionRotation, 6>>(
     m: &CauchyMarcher<PositionRotation, L, 6>,
 ) -> Vector3<f64> {
-    let l = m.level_momenta(|y: &Pose<f64>| std::array::from_fn::<_, 3, _>(|k| generator(k + 3, y)));
+    let l = m.level_momenta(|y: &Pose<f64>| {
+        let g = generators(y);
+        [g[3], g[4], g[5]]
+    });
     Vector3::from(l)
 }
 
@@ -36,23 +42,33 @@ pub fn angular_momentum<L: DiscreteLagrangian<PositionRotation, 6>>(
 pub fn momenta<L: DiscreteLagrangian<PositionRotation, 6>>(
     m: &CauchyMarcher<PositionRotation, L, 6>,
 ) -> (Vector3<f64>, Vector3<f64>) {
-    let q = m.level_momenta(|y: &Pose<f64>| std::array::from_fn::<_, 6, _>(|k| generator(k, y)));
+    let q = m.level_momenta(generators);
     (Vector3::new(q[0], q[1], q[2]), Vector3::new(q[3], q[4], q[5]))
 }
 
 /// The generators of the translations (k = 0, 1, 2) and rotations (k = 3,
-/// 4, 5) about the origin, left-trivialised: (e_k, 0) and (ξ × r, Rᵀξ).
-fn generator(k: usize, y: &Pose<f64>) -> SVector<f64, 6> {
-    let mut d = SVector::<f64, 6>::zeros();
-    if k < 3 {
+/// 4, 5) about the origin, left-trivialised: (e_k, 0) and (ξ × r, Rᵀξ),
+/// Rᵀe_k being row k of R; all six at once, since each pairing with a
+/// vertex's term needs them all.
+fn generators(y: &Pose<f64>) -> [SVector<f64, 6>; 6] {
+    let m = y.rotation.matrix();
+    let translation = |k: usize| {
+        let mut d = SVector::<f64, 6>::zeros();
         d[k] = 1.0;
-    } else {
-        let xi = Vector3::ith(k - 3, 1.0);
-        let a = xi.cross(&y.position);
-        let b = y.rotation.matrix().transpose() * xi;
-        d.copy_from_slice(&[a[0], a[1], a[2], b[0], b[1], b[2]]);
-    }
-    d
+        d
+    };
+    let rotation = |k: usize| {
+        let a = Vector3::ith(k, 1.0).cross(&y.position);
+        SVector::<f64, 6>::from([a[0], a[1], a[2], m[(k, 0)], m[(k, 1)], m[(k, 2)]])
+    };
+    [
+        translation(0),
+        translation(1),
+        translation(2),
+        rotation(0),
+        rotation(1),
+        rotation(2),
+    ]
 }
 
 /// The discrete impulse of the loads (damping, end force and torque) on the
@@ -65,7 +81,7 @@ fn generator(k: usize, y: &Pose<f64>) -> SVector<f64, 6> {
 pub fn load_impulse<L: DiscreteLagrangian<PositionRotation, 6>>(
     m: &CauchyMarcher<PositionRotation, L, 6>,
 ) -> Option<(Vector3<f64>, Vector3<f64>)> {
-    let i = m.level_impulses(|y: &Pose<f64>| std::array::from_fn::<_, 6, _>(|k| generator(k, y)))?;
+    let i = m.level_impulses(generators)?;
     Some((Vector3::new(i[0], i[1], i[2]), Vector3::new(i[3], i[4], i[5])))
 }
 
