@@ -7,18 +7,18 @@ use crate::shared::failing;
 #[test]
 fn custom_kepler_matches_built_in_kepler() {
     let dir = Scratch::new("custom-vs-builtin");
-    let common = "[method]\nname = \"galerkin-gauss\"\nstages = 3\ndt = 0.02\n[time]\nsteps = 300\n\
+    let shared_tables = "[method]\nname = \"galerkin-gauss\"\nstages = 3\ndt = 0.02\n[time]\nsteps = 300\n\
                   [initial]\nq = [0.4, 0.0]\np = [0.0, 1.8708286933869707]\n";
     let builtin = scenario(
         &dir,
-        &format!("[model]\nname = \"kepler\"\nparams = {{ eccentricity = 0.6 }}\n{common}"),
+        &format!("[model]\nname = \"kepler\"\nparams = {{ eccentricity = 0.6 }}\n{shared_tables}"),
     );
     run_scenario(dir.join("a"), &builtin).success();
     let custom = scenario(
         &dir,
         &format!(
             "[model]\nname = \"custom\"\ncoordinates = [\"x\", \"y\"]\nlagrangian = \"0.5*(x_dot^2 + y_dot^2) + 1/sqrt(x^2 + y^2)\"\n\
-             symmetries = {{ angular = [\"-y\", \"x\"] }}\n{common}"
+             symmetries = {{ angular = [\"-y\", \"x\"] }}\n{shared_tables}"
         ),
     );
     run_scenario(dir.join("b"), &custom).success();
