@@ -10,18 +10,18 @@
 //! invariant under the change to canonical coordinates). Its Jacobian is
 //! taken by central differences (h = 1e-6; the map is linear to O(h)).
 //!
-//! Reference: the Timoshenko equations for harmonic motion,
-//! kGA(w'' − ψ') + ρAω²w = 0, EIψ'' + kGA(w' − ψ) + ρIω²ψ = 0,
-//! free end ψ' = 0, w' − ψ = 0, clamped end w = ψ = 0, solved by shooting
-//! (RK4 with 4000 steps) and bisection on the 2 × 2 end determinant: an
-//! independent path.
+//! Reference: the Timoshenko equations for harmonic motion
+//! ([`Timoshenko`]), solved by shooting and bisection on the 2 × 2 end
+//! determinant: an independent path.
 
-use nalgebra::{DMatrix, SVector, Vector4};
+use nalgebra::{DMatrix, SVector};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{SE3, se3};
 use veselov::models::beam::{BeamDensity, BeamProperties, CayleyBeam, beam_lagrangian, straight};
+
+use crate::timoshenko::Timoshenko;
 
 const RHO_A: f64 = 1.0;
 const RHO_I: f64 = 1e-2;
@@ -110,67 +110,19 @@ fn discrete_frequencies(cells: usize, clamped: bool) -> Vec<f64> {
     omega
 }
 
-/// det of the end conditions at s = L for frequency ω (Timoshenko, shooting).
-fn end_determinant(omega: f64, clamped: bool) -> f64 {
-    let rhs = |y: &Vector4<f64>| {
-        let (w, dw, psi, dpsi) = (y[0], y[1], y[2], y[3]);
-        Vector4::new(
-            dw,
-            dpsi - RHO_A * omega * omega * w / KGA,
-            dpsi,
-            -(KGA * (dw - psi) + RHO_I * omega * omega * psi) / EI,
-        )
-    };
-    let shoot = |mut y: Vector4<f64>| {
-        let steps = 4000;
-        let h = LENGTH / steps as f64;
-        for _ in 0..steps {
-            let k1 = rhs(&y);
-            let k2 = rhs(&(y + k1 * (h / 2.0)));
-            let k3 = rhs(&(y + k2 * (h / 2.0)));
-            let k4 = rhs(&(y + k3 * h));
-            y += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
-        }
-        // Free end: ψ' = 0 and w' − ψ = 0.
-        (y[3], y[1] - y[2])
-    };
-    let (a, b) = if clamped {
-        (
-            shoot(Vector4::new(0.0, 1.0, 0.0, 0.0)),
-            shoot(Vector4::new(0.0, 0.0, 0.0, 1.0)),
-        )
-    } else {
-        (
-            shoot(Vector4::new(1.0, 0.0, 0.0, 0.0)),
-            shoot(Vector4::new(0.0, 1.0, 1.0, 0.0)),
-        )
-    };
-    a.0 * b.1 - a.1 * b.0
-}
+/// The beam as a Timoshenko beam (ρA, ρI = J₁₁, EI = C₁₁, kGA = C₄₄ of
+/// [`properties`]).
+const BEAM: Timoshenko = Timoshenko {
+    rho_a: RHO_A,
+    rho_i: RHO_I,
+    ei: EI,
+    kga: KGA,
+    length: LENGTH,
+};
 
 /// The first `count` Timoshenko frequencies above 1 rad/s.
 fn timoshenko(count: usize, clamped: bool) -> Vec<f64> {
-    let mut roots = Vec::new();
-    let (mut w, step) = (1.0, 0.05);
-    let mut f = end_determinant(w, clamped);
-    while roots.len() < count {
-        let (w2, f2) = (w + step, end_determinant(w + step, clamped));
-        if f.signum() != f2.signum() {
-            let (mut lo, mut hi, mut flo) = (w, w2, f);
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                let fm = end_determinant(mid, clamped);
-                if fm.signum() == flo.signum() {
-                    (lo, flo) = (mid, fm);
-                } else {
-                    hi = mid;
-                }
-            }
-            roots.push(0.5 * (lo + hi));
-        }
-        (w, f) = (w2, f2);
-    }
-    roots
+    BEAM.frequencies(count, clamped, 1.0, 0.05)
 }
 
 fn converges(clamped: bool) {

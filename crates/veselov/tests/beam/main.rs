@@ -7,6 +7,10 @@
 mod checkpoints;
 #[path = "../support/five_point.rs"]
 mod five_point;
+// The rod's tests also use its mode shapes.
+#[allow(dead_code)]
+#[path = "../support/timoshenko.rs"]
+mod timoshenko;
 
 mod beam_evolution;
 mod beam_forces;

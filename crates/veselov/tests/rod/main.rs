@@ -5,6 +5,8 @@
 
 #[path = "../support/threads.rs"]
 mod threads;
+#[path = "../support/timoshenko.rs"]
+mod timoshenko;
 
 mod rod_ends;
 mod rod_fast;
