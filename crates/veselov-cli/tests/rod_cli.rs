@@ -15,8 +15,10 @@ fn free_rod_writes_its_outputs_and_keeps_its_momenta() {
     let (header, rows) = csv(&out.join("momentum.csv"));
     assert_eq!(header, ["t", "P_x", "P_y", "P_z", "L_x", "L_y", "L_z"]);
     let n = rows.len();
-    assert_eq!(npy_shape(&out.join("centerline.npy")), [n, 31, 3]);
-    assert_eq!(npy_shape(&out.join("frames.npy")), [n, 31, 9]);
+    let nodes = s["nodes"].as_u64().expect("a node count") as usize;
+    assert_eq!(nodes, 151, "the example's node count");
+    assert_eq!(npy_shape(&out.join("centerline.npy")), [n, nodes, 3]);
+    assert_eq!(npy_shape(&out.join("frames.npy")), [n, nodes, 9]);
     assert_eq!(rows[0][0], 0.0);
     assert!((rows[n - 1][0] - 0.5).abs() < 1e-12, "ends at t_end");
     // Conserved to round-off (the rod moves: |P| ≈ 0.1 M).
@@ -69,6 +71,43 @@ fn falling_rod_gains_the_momentum_of_its_weight() {
             .expect("number")
             <= 1e-12
     );
+}
+
+/// Material points far apart against the rod's bending length are warned
+/// about (shear locking, `models::rod::resolution`: the lattice bends as if
+/// stiffer by 0.245Λ, Λ = κGAδ²/EI), with the node count that brings it to
+/// 1 %; summary.json gives Λ and the estimate either way. The example's
+/// own lattice is resolved and not warned about.
+#[test]
+fn coarse_bending_resolution_is_warned_about() {
+    let base = set(&example("rod_cantilever_damped.toml"), "t_end", "0.05");
+    // κGA/EI = κ(G/E)(A/I) = 0.9 · (1/3) · 4/r² = 1.2/r² (ν = 0.5, r = 0.05).
+    let locking = |delta: f64| 1.2 * (delta / 0.05_f64).powi(2);
+    let (ok, err, out) = run("resolved", &base);
+    assert!(ok, "{err}");
+    assert!(!err.contains("coarsely resolved"), "{err}");
+    let s = summary(&out);
+    let number = s["bending_locking_number"].as_f64().expect("a number");
+    assert!((number / locking(1.0 / 80.0) - 1.0).abs() < 1e-12, "{s}");
+    let (ok, err, out) = run("coarse", &set(&base, "nodes", "21"));
+    assert!(ok, "{err}");
+    let warning = err
+        .lines()
+        .find(|l| l.contains("coarsely resolved"))
+        .unwrap_or_default();
+    // Λ = 1.2 at δ = r: 29 % stiffer, deflections 23 % short; 1 % needs
+    // δ ≤ r·√(0.01/(0.245 · 1.2)) = 0.00922 m, 110 nodes.
+    assert!(
+        warning.starts_with("warning:")
+            && warning.contains("1.200")
+            && warning.contains("about 29 % stiffer")
+            && warning.contains("about 23 % short")
+            && warning.contains("nodes = 110 or more"),
+        "{err}"
+    );
+    let s = summary(&out);
+    let stiffening = s["bending_stiffening_estimate"].as_f64().expect("a number");
+    assert!((stiffening / (0.245 * locking(0.05)) - 1.0).abs() < 1e-12, "{s}");
 }
 
 #[test]
@@ -411,7 +450,7 @@ fn material_varying_along_the_rod() {
 /// Initial data whose energy overflows (a velocity of 1e200 m/s) fail the
 /// run at its first state: `summary.json` reports the failure at step 0
 /// and t = 0, where the run stood (not at the lattice level the march
-/// starts from). A rod stiff enough for a step number of 150 digits, run
+/// starts from). A rod stiff enough for a step number of 151 digits, run
 /// anyway, is warned about with that number in exponent form.
 #[test]
 fn an_overflowing_start_fails_at_step_zero() {
@@ -431,7 +470,7 @@ fn an_overflowing_start_fails_at_step_zero() {
     let (_, err, _) = run("stiff-unstable", &stiff);
     let warning = err.lines().find(|l| l.starts_with("warning:")).unwrap_or_default();
     assert!(
-        warning.contains("step number 9.87") && warning.contains("e149"),
+        warning.contains("step number 2.525") && warning.contains("e150"),
         "{err}"
     );
 }

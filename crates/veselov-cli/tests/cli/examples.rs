@@ -53,9 +53,10 @@ fn check_beam_example(name: &str, original: &str, dir: &Path) {
     }
 }
 
-/// A rod example, run for 20 steps: status ok and every output present.
+/// A rod example, run for 20 steps (of 0.2 ms, within every example's step
+/// limit): status ok and every output present.
 fn check_rod_example(name: &str, original: &str, dir: &Path) {
-    let text = with_time_table(original, "t_end = 0.02\ndt = 0.001\n");
+    let text = with_time_table(original, "t_end = 0.004\ndt = 0.0002\n");
     let file = scenario(dir, &text);
     let out = dir.join("out");
     run_scenario(&out, &file).success();

@@ -19,5 +19,5 @@ pub use ends::{EndCondition, RodEnds};
 pub use lattice::RodLattice;
 pub use material::{CrossSection, Material, Shear, rod_parameters};
 pub use momentum::{angular_momentum, energy, linear_momentum, load_impulse, momenta};
-pub use resolution::{DEFLECTION_DEFICIT_PER_LOCKING, locking_number, spacing_for_locking};
+pub use resolution::{BENDING_STIFFENING_PER_LOCKING, BendingError, locking_number, spacing_for_locking};
 pub use stability::{COURANT_LIMIT, StepCheck, courant_number, largest_step, rotary_frequency, wave_speed};

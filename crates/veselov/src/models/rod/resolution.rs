@@ -10,29 +10,57 @@
 //!
 //! Λ = δ² · max(C₁,₁₁ / C₂,₂₂, C₁,₂₂ / C₂,₁₁) = κGA δ² / EI
 //!
-//! (shear along d₁ with bending about d₂, and the other plane), and the
-//! lattice is stiffer in bending than the rod by a relative amount
-//! proportional to Λ: second order in δ, but with the constant κGA/EI ≈
-//! 4κG/(E r²), large for a slender rod (r its radius). Measured
-//! (`tests/rod/`, a circular section, ν = 0.3, κ = 0.9):
+//! (shear along d₁ with bending about d₂, and the other plane). The lattice
+//! bends like a rod of bending stiffness EI·(1 + aΛ), a ≈ 0.245
+//! ([`BENDING_STIFFENING_PER_LOCKING`]): second order in δ, but with the
+//! constant κGA/EI ≈ 4κG/(E r²), large for a slender rod (r its radius).
+//! Measured (`tests/rod/`, a circular section, ν = 0.3, κ = 0.9):
 //!
 //! * a cantilever's settled tip deflection under an end load falls short of
-//!   Timoshenko's by 0.23Λ–0.245Λ (Λ from 0.22 down to 0.055);
-//! * the first free–free bending frequency is high by 0.11Λ–0.12Λ (Λ from
-//!   1.4 down to 0.02), beside an ordinary O(δ²) error that does not grow
-//!   with κGA/EI.
+//!   Timoshenko's by 5.17 % at Λ = 0.22 and 1.35 % at Λ = 0.055, where
+//!   aΛ/(1 + aΛ) gives 5.15 % and 1.34 %;
+//! * the first free–free bending frequency is high by 14.9 %, 4.0 %, 1.0 %
+//!   and 0.25 % at Λ = 1.38, 0.35, 0.087 and 0.022, where √(1 + aΛ) − 1
+//!   gives 15.7 %, 4.2 %, 1.1 % and 0.26 % (the rest an ordinary O(δ²)
+//!   error that does not grow with κGA/EI).
 //!
-//! So δ must be small against the bending length √(EI/κGA) (r/1.18 for
-//! a solid circle with ν = 0.3, κ = 0.9), not only against the length
-//! of the rod: [`spacing_for_locking`] gives the largest spacing for a
-//! chosen Λ.
+//! So δ must be small against the bending length √(EI/κGA) (r/1.18 for a
+//! solid circle with ν = 0.3, κ = 0.9), not only against the length of the
+//! rod: [`spacing_for_locking`] gives the largest spacing for a chosen Λ.
 
 use crate::field::discretize::RodParameters;
 
-/// The relative shortfall of a bending deflection per unit of the locking
-/// number Λ ([`locking_number`]), as measured on a settled cantilever
-/// (0.23–0.245; see the module documentation): an estimate, not a bound.
-pub const DEFLECTION_DEFICIT_PER_LOCKING: f64 = 0.24;
+/// The lattice's bending stiffening per unit of the locking number Λ
+/// ([`locking_number`]): the lattice bends like a rod of stiffness
+/// EI·(1 + 0.245Λ), as measured on a settled cantilever and on the first
+/// free–free bending frequency (see the module documentation). An
+/// estimate, not a bound.
+pub const BENDING_STIFFENING_PER_LOCKING: f64 = 0.245;
+
+/// The estimated bending errors of the lattice at locking number Λ
+/// ([`BENDING_STIFFENING_PER_LOCKING`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BendingError {
+    /// The relative excess of the bending stiffness, s = 0.245Λ.
+    pub stiffening: f64,
+}
+
+impl BendingError {
+    /// The estimate at locking number `locking`.
+    pub fn at(locking: f64) -> Self {
+        Self {
+            stiffening: BENDING_STIFFENING_PER_LOCKING * locking,
+        }
+    }
+    /// The relative shortfall of a static bending deflection, s/(1 + s).
+    pub fn deflection_deficit(&self) -> f64 {
+        self.stiffening / (1.0 + self.stiffening)
+    }
+    /// The relative excess of a bending frequency, √(1 + s) − 1.
+    pub fn frequency_excess(&self) -> f64 {
+        (1.0 + self.stiffening).sqrt() - 1.0
+    }
+}
 
 /// The locking number Λ = δ² · max(C₁,₁₁/C₂,₂₂, C₁,₂₂/C₂,₁₁) of material
 /// points `spacing` δ apart (see the module documentation); 0 for a plane
