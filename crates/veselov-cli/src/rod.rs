@@ -212,8 +212,9 @@ pub const DEFAULT_STEP_NUMBER: f64 = 0.5;
 /// The largest step number run without a warning: the limit 1 is the
 /// linearised march's, and close to it, sooner for large motions, a long
 /// run can still grow (`rod_free_tumbling.toml` with 31 material points ran
-/// 20 s at 0.9 and failed after 3,405 steps at 0.95 and after 50 at 0.97; the `rod_step` bench's
-/// near-straight free rod after 10,870 steps at 0.969).
+/// 20 s at 0.9 and failed after 3,405 steps at 0.95 and after 50 at 0.97;
+/// the `rod_step` bench's near-straight free rod after 10,870 steps at
+/// 0.969).
 pub const LONG_RUN_STEP_NUMBER: f64 = 0.9;
 
 #[derive(Debug, Clone, Default, Deserialize)]
