@@ -20,6 +20,10 @@
 //! * the continuum's ω = ck: the frequency the march gives the continuum's
 //!   Cauchy data must converge to it at second order as the lattice is
 //!   refined at a fixed Courant number.
+//!
+//! The first free–free bending mode is held against Timoshenko's frequency
+//! (shooting, an independent path), with the lattice's shear locking
+//! (`models::rod::resolution`) predicting most of the difference.
 
 use nalgebra::Vector3;
 use veselov::diagnostics::local_rates;
@@ -84,14 +88,14 @@ impl Mode {
     }
 }
 
-/// What a march of the mode recorded.
+/// What a march of a standing wave recorded.
 struct Record {
-    /// (t, a) per level: the mode's amplitude, the projection of the
-    /// displacement on cos(ks) over the level's own material points (exact
-    /// for the mode whatever the points).
+    /// (t, a) per level: the wave's amplitude, the projection of the
+    /// displacement on the wave's shape over the level's own material
+    /// points (exact for the wave whatever the points).
     samples: Vec<(f64, f64)>,
-    /// The largest |u − A cos(ks) cos(ωt)| / A over every vertex of every
-    /// level, ω the frequency the march started from.
+    /// The largest |u − u_wave(s, t)| / A over every vertex of every level,
+    /// u_wave the wave the march started from.
     departure: f64,
 }
 
