@@ -52,7 +52,8 @@ use veselov::field::discretize::{RodLoads, RodParameters};
 use veselov::field::fibre::Pose;
 use veselov::lie::so3;
 use veselov::models::rod::{
-    CrossSection, EndCondition, Material, RodEnds, RodLattice, courant_number, largest_step, rod_parameters,
+    BENDING_STIFFENING_PER_LOCKING, CrossSection, EndCondition, Material, RodEnds, RodLattice, courant_number,
+    largest_step, locking_number, rod_parameters, spacing_for_locking,
 };
 
 use crate::error::CliError;
@@ -314,7 +315,15 @@ pub(crate) struct RodSetup {
     pub dt_limit: f64,
     /// Q_sym (`[method] quadrature = "symmetric"`) instead of Prop. 6.5's Q_{v₀}.
     pub symmetric: bool,
+    /// The worst shear-locking number κGA·δ²/EI along the rod
+    /// (`models::rod::resolution`) and the fewest material points that
+    /// bring its bending stiffening to [`BENDING_STIFFENING_ADVISED`].
+    pub locking: f64,
+    pub nodes_for_bending: usize,
 }
+
+/// The bending stiffening from shear locking that a run's advice aims at: 1 %.
+pub const BENDING_STIFFENING_ADVISED: f64 = 0.01;
 
 fn vector(path: &Path, key: &str, v: Option<[f64; 3]>) -> Result<Vector3<f64>, CliError> {
     let v = v.unwrap_or([0.0; 3]);
@@ -415,6 +424,13 @@ impl RodSetup {
             .windows(2)
             .map(|w| 0.5 * (w[0].rho() + w[1].rho()) * spacing)
             .sum();
+        let locking = profile.iter().map(|q| locking_number(q, spacing)).fold(0.0, f64::max);
+        let resolved = profile
+            .iter()
+            .map(|q| spacing_for_locking(q, BENDING_STIFFENING_ADVISED / BENDING_STIFFENING_PER_LOCKING))
+            .fold(f64::INFINITY, f64::min);
+        // Saturating: a huge count is advice, not an allocation.
+        let nodes_for_bending = (length / resolved).ceil().min(u32::MAX as f64) as usize + 1;
         let probe = RodLattice::new(m.nodes, length, 1.0).map_err(|e| key("model.nodes", e.to_string()))?;
         let mut dt_limit = f64::INFINITY;
         for (k, q) in profile.iter().enumerate() {
@@ -634,6 +650,8 @@ impl RodSetup {
             courant,
             dt_limit,
             symmetric,
+            locking,
+            nodes_for_bending,
         })
     }
 

@@ -31,10 +31,7 @@ use veselov::field::cell::DiscreteLagrangian;
 use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, VertexRule, Weight};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
-use veselov::models::rod::{
-    BENDING_STIFFENING_PER_LOCKING, BendingError, EndCondition, energy, load_impulse, locking_number,
-    spacing_for_locking,
-};
+use veselov::models::rod::{BendingError, EndCondition, energy, load_impulse};
 use veselov::run::{Checkpoint, Control, Observer, Status, StepStats, StopWhen, Words};
 
 use crate::error::CliError;
@@ -319,30 +316,6 @@ impl RodObserver<'_> {
 /// locking (`models::rod::resolution`), above which a run warns: 5 %.
 const BENDING_ERROR_WARNING: f64 = 0.05;
 
-/// The bending stiffening the warning's advice aims at: 1 %.
-const BENDING_ERROR_ADVISED: f64 = 0.01;
-
-/// The rod's worst locking number Λ = κGAδ²/EI over its material points
-/// and the fewest material points that bring its estimated bending
-/// stiffening 0.245Λ to [`BENDING_ERROR_ADVISED`].
-fn bending_resolution(setup: &RodSetup) -> (f64, usize) {
-    let lattice = &setup.lattice;
-    let all = std::slice::from_ref(&setup.parameters);
-    let points = setup.profile.as_deref().unwrap_or(all);
-    let locking = points
-        .iter()
-        .map(|p| locking_number(p, lattice.spacing()))
-        .fold(0.0, f64::max);
-    let target = BENDING_ERROR_ADVISED / BENDING_STIFFENING_PER_LOCKING;
-    let spacing = points
-        .iter()
-        .map(|p| spacing_for_locking(p, target))
-        .fold(f64::INFINITY, f64::min);
-    // Saturating: a huge count is advice, not an allocation.
-    let nodes = (lattice.length() / spacing).ceil().min(u32::MAX as f64) as usize + 1;
-    (locking, nodes)
-}
-
 /// Run a rod scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     let setup = RodSetup::parse(path, text)?;
@@ -369,7 +342,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         );
     }
     // A silent loss of accuracy otherwise: always shown, as the warnings above.
-    let (locking, nodes_advised) = bending_resolution(&setup);
+    let (locking, nodes_advised) = (setup.locking, setup.nodes_for_bending);
     let bending = BendingError::at(locking);
     if bending.deflection_deficit() > BENDING_ERROR_WARNING {
         eprintln!(
@@ -527,7 +500,6 @@ where
     let rows_out = obs.momentum.position()?.rows;
     let t_final = run_time(&state, setup.dt);
     let free = setup.ends.start.is_free() && setup.ends.end.is_free();
-    let (locking, _) = bending_resolution(setup);
     let own = json!({
         "scenario": setup.path.display().to_string(),
         "model": s.model.name,
@@ -545,8 +517,8 @@ where
         "ends": [end_name(&setup.ends.start), end_name(&setup.ends.end)],
         "quadrature": if setup.symmetric { "symmetric" } else { "vertex" },
         "varying_material": setup.profile.is_some(),
-        "bending_locking_number": locking,
-        "bending_stiffening_estimate": BendingError::at(locking).stiffening,
+        "bending_locking_number": setup.locking,
+        "bending_stiffening_estimate": BendingError::at(setup.locking).stiffening,
         "mass": setup.mass,
         "energy_initial": obs.energy0,
         "energy_min": obs.energy_range[0],
