@@ -5,7 +5,7 @@
 //! rotation fibre on a 2+1 space–time lattice.
 
 use crate::field_discretize_rod::rod_parameters;
-use crate::shared::{SplitMix, cell, nodes_of, rel, rel_vec};
+use crate::shared::{SplitMix, cell, nodes_of, nudged, rel, rel_vec};
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use veselov::ad::Scalar;
 use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
@@ -14,7 +14,7 @@ use veselov::field::discretize::{
     CellCheck, CellError, CfkNodes, CosseratCell, CosseratDensity, CubeCentreRule, CubeNodes, MidpointRule, NodeMap,
     SmoothDensity, SpaceTime, VertexRule, affine_jet, cube_corner, factorial, vertex_jet,
 };
-use veselov::field::fibre::{Euclidean, Fibre, Pose};
+use veselov::field::fibre::{Euclidean, Pose};
 use veselov::field::{CellLagrangian, NonlinearWave, RectangleRule, SineGordon, TriangleRule, Wave};
 use veselov::lie::{SO3, so3};
 
@@ -482,9 +482,7 @@ fn rotation_fibre_on_a_three_dimensional_space_time_lattice() {
                     let fd = SVector::<f64, 3>::from_fn(|i, _| {
                         let mut xi = Vector3::zeros();
                         xi[i] = 1e-6;
-                        let (mut plus, mut minus) = (y, y);
-                        plus[k] = Rotations::retract(&y[k], &xi);
-                        minus[k] = Rotations::retract(&y[k], &(-xi));
+                        let [plus, minus] = nudged::<Rotations, 3, 4>(&y, k, &xi);
                         (rule.cell_lagrangian(&c, &plus) - rule.cell_lagrangian(&c, &minus)) / 2e-6
                     });
                     fd_worst = fd_worst.max(rel_vec(&fd, &g));

@@ -3,7 +3,7 @@
 //! and the mixed blocks of a vertex solve, symmetry transfer under rigid
 //! motions (T19) and the per-cell momentum identities (T27).
 
-use crate::shared::{SplitMix, cell, nodes_of, rel, rel_vec};
+use crate::shared::{SplitMix, cell, nodes_of, nudged, rel, rel_vec};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use veselov::field::cell::{DiscreteLagrangian, mixed_block, vertex_gradient};
 use veselov::field::complex::TopCell;
@@ -149,10 +149,7 @@ fn t26_closed_form_gradients_match_the_exact_vertex_gradients() {
                     let e = 1e-6;
                     let mut xi = SVector::<f64, 6>::zeros();
                     xi[i] = e;
-                    let mut plus = y;
-                    plus[k] = PositionRotation::retract(&y[k], &xi);
-                    let mut minus = y;
-                    minus[k] = PositionRotation::retract(&y[k], &(-xi));
+                    let [plus, minus] = nudged::<PositionRotation, 6, 3>(&y, k, &xi);
                     (rod.cell_lagrangian(&c, &plus) - rod.cell_lagrangian(&c, &minus)) / (2.0 * e)
                 });
                 fd_worst = fd_worst.max(rel_vec(&fd, &g));
@@ -186,9 +183,7 @@ fn mixed_blocks_of_the_vertex_rule_match_the_closed_form_cell() {
         let fd = SMatrix::<f64, 6, 6>::from_fn(|i, j| {
             let mut xi = SVector::<f64, 6>::zeros();
             xi[j] = e;
-            let (mut plus, mut minus) = (y, y);
-            plus[2] = PositionRotation::retract(&y[2], &xi);
-            minus[2] = PositionRotation::retract(&y[2], &(-xi));
+            let [plus, minus] = nudged::<PositionRotation, 6, 3>(&y, 2, &xi);
             let gp = vertex_gradient::<PositionRotation, _, 6>(&generic, &c, &plus, 0).1;
             let gm = vertex_gradient::<PositionRotation, _, 6>(&generic, &c, &minus, 0).1;
             (gp[i] - gm[i]) / (2.0 * e)

@@ -1,11 +1,27 @@
 //! Helpers that several field tests share: Cauchy data on the 2+1 CFK
-//! lattice, top cells with their nodes, relative errors and two small
-//! reproducible random generators.
+//! lattice, top cells with their nodes, relative errors, the two points of
+//! a central difference in a fibre's chart and two small reproducible
+//! random generators.
 
 use nalgebra::{SMatrix, SVector, Vector3};
 use veselov::field::complex::{CfkTorus, TopCell};
 use veselov::field::discretize::{CfkNodes, NodeMap};
+use veselov::field::fibre::Fibre;
 use veselov::lie::{SO3, so3};
+
+/// The cell values `y` with vertex `k`'s value moved to y_k·τ(±ξ)
+/// ([`Fibre::retract`]): the two points of a central difference along ξ in
+/// the chart at y_k, (plus, minus).
+pub fn nudged<F: Fibre<M>, const M: usize, const V: usize>(
+    y: &[F::Point<f64>; V],
+    k: usize,
+    xi: &SVector<f64, M>,
+) -> [[F::Point<f64>; V]; 2] {
+    let (mut plus, mut minus) = (*y, *y);
+    plus[k] = F::retract(&y[k], xi);
+    minus[k] = F::retract(&y[k], &(-xi));
+    [plus, minus]
+}
 
 /// Cauchy data: the six levels of a prescribed space–time function f(x)
 /// at the nodes of `torus` (x = (x, y, t)).
