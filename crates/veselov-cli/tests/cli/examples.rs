@@ -6,15 +6,22 @@ use std::path::{Path, PathBuf};
 use crate::common::{self, Scratch, run_scenario, scenario, summary, workspace_root};
 use crate::shared::{shorten, with_time_table};
 
-/// A lattice-field example, run to t = 1: its outputs exist and agree with
-/// one another.
-fn check_field_example(name: &str, original: &str, dir: &Path) {
-    let text = with_time_table(original, "t_end = 1.0\n");
-    let file = scenario(dir, &text);
+/// Runs the example `name` as rewritten to `text` into `dir/out`, which
+/// must succeed with status ok; the output directory and the summary.
+fn run_ok(name: &str, text: &str, dir: &Path) -> (PathBuf, serde_json::Value) {
+    let file = scenario(dir, text);
     let out = dir.join("out");
     run_scenario(&out, &file).success();
     let s = summary(&out);
     assert_eq!(s["status"], "ok", "{name}: {s}");
+    (out, s)
+}
+
+/// A lattice-field example, run to t = 1: its outputs exist and agree with
+/// one another.
+fn check_field_example(name: &str, original: &str, dir: &Path) {
+    let text = with_time_table(original, "t_end = 1.0\n");
+    let (out, s) = run_ok(name, &text, dir);
     assert!(s["t_final"].as_f64().expect("t_final") >= 1.0, "{name}");
     let csv = std::fs::read_to_string(out.join("energy.csv")).expect("energy.csv");
     assert!(csv.starts_with("t,energy"), "{name}");
@@ -57,11 +64,7 @@ fn check_beam_example(name: &str, original: &str, dir: &Path) {
 /// limit): status ok and every output present.
 fn check_rod_example(name: &str, original: &str, dir: &Path) {
     let text = with_time_table(original, "t_end = 0.004\ndt = 0.0002\n");
-    let file = scenario(dir, &text);
-    let out = dir.join("out");
-    run_scenario(&out, &file).success();
-    let s = summary(&out);
-    assert_eq!(s["status"], "ok", "{name}: {s}");
+    let (out, s) = run_ok(name, &text, dir);
     assert_eq!(s["time_steps"], 20, "{name}");
     for file in [
         "centerline.npy",
