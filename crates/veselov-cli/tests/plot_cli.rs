@@ -5,7 +5,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 mod common;
-use common::{Scratch, example, scenario, set, succeeds, veselov};
+use common::{Scratch, example, scenario, set, succeeds, verify_command, veselov};
 
 /// The figure files in `dir`, by name.
 fn figures(dir: &Path) -> BTreeSet<String> {
@@ -119,12 +119,7 @@ fn plot_redraws_a_verify_study() {
     let dir = Scratch::new("plot-verify");
     let out = dir.join("study");
     let file = scenario(&dir, &set(&example("harmonic.toml"), "t_end", "1.0"));
-    succeeds(
-        veselov()
-            .args(["verify", "--quiet", "--dt", "0.1,0.05,0.025", "--out"])
-            .arg(&out)
-            .arg(&file),
-    );
+    succeeds(&mut verify_command("0.1,0.05,0.025", &out, &file));
     redraws_what_the_run_drew("verify", &out, &["convergence.svg"]);
 }
 

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::common::{self, Scratch, run, run_scenario, scenario, succeeds, summary, veselov};
+use crate::common::{self, Scratch, run, run_scenario, scenario, succeeds, summary, verify_command, veselov};
 use crate::shared::failing;
 
 const KEPLER: &str = "[model]\nname = \"kepler\"\n[method]\nname = \"midpoint\"\ndt = 0.01\n[time]\nsteps = 10\n";
@@ -149,12 +149,7 @@ fn every_file_a_run_writes_is_a_known_output() {
     let dir = Scratch::new("known-verify");
     let file = scenario(&dir, &short("harmonic.toml", "steps", "50"));
     let out = dir.join("verify");
-    succeeds(
-        veselov()
-            .args(["verify", "--quiet", "--dt", "0.1,0.05", "--out"])
-            .arg(&out)
-            .arg(&file),
-    );
+    succeeds(&mut verify_command("0.1,0.05", &out, &file));
     for file in file_names(&out) {
         assert!(veselov_cli::output::is_run_output(&file), "verify wrote {file}");
         seen += 1;

@@ -1,7 +1,7 @@
 //! `veselov verify`: the fitted order, its warnings, and the shipped
 //! mechanics examples verified as written.
 
-use crate::common::{Scratch, scenario, succeeds, summary, veselov, workspace_root};
+use crate::common::{Scratch, scenario, succeeds, summary, verify_command, veselov, workspace_root};
 
 #[test]
 fn verify_measures_the_order() {
@@ -9,12 +9,7 @@ fn verify_measures_the_order() {
     let text = "[model]\nname = \"pendulum\"\n[method]\nname = \"galerkin-gauss\"\nstages = 2\ndt = 0.1\n[time]\nt_end = 2.0\n";
     let file = scenario(&dir, text);
     let out = dir.join("v");
-    veselov()
-        .args(["verify", "--quiet", "--dt", "0.2,0.1,0.05,0.025", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .assert()
-        .success();
+    verify_command("0.2,0.1,0.05,0.025", &out, &file).assert().success();
     let s = summary(&out);
     let p = s["order_fitted"].as_f64().expect("fitted order");
     assert!((p - 4.0).abs() < 0.2, "{s}");
@@ -32,10 +27,7 @@ fn verify_measures_the_order() {
     assert!(stdout.contains("adjusted to 2.857142857143e-1"), "{stdout}");
     assert!(stdout.contains("outputs in"), "{stdout}");
     for bad in ["0", "-0.1", "1e-300,1e-301", "nan"] {
-        let res = veselov()
-            .args(["verify", "--quiet", "--dt", bad, "--out"])
-            .arg(dir.join("x"))
-            .arg(&file)
+        let res = verify_command(bad, dir.join("x"), &file)
             .timeout(std::time::Duration::from_secs(20))
             .assert()
             .failure();
@@ -112,12 +104,7 @@ fn verify_measures_the_order_of_the_lie_group_integrator() {
          [initial]\nrotation_vector = [0.3, 0.1, 0.0]\nangular_velocity = [0.5, -0.3, 2.0]\n[time]\nt_end = 1.0\n",
     );
     let out = dir.join("verify");
-    veselov()
-        .args(["verify", "--quiet", "--dt", "0.02,0.01,0.005,0.0025", "--out"])
-        .arg(&out)
-        .arg(&path)
-        .assert()
-        .success();
+    verify_command("0.02,0.01,0.005,0.0025", &out, &path).assert().success();
     let s = summary(&out);
     let order = s["order_fitted"].as_f64().expect("fitted order");
     assert!((order - 2.0).abs() <= 0.2, "order {order}");
@@ -153,12 +140,7 @@ fn verify_works_on_every_shipped_mechanics_example() {
             .unwrap_or("example")
             .to_string();
         let out = Scratch::new(&format!("verify-all-{name}")).at("v");
-        succeeds(
-            veselov()
-                .args(["verify", "--quiet", "--dt", &format!("{dt},{}", dt / 2.0), "--out"])
-                .arg(&out)
-                .arg(&path),
-        );
+        succeeds(&mut verify_command(&format!("{dt},{}", dt / 2.0), &out, &path));
         let s = summary(&out);
         let errors = s["errors"].as_array().expect("errors");
         assert!(

@@ -33,6 +33,17 @@ pub fn run_scenario(
         .assert()
 }
 
+/// `veselov verify --quiet --dt <dts> --out <out> <scenario>`, for the
+/// caller to run and assert on.
+pub fn verify_command(dts: &str, out: impl AsRef<std::ffi::OsStr>, scenario: impl AsRef<std::ffi::OsStr>) -> Command {
+    let mut command = veselov();
+    command
+        .args(["verify", "--quiet", "--dt", dts, "--out"])
+        .arg(out)
+        .arg(scenario);
+    command
+}
+
 /// Run `command`, which must succeed, and return its standard output.
 pub fn succeeds(command: &mut Command) -> String {
     let out = command.assert().success();
