@@ -13,6 +13,13 @@
 //! Reference: the Timoshenko equations for harmonic motion
 //! ([`Timoshenko`]), solved by shooting and bisection on the 2 × 2 end
 //! determinant: an independent path.
+//!
+//! The free–free frequencies converge at second order, the cantilever's at
+//! first (relative error about Δs/L: 8.4e-2, 4.0e-2, 2.0e-2 at 12, 24, 48
+//! cells): seed 000's triangle puts each cell's kinetic energy at its first
+//! node, so the free end's node carries none of the half cell of mass that
+//! belongs to it; the free–free beam's two ends err oppositely and cancel
+//! at first order by symmetry.
 
 use nalgebra::{DMatrix, SVector};
 use veselov::field::cauchy::CauchyOptions;
