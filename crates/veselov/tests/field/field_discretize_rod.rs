@@ -8,7 +8,7 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use veselov::field::cell::{DiscreteLagrangian, mixed_block, vertex_gradient};
 use veselov::field::complex::TopCell;
 use veselov::field::discretize::{
-    CfkNodes, CosseratCell, CosseratDensity, LinearPotential, RodParameters, VertexRule, vertex_jet,
+    CfkNodes, CosseratCell, CosseratDensity, LinearPotential, RodParameters, ShearFrame, VertexRule, vertex_jet,
 };
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 
@@ -199,7 +199,7 @@ fn mixed_blocks_of_the_vertex_rule_match_the_closed_form_cell() {
 #[test]
 fn t19_rigid_motions_leave_the_discrete_rod_lagrangian_invariant() {
     let mut rng = SplitMix(19);
-    let mut worst = [0.0_f64; 3];
+    let mut worst = [0.0_f64; 4];
     for trial in 0..200 {
         let p = rod_parameters(&mut rng);
         let (ds, dt) = (0.05 + rng.uniform(), 0.05 + rng.uniform());
@@ -217,10 +217,12 @@ fn t19_rigid_motions_leave_the_discrete_rod_lagrangian_invariant() {
         worst[0] = worst[0].max((v0.cell_lagrangian(&c, &y) - v0.cell_lagrangian(&c, &moved)).abs() / size);
         worst[1] = worst[1].max((sym.cell_lagrangian(&c, &y) - sym.cell_lagrangian(&c, &moved)).abs() / size);
         worst[2] = worst[2].max((closed.cell_lagrangian(&c, &y) - closed.cell_lagrangian(&c, &moved)).abs() / size);
+        let centred = closed.with_shear_frame(ShearFrame::Centred);
+        worst[3] = worst[3].max((centred.cell_lagrangian(&c, &y) - centred.cell_lagrangian(&c, &moved)).abs() / size);
     }
     println!(
-        "T19 rod max rel change under (Qr + c, QR): Q_v0 {:.1e}, Q_sym {:.1e}, Prop 6.5 {:.1e}",
-        worst[0], worst[1], worst[2]
+        "T19 rod max rel change under (Qr + c, QR): Q_v0 {:.1e}, Q_sym {:.1e}, Prop 6.5 {:.1e}, centred shear frame {:.1e}",
+        worst[0], worst[1], worst[2], worst[3]
     );
     assert!(worst.iter().all(|&w| w <= 1e-13), "{worst:?}");
 }
@@ -230,7 +232,8 @@ fn t19_rigid_motions_leave_the_discrete_rod_lagrangian_invariant() {
 #[test]
 fn t27_per_cell_momentum_identities_of_the_free_rod() {
     // Σ_k ∇_{r_k}L_β = 0 and Σ_k (r_k × ∇_{r_k}L_β + R_k ∇_{R_k}L_β) = 0 (note 003 §3.7),
-    // for the closed form and for Q_sym (symmetry transfer, Prop. 5.17).
+    // for the closed form, for Q_sym (symmetry transfer, Prop. 5.17) and for
+    // the centred shear frame (dual-number gradients).
     let mut rng = SplitMix(270);
     let mut worst = 0.0_f64;
     for trial in 0..100 {
@@ -244,7 +247,11 @@ fn t27_per_cell_momentum_identities_of_the_free_rod() {
         let closed = rod.gradients(&c, &y).expect("suitable");
         let exact: [SVector<f64, 6>; 3] =
             std::array::from_fn(|k| vertex_gradient::<PositionRotation, _, 6>(&sym, &c, &y, k).1);
-        for g in [closed, exact] {
+        let centred = rod
+            .with_shear_frame(ShearFrame::Centred)
+            .gradients(&c, &y)
+            .expect("suitable");
+        for g in [closed, exact, centred] {
             let (mut lin, mut ang, mut size) = (Vector3::zeros(), Vector3::zeros(), 0.0_f64);
             for k in 0..3 {
                 let gr = Vector3::new(g[k][0], g[k][1], g[k][2]);

@@ -18,7 +18,7 @@ use super::smooth::SmoothDensity;
 use super::suitability::{CellCheck, check_rotations};
 use crate::ad::{Scalar, const_mat3_vec, mat3_vec};
 use crate::error::Result;
-use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexRun, VertexStar};
+use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexRun, VertexStar, vertex_gradient};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::lattice::invalid;
@@ -29,7 +29,9 @@ mod lane_run;
 mod lane_step;
 mod lanes;
 mod loads;
+mod shear;
 pub use loads::RodLoads;
+pub use shear::ShearFrame;
 
 /// The vertices of a level the rod's split step solves side by side (eight
 /// in the documentation of its `vertex_lanes`: a group is one AVX-512
@@ -178,6 +180,8 @@ pub struct CosseratCell<P = NoPotential> {
     inv_ds: f64,
     inv_dt: f64,
     analytic: bool,
+    /// The frame of the shear strain ([`ShearFrame`]).
+    shear: ShearFrame,
     loads: Option<RodLoads>,
     /// Material parameters per material point s_k = kΔs/2 (k = 0, 1, …),
     /// replacing `density.parameters` where given ([`CosseratCell::with_profile`]).
@@ -254,6 +258,7 @@ impl<P: RodPotential> CosseratCell<P> {
             inv_ds: ds.recip(),
             inv_dt: dt.recip(),
             analytic: true,
+            shear: ShearFrame::Vertex,
             loads: None,
             profile: None,
             constants,
@@ -346,6 +351,28 @@ impl<P: RodPotential> CosseratCell<P> {
         self
     }
 
+    /// The cell with its shear strain in `frame` ([`ShearFrame`]). The
+    /// closed forms (gradients and split step) are Prop. 6.5's: with
+    /// [`ShearFrame::Centred`] the core uses the dual-number passes and
+    /// the generic 6-D Newton, whatever
+    /// [`with_analytic_gradients`](Self::with_analytic_gradients) says.
+    #[must_use]
+    pub fn with_shear_frame(mut self, frame: ShearFrame) -> Self {
+        self.shear = frame;
+        self
+    }
+
+    /// The frame of the shear strain.
+    pub fn shear_frame(&self) -> ShearFrame {
+        self.shear
+    }
+
+    /// Whether the closed forms of Prop. 6.5 are in use: enabled, and the
+    /// shear measured in the base vertex's frame.
+    pub(super) fn closed_forms(&self) -> bool {
+        self.analytic && self.shear == ShearFrame::Vertex
+    }
+
     /// Δs.
     pub fn ds(&self) -> f64 {
         self.ds
@@ -388,7 +415,11 @@ impl<P: RodPotential> CosseratCell<P> {
         };
         let (a, b) = (log(1)?, log(2)?);
         let s0 = self.material_coordinate(cell);
-        Ok(self.quantities(sigma, s0, [&y[0], &y[1], &y[2]], a, b))
+        let mut c = self.quantities(sigma, s0, [&y[0], &y[1], &y[2]], a, b);
+        if self.shear == ShearFrame::Centred {
+            c.eps = shear::centred_strain(&c.eps, &c.a, &self.parameters_at(s0).strain);
+        }
+        Ok(c)
     }
 
     /// The quantities of Prop. 6.5 from the cell's values and logarithms
@@ -464,6 +495,11 @@ impl<P: RodPotential> CosseratCell<P> {
     /// As [`CosseratCell::try_cell_lagrangian`].
     pub fn gradients(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<[SVector<f64, 6>; 3], CellError> {
         let c = self.cell(cell, y)?;
+        if self.shear == ShearFrame::Centred {
+            return Ok(std::array::from_fn(|l| {
+                vertex_gradient::<PositionRotation, _, 6>(self, cell, y, l).1
+            }));
+        }
         let r0 = y[0].rotation.matrix();
         let da = so3::dexp_inv(&(-c.a));
         let db = so3::dexp_inv(&(-c.b));
@@ -580,7 +616,7 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
     /// The exact gradients of Prop. 6.5 ([`CosseratCell::gradients`]) when
     /// enabled; NaN on an unsuitable cell, as the AD path.
     fn analytic_gradients(&self, cell: &TopCell, y: &[Pose<f64>], out: &mut [SVector<f64, 6>]) -> bool {
-        if !self.analytic {
+        if !self.closed_forms() {
             return false;
         }
         match self.gradients(cell, y) {
@@ -630,14 +666,14 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
         options: &CauchyOptions,
         gradients: &mut [SVector<f64, 6>],
     ) -> Option<SolvedVertex<Pose<f64>>> {
-        self.analytic
+        self.closed_forms()
             .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, previous, options, gradients))
     }
 
     /// Eight with the closed forms (the split step of eight vertices side
     /// by side in vector lanes), else 1.
     fn vertex_lanes(&self) -> usize {
-        if self.analytic { ROD_LANES } else { 1 }
+        if self.closed_forms() { ROD_LANES } else { 1 }
     }
 
     /// A rod is always confined to its material window.

@@ -79,7 +79,7 @@ pub mod smooth;
 pub mod suitability;
 
 pub use affine::{AffineJet, CubeCentreRule, MidpointRule, affine_jet, cube_centre_jet};
-pub use cosserat::{CosseratCell, CosseratDensity, RodLoads, RodParameters};
+pub use cosserat::{CosseratCell, CosseratDensity, RodLoads, RodParameters, ShearFrame};
 pub use error::CellError;
 pub use nodes::{CfkNodes, CubeNodes, NodeMap, cube_corner, factorial, permutation};
 pub use rod_potential::{LinearPotential, NoPotential, RodPotential, Weight};

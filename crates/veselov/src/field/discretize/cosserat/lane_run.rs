@@ -124,7 +124,7 @@ impl<P: RodPotential> CosseratCell<P> {
     {
         let len = run.len();
         let terms_per_vertex = if self.loads.is_some() { 12 } else { 6 };
-        if !self.analytic
+        if !self.closed_forms()
             || run.dimension() != 2
             || stride < terms_per_vertex
             || gradients.len() < len * stride
