@@ -39,6 +39,7 @@
 //! max_iterations = 30
 //! allow_unstable = false        # run above the stability limit (it will blow up)
 //! quadrature = "vertex"         # vertex: Prop. 6.5 (Q_{v₀}, split step) | symmetric: Q_sym (6-D Newton; no damping or end loads)
+//! shear_frame = "vertex"        # vertex: Prop. 6.5 (shear locking) | centred: the frame halfway to the neighbour (no locking; 6-D Newton)
 //! [output]
 //! every = 10                    # time steps between output rows (default: ~500 rows)
 //! ```
@@ -48,7 +49,7 @@ use std::path::{Path, PathBuf};
 use nalgebra::Vector3;
 use serde::Deserialize;
 use veselov::field::cauchy::CauchyOptions;
-use veselov::field::discretize::{RodLoads, RodParameters};
+use veselov::field::discretize::{RodLoads, RodParameters, ShearFrame};
 use veselov::field::fibre::Pose;
 use veselov::lie::so3;
 use veselov::models::rod::{
@@ -226,6 +227,7 @@ pub(crate) struct RodMethodSpec {
     #[serde(default)]
     pub allow_unstable: bool,
     pub quadrature: Option<String>,
+    pub shear_frame: Option<String>,
 }
 
 /// The initial shape s ↦ (r, R) at rest.
@@ -315,6 +317,8 @@ pub(crate) struct RodSetup {
     pub dt_limit: f64,
     /// Q_sym (`[method] quadrature = "symmetric"`) instead of Prop. 6.5's Q_{v₀}.
     pub symmetric: bool,
+    /// The frame of the shear strain (`[method] shear_frame`).
+    pub shear_frame: ShearFrame,
     /// The worst shear-locking number κGA·δ²/EI along the rod
     /// (`models::rod::resolution`) and the fewest material points that
     /// bring its bending stiffening to [`BENDING_STIFFENING_ADVISED`].
@@ -594,6 +598,22 @@ impl RodSetup {
                 ));
             }
         };
+        let shear_frame = match scenario.method.shear_frame.as_deref().unwrap_or("vertex") {
+            "vertex" => ShearFrame::Vertex,
+            "centred" => ShearFrame::Centred,
+            other => {
+                return Err(key(
+                    "method.shear_frame",
+                    format!("unknown shear frame `{other}` (vertex | centred)"),
+                ));
+            }
+        };
+        if symmetric && shear_frame == ShearFrame::Centred {
+            return Err(key(
+                "method.shear_frame",
+                "\"centred\" is a variant of the vertex rule: use it with quadrature = \"vertex\"".into(),
+            ));
+        }
         if symmetric && varying {
             return Err(key(
                 "method.quadrature",
@@ -650,6 +670,7 @@ impl RodSetup {
             courant,
             dt_limit,
             symmetric,
+            shear_frame,
             locking,
             nodes_for_bending,
         })

@@ -28,7 +28,7 @@ use serde_json::json;
 use veselov::field::CauchyStepper;
 use veselov::field::cauchy::CauchyMarcher;
 use veselov::field::cell::DiscreteLagrangian;
-use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, VertexRule, Weight};
+use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, ShearFrame, VertexRule, Weight};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
 use veselov::models::rod::{BendingError, EndCondition, energy, load_impulse};
@@ -61,8 +61,8 @@ type Rod<L> = CauchyMarcher<PositionRotation, L, 6>;
 /// Writes the rows and keeps the balances.
 struct RodObserver<'a> {
     setup: &'a RodSetup,
-    /// Prop. 6.5's cell, whose cell energy is the energy written (for
-    /// either quadrature).
+    /// Prop. 6.5's cell (with the run's shear frame), whose cell energy is
+    /// the energy written (for either quadrature).
     lag: Cell,
     every_levels: u64,
     centerline: NpyStream,
@@ -344,12 +344,13 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     // A silent loss of accuracy otherwise: always shown, as the warnings above.
     let (locking, nodes_advised) = (setup.locking, setup.nodes_for_bending);
     let bending = BendingError::at(locking);
-    if bending.deflection_deficit() > BENDING_ERROR_WARNING {
+    if setup.shear_frame == ShearFrame::Vertex && bending.deflection_deficit() > BENDING_ERROR_WARNING {
         eprintln!(
             "warning: bending is coarsely resolved: with material points {:e} apart the lattice's shear \
              locking number κGA·δ²/EI is {locking:.3}, so the rod bends as if about {:.0} % stiffer \
              (static bending deflections about {:.0} % short, bending frequencies about {:.0} % high); \
-             nodes = {nodes_advised} or more bring it to about 1 %",
+             nodes = {nodes_advised} or more bring it to about 1 %, or [method] shear_frame = \"centred\" \
+             removes the locking",
             lattice.spacing(),
             100.0 * bending.stiffening,
             100.0 * bending.deflection_deficit(),
@@ -388,6 +389,7 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
             .with_profile(profile.clone())
             .map_err(|e| setup.key("model", e.to_string()))?;
     }
+    lag = lag.with_shear_frame(setup.shear_frame);
     if setup.symmetric {
         let nodes = CfkNodes::leapfrog(lattice.ds(), setup.dt).map_err(|e| setup.key("time.dt", e.to_string()))?;
         let rule: SymmetricCell = VertexRule::symmetric(lag.density.clone(), nodes);
@@ -415,7 +417,7 @@ fn start_march<L: DiscreteLagrangian<PositionRotation, 6>>(setup: &RodSetup, lag
 }
 
 /// March the rod with `marcher` and write everything (`lag`: Prop. 6.5's
-/// cell, for the energy).
+/// cell with the run's shear frame, for the energy).
 fn march<L>(setup: &RodSetup, job: RunJob, lag: Cell, marcher: Rod<L>) -> Result<(), CliError>
 where
     L: DiscreteLagrangian<PositionRotation, 6>,
@@ -518,7 +520,12 @@ where
         "quadrature": if setup.symmetric { "symmetric" } else { "vertex" },
         "varying_material": setup.profile.is_some(),
         "bending_locking_number": setup.locking,
-        "bending_stiffening_estimate": BendingError::at(setup.locking).stiffening,
+        "shear_frame": match setup.shear_frame { ShearFrame::Vertex => "vertex", ShearFrame::Centred => "centred" },
+        "bending_stiffening_estimate": if setup.shear_frame == ShearFrame::Vertex {
+            json!(BendingError::at(setup.locking).stiffening)
+        } else {
+            json!(null)
+        },
         "mass": setup.mass,
         "energy_initial": obs.energy0,
         "energy_min": obs.energy_range[0],

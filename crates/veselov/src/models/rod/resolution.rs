@@ -31,6 +31,10 @@
 //! So δ must be small against the bending length √(EI/κGA) (r/1.18 for a
 //! solid circle with ν = 0.3, κ = 0.9), not only against the length of the
 //! rod: [`spacing_for_locking`] gives the largest spacing for a chosen Λ.
+//! Or the shear is measured in the centred frame
+//! ([`ShearFrame::Centred`](crate::field::discretize::ShearFrame)), which
+//! does not lock; this module's estimates are those of the base vertex's
+//! frame (Prop. 6.5 and Q_sym).
 
 use crate::field::discretize::RodParameters;
 
