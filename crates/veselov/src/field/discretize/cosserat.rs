@@ -351,28 +351,6 @@ impl<P: RodPotential> CosseratCell<P> {
         self
     }
 
-    /// The cell with its shear strain in `frame` ([`ShearFrame`]). The
-    /// closed forms (gradients and split step) are Prop. 6.5's: with
-    /// [`ShearFrame::Centred`] the core uses the dual-number passes and
-    /// the generic 6-D Newton, whatever
-    /// [`with_analytic_gradients`](Self::with_analytic_gradients) says.
-    #[must_use]
-    pub fn with_shear_frame(mut self, frame: ShearFrame) -> Self {
-        self.shear = frame;
-        self
-    }
-
-    /// The frame of the shear strain.
-    pub fn shear_frame(&self) -> ShearFrame {
-        self.shear
-    }
-
-    /// Whether the closed forms of Prop. 6.5 are in use: enabled, and the
-    /// shear measured in the base vertex's frame.
-    pub(super) fn closed_forms(&self) -> bool {
-        self.analytic && self.shear == ShearFrame::Vertex
-    }
-
     /// Δs.
     pub fn ds(&self) -> f64 {
         self.ds

@@ -28,7 +28,9 @@
 
 use nalgebra::Vector3;
 
+use super::CosseratCell;
 use crate::ad::Scalar;
+use crate::field::discretize::rod_potential::RodPotential;
 use crate::lie::so3;
 
 /// The frame of a rod cell's shear strain.
@@ -51,4 +53,28 @@ pub(super) fn centred_strain<D: Scalar>(
 ) -> Vector3<D> {
     let e = strain.map(D::from);
     so3::exp(&(a * D::from(-0.5))).act(&(eps_at_vertex + e)) - e
+}
+
+impl<P: RodPotential> CosseratCell<P> {
+    /// The cell with its shear strain in `frame` ([`ShearFrame`]). The
+    /// closed forms (gradients and split step) are Prop. 6.5's: with
+    /// [`ShearFrame::Centred`] the core uses the dual-number passes and
+    /// the generic 6-D Newton, whatever
+    /// [`with_analytic_gradients`](Self::with_analytic_gradients) says.
+    #[must_use]
+    pub fn with_shear_frame(mut self, frame: ShearFrame) -> Self {
+        self.shear = frame;
+        self
+    }
+
+    /// The frame of the shear strain.
+    pub fn shear_frame(&self) -> ShearFrame {
+        self.shear
+    }
+
+    /// Whether the closed forms of Prop. 6.5 are in use: enabled, and the
+    /// shear measured in the base vertex's frame.
+    pub(in crate::field::discretize) fn closed_forms(&self) -> bool {
+        self.analytic && self.shear == ShearFrame::Vertex
+    }
 }
