@@ -463,6 +463,24 @@ fn bending_mode_frequency_converges_to_timoshenkos_at_second_order() {
     assert_second_order(&BENDING_REFINEMENT, &errors, 3e-3);
 }
 
+/// The relative errors of the first bending frequency against Timoshenko's
+/// on the lattices of `nodes` (Courant number 0.25, from Timoshenko's
+/// mode), with the cell Lagrangian `rule` builds for each lattice.
+fn bending_errors<L: DiscreteLagrangian<PositionRotation, 6>>(
+    nodes: &[usize],
+    rule: impl Fn(&RodLattice) -> L,
+) -> Vec<f64> {
+    let bending = Bending::first();
+    nodes
+        .iter()
+        .map(|&nodes| {
+            let lattice = RodLattice::new(nodes, LENGTH, step_at(nodes, 0.25)).expect("lattice");
+            let samples = march_with(rule(&lattice), &lattice, &bending, three_periods(bending.omega)).samples;
+            (frequency_from_crossings(&samples) - bending.omega) / bending.omega
+        })
+        .collect()
+}
+
 #[test]
 fn with_the_centred_shear_frame_the_bending_frequency_does_not_lock() {
     // The same study with the shear strain in the centred frame
@@ -470,20 +488,12 @@ fn with_the_centred_shear_frame_the_bending_frequency_does_not_lock() {
     // −0.16 %, −0.039 % at 21, 41, 81 nodes, where Prop. 6.5's locking
     // alone predicts +15.7 %, +4.2 %, +1.1 %. Below 5 % of that, and
     // second order.
-    let bending = Bending::first();
     let nodes = &BENDING_REFINEMENT[..3];
-    let errors: Vec<f64> = nodes
-        .iter()
-        .map(|&nodes| {
-            let dt = step_at(nodes, 0.25);
-            let lattice = RodLattice::new(nodes, LENGTH, dt).expect("lattice");
-            let cell = CosseratCell::new(CosseratDensity::free(unit_rod(RADIUS)), lattice.ds(), dt)
-                .expect("spacings")
-                .with_shear_frame(ShearFrame::Centred);
-            let samples = march_with(cell, &lattice, &bending, three_periods(bending.omega)).samples;
-            (frequency_from_crossings(&samples) - bending.omega) / bending.omega
-        })
-        .collect();
+    let errors = bending_errors(nodes, |lattice| {
+        CosseratCell::new(CosseratDensity::free(unit_rod(RADIUS)), lattice.ds(), lattice.dt())
+            .expect("spacings")
+            .with_shear_frame(ShearFrame::Centred)
+    });
     println!(
         "centred shear frame, bending: relative frequency errors at 21/41/81 nodes: {}, orders {:.3?}",
         listed(&errors),
@@ -508,19 +518,11 @@ fn the_symmetric_rule_locks_in_bending_as_the_vertex_rule_does() {
     // bending as Prop. 6.5's Q_{v₀} does. The same study as above (161
     // nodes left out: the symmetric rule's generic Newton is slow), the
     // same locking model and the same 8 % allowance.
-    let bending = Bending::first();
     let nodes = &BENDING_REFINEMENT[..3];
-    let errors: Vec<f64> = nodes
-        .iter()
-        .map(|&nodes| {
-            let dt = step_at(nodes, 0.25);
-            let lattice = RodLattice::new(nodes, LENGTH, dt).expect("lattice");
-            let spacings = CfkNodes::leapfrog(lattice.ds(), dt).expect("spacings");
-            let rule = VertexRule::symmetric(CosseratDensity::free(unit_rod(RADIUS)), spacings);
-            let samples = march_with(rule, &lattice, &bending, three_periods(bending.omega)).samples;
-            (frequency_from_crossings(&samples) - bending.omega) / bending.omega
-        })
-        .collect();
+    let errors = bending_errors(nodes, |lattice| {
+        let spacings = CfkNodes::leapfrog(lattice.ds(), lattice.dt()).expect("spacings");
+        VertexRule::symmetric(CosseratDensity::free(unit_rod(RADIUS)), spacings)
+    });
     println!(
         "Q_sym bending: relative frequency errors at 21/41/81 nodes: {}",
         listed(&errors)
