@@ -7,16 +7,21 @@
 use nalgebra::SVector;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
-use veselov::field::discretize::{CosseratCell, CosseratDensity};
+use veselov::field::discretize::{CosseratCell, CosseratDensity, ShearFrame};
 use veselov::field::fibre::{Fibre, PositionRotation};
 use veselov::models::rod::RodLattice;
 
 use crate::sample::{tumbling, unit_rod};
 
 fn cell(lattice: &RodLattice, analytic: bool) -> CosseratCell {
+    framed_cell(lattice, analytic, ShearFrame::Vertex)
+}
+
+fn framed_cell(lattice: &RodLattice, analytic: bool, frame: ShearFrame) -> CosseratCell {
     CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
         .expect("spacings")
         .with_analytic_gradients(analytic)
+        .with_shear_frame(frame)
 }
 
 /// Every vertex solved to round-off: with a tolerance below it every solve
@@ -57,10 +62,19 @@ fn analytic_gradients_are_offered_only_when_enabled_and_match_the_ad_pass() {
 
 #[test]
 fn analytic_and_ad_marches_agree_over_sixty_levels() {
+    split_step_meets_the_generic_newton(ShearFrame::Vertex);
+}
+
+#[test]
+fn with_the_centred_shear_frame_analytic_and_ad_marches_agree() {
+    split_step_meets_the_generic_newton(ShearFrame::Centred);
+}
+
+fn split_step_meets_the_generic_newton(frame: ShearFrame) {
     let lattice = RodLattice::new(21, 1.0, 0.05).expect("lattice");
     let (mut fast, mut reference) = (
-        march(cell(&lattice, true), &lattice),
-        march(cell(&lattice, false), &lattice),
+        march(framed_cell(&lattice, true, frame), &lattice),
+        march(framed_cell(&lattice, false, frame), &lattice),
     );
     let (mut worst, mut iterations) = (0.0_f64, [0, 0]);
     for _ in 0..60 {
@@ -83,7 +97,9 @@ fn analytic_and_ad_marches_agree_over_sixty_levels() {
             }
         }
     }
-    println!("split step vs generic AD Newton over 60 levels: {worst:.1e}; iterations {iterations:?}");
+    println!(
+        "{frame:?} shear frame: split step vs generic AD Newton over 60 levels: {worst:.1e}; iterations {iterations:?}"
+    );
     assert!(worst <= 1e-13, "split-step vs AD march differ by {worst:.1e}");
     // The split step (a linear position solve, then a quadratically
     // convergent 3-D Newton) needs no more iterations than the generic
@@ -97,15 +113,20 @@ fn analytic_and_ad_marches_agree_over_sixty_levels() {
 /// on bit for bit.
 #[test]
 fn a_restored_march_continues_bit_for_bit() {
+    restored_march_continues(ShearFrame::Vertex);
+    restored_march_continues(ShearFrame::Centred);
+}
+
+fn restored_march_continues(frame: ShearFrame) {
     use veselov::run::{Checkpoint, Words};
     let lattice = RodLattice::new(21, 1.0, 0.05).expect("lattice");
-    let mut whole = march(cell(&lattice, true), &lattice);
+    let mut whole = march(framed_cell(&lattice, true, frame), &lattice);
     for _ in 0..30 {
         whole.step().expect("stable step");
     }
     let mut saved = Vec::new();
     whole.save(&mut saved);
-    let mut resumed = march(cell(&lattice, true), &lattice);
+    let mut resumed = march(framed_cell(&lattice, true, frame), &lattice);
     resumed.restore(&mut Words::new(&saved)).expect("restore");
     for _ in 0..30 {
         whole.step().expect("stable step");
@@ -119,7 +140,7 @@ fn a_restored_march_continues_bit_for_bit() {
             let (mut cx, mut cy) = ([0.0; 12], [0.0; 12]);
             PositionRotation::write(x, &mut cx);
             PositionRotation::write(y, &mut cy);
-            assert_eq!(cx.map(f64::to_bits), cy.map(f64::to_bits), "level {w}");
+            assert_eq!(cx.map(f64::to_bits), cy.map(f64::to_bits), "{frame:?}, level {w}");
         }
     }
 }

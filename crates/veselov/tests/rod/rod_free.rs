@@ -225,10 +225,17 @@ fn generic_discretisation_marches_the_same_rod_and_q_sym_conserves_momentum() {
 
 #[test]
 fn one_and_two_threads_give_identical_bits() {
+    for frame in [ShearFrame::Vertex, ShearFrame::Centred] {
+        same_bits_on_one_and_two_threads(frame);
+    }
+}
+
+fn same_bits_on_one_and_two_threads(frame: ShearFrame) {
     let lattice = RodLattice::new(101, 1.0, 0.005).expect("lattice");
     let run = |threads: usize| {
         on_threads(threads, || {
-            let mut m = rod_march(closed_form(&lattice), &lattice).with_level_splitting(LevelSplitting::Always);
+            let lag = closed_form(&lattice).with_shear_frame(frame);
+            let mut m = rod_march(lag, &lattice).with_level_splitting(LevelSplitting::Always);
             let mut parallel = 0;
             for _ in 0..20 {
                 parallel += usize::from(m.step().expect("stable step").parallel);

@@ -18,7 +18,7 @@ use super::smooth::SmoothDensity;
 use super::suitability::{CellCheck, check_rotations};
 use crate::ad::{Scalar, const_mat3_vec, mat3_vec};
 use crate::error::Result;
-use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexRun, VertexStar, vertex_gradient};
+use crate::field::cell::{DiscreteLagrangian, SolvedVertex, VertexRun, VertexStar};
 use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::lattice::invalid;
@@ -31,6 +31,7 @@ mod lanes;
 mod loads;
 mod shear;
 pub use loads::RodLoads;
+pub(super) use shear::CentredFrame;
 pub use shear::ShearFrame;
 
 /// The vertices of a level the rod's split step solves side by side (eight
@@ -473,39 +474,46 @@ impl<P: RodPotential> CosseratCell<P> {
     /// As [`CosseratCell::try_cell_lagrangian`].
     pub fn gradients(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<[SVector<f64, 6>; 3], CellError> {
         let c = self.cell(cell, y)?;
-        if self.shear == ShearFrame::Centred {
-            return Ok(std::array::from_fn(|l| {
-                vertex_gradient::<PositionRotation, _, 6>(self, cell, y, l).1
-            }));
-        }
         let r0 = y[0].rotation.matrix();
         let da = so3::dexp_inv(&(-c.a));
         let db = so3::dexp_inv(&(-c.b));
         let arm = RotationArm { a: c.a, da };
         let equation = RotationEquation::new(self.constants_at(c.s0), &[arm], 0.0);
+        // The shear's frame and rotation gradients (base, middle vertex).
+        let tau = self.strain_torque(c.s0, &c.eps);
+        let (frame, torques) = match self.shear {
+            ShearFrame::Vertex => (*r0, (tau, Vector3::zeros())),
+            ShearFrame::Centred => {
+                let centred = CentredFrame::at(&c.a);
+                (r0 * centred.rotation, centred.torques(&da, &tau))
+            }
+        };
         let first = join(
-            self.position_gradient(c.sigma, c.s0, &y[0], &c.v, &c.eps),
-            equation.value_with(&c.b, &db) + self.strain_torque(c.s0, &c.eps),
+            self.position_gradient(c.sigma, c.s0, &y[0], &frame, &c.v, &c.eps),
+            equation.value_with(&c.b, &db) + torques.0,
         );
-        let [second, third] = self.later_gradients(&c, r0, &da, &db);
+        let [mut second, third] = self.later_gradients(&c, &frame, &da, &db);
+        let mut middle = second.fixed_rows_mut::<3>(3);
+        middle += torques.1;
         Ok([first, second, third])
     }
 
     /// The gradients at positions 1 and 2 (note 003 §3.5), from the cell's
-    /// quantities, R₀, D_a and D_b:
+    /// quantities, the shear's frame (R₀, or R₀E centred: see [`ShearFrame`];
+    /// the centred shear's term at ∇_{R₁} is the caller's), D_a and D_b:
     /// (−(σΔt/2)R₀C₁ε; −(σΔt/2)D_aᵀC₂u) and
     /// ((ρΔs/4)v_d + (σΔt/4)R₀C₁ε; D_bᵀ((Δs/4)Jω_d + (σΔt/4)C₂u)).
     #[inline]
     pub(super) fn later_gradients(
         &self,
         c: &Cell<f64>,
-        r0: &Matrix3<f64>,
+        frame: &Matrix3<f64>,
         da: &Matrix3<f64>,
         db: &Matrix3<f64>,
     ) -> [SVector<f64, 6>; 2] {
         let p = self.parameters_at(c.s0);
         let (ds, st) = (self.ds, c.sigma * self.dt);
-        let c1e = r0 * (p.c1 * c.eps);
+        let c1e = frame * (p.c1 * c.eps);
         let c2u = p.c2 * c.u;
         [
             join(-c1e * (st / 2.0), -(da.transpose() * c2u) * (st / 2.0)),
@@ -525,18 +533,20 @@ fn join(x: Vector3<f64>, y: Vector3<f64>) -> SVector<f64, 6> {
 
 impl<P: RodPotential> CosseratCell<P> {
     /// ∇_{r₀}L_β = −(ρΔs/4)v_d + (σΔt/4)R₀C₁ε − (ΔsΔt/8)∇_rP(s₀, r₀)
-    /// (note 003 §3.5, kinetic sign corrected; ∇_rP by forward-mode AD).
+    /// (note 003 §3.5, kinetic sign corrected; ∇_rP by forward-mode AD),
+    /// with the shear's `frame` in place of R₀ (R₀ or R₀E, [`ShearFrame`]).
     pub(crate) fn position_gradient(
         &self,
         sigma: f64,
         s0: f64,
         y0: &Pose<f64>,
+        frame: &Matrix3<f64>,
         v: &Vector3<f64>,
         eps: &Vector3<f64>,
     ) -> Vector3<f64> {
         let p = self.parameters_at(s0);
         let grad_p = self.density.potential.gradient(s0, &y0.position);
-        -v * (p.rho * self.ds / 4.0) + mat3_vec(y0.rotation.matrix(), &(p.c1 * eps)) * (sigma * self.dt / 4.0)
+        -v * (p.rho * self.ds / 4.0) + mat3_vec(frame, &(p.c1 * eps)) * (sigma * self.dt / 4.0)
             - grad_p * (self.ds * self.dt / 8.0)
     }
 
@@ -594,7 +604,7 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
     /// The exact gradients of Prop. 6.5 ([`CosseratCell::gradients`]) when
     /// enabled; NaN on an unsuitable cell, as the AD path.
     fn analytic_gradients(&self, cell: &TopCell, y: &[Pose<f64>], out: &mut [SVector<f64, 6>]) -> bool {
-        if !self.closed_forms() {
+        if !self.analytic {
             return false;
         }
         match self.gradients(cell, y) {
@@ -644,14 +654,19 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
         options: &CauchyOptions,
         gradients: &mut [SVector<f64, 6>],
     ) -> Option<SolvedVertex<Pose<f64>>> {
-        self.closed_forms()
+        self.analytic
             .then(|| super::cosserat_step::split_solve(self, star, mu, mu_scale, previous, options, gradients))
     }
 
     /// Eight with the closed forms (the split step of eight vertices side
-    /// by side in vector lanes), else 1.
+    /// by side in vector lanes), else 1 (and with the centred shear frame,
+    /// whose split step has no lane kernel).
     fn vertex_lanes(&self) -> usize {
-        if self.closed_forms() { ROD_LANES } else { 1 }
+        if self.analytic && self.shear == ShearFrame::Vertex {
+            ROD_LANES
+        } else {
+            1
+        }
     }
 
     /// A rod is always confined to its material window.

@@ -12,7 +12,10 @@
 //! Position part (per cell based at v, σ = ±, with the damping of
 //! [`RodLoads`](super::RodLoads)):
 //! ∂Leg_r/∂r₂ = Σ_σ [−(ρΔs/(4Δt) + A_β c_r/(2Δt)) I − (Δt/(4Δs)) R₀C₁R₀ᵀ],
-//! negative definite whenever ρ > 0 or C₁ ≻ 0 (always solvable).
+//! negative definite whenever ρ > 0 or C₁ ≻ 0 (always solvable); with the
+//! centred shear frame ([`ShearFrame::Centred`], module `cosserat::shear`)
+//! R₀ becomes each cell's R₀E_σ, and the shear's torques change as given
+//! there.
 //!
 //! Rotation part:
 //! Σ_σ [−(Δs/4)D_bJω_d + A_β(R₀ᵀg_σ)^C₁ε_σ + (σΔt/4)(2D_{a_σ} − D_b)C₂u_σ]
@@ -26,7 +29,7 @@
 
 use nalgebra::{Matrix3, SVector, Vector3};
 
-use super::cosserat::{CosseratCell, StepConstants};
+use super::cosserat::{CentredFrame, CosseratCell, ShearFrame, StepConstants};
 use super::rod_potential::RodPotential;
 use crate::ad::{mat3_mul, mat3_vec};
 use crate::field::cell::{SolvedVertex, VertexStar};
@@ -197,8 +200,23 @@ struct StarCell {
     cell: TopCell,
     sigma: f64,
     r1: Vector3<f64>,
-    /// ε of Prop. 6.5 at the solved position r₂.
+    /// ε at the solved position r₂ (in the cell's shear frame).
     eps: Vector3<f64>,
+    /// The centred shear frame ([`ShearFrame::Centred`]), else `None`.
+    frame: Option<CentredFrame>,
+}
+
+/// ε of cell `c` with its top at `r2`, in the cell's shear frame.
+#[inline]
+fn shear_strain<P: RodPotential>(
+    lag: &CosseratCell<P>,
+    c: &StarCell,
+    s0: f64,
+    y0: &Pose<f64>,
+    r2: &Vector3<f64>,
+) -> Vector3<f64> {
+    let eps = lag.linear_strain(c.sigma, s0, y0, &c.r1, r2);
+    c.frame.map_or(eps, |f| f.strain(&eps, lag.parameters_at(s0).strain()))
 }
 
 /// Solves the vertex equation of the rod by the split step (see the module
@@ -241,7 +259,9 @@ pub(crate) fn split_solve<P: RodPotential>(
         sigma: 1.0,
         r1: Vector3::zeros(),
         eps: Vector3::zeros(),
+        frame: None,
     };
+    let centred = lag.shear_frame() == ShearFrame::Centred;
     let mut cells = [blank; 2];
     let mut arms = [RotationArm {
         a: Vector3::zeros(),
@@ -259,6 +279,7 @@ pub(crate) fn split_solve<P: RodPotential>(
                 sigma: if cell.shape == 0 { 1.0 } else { -1.0 },
                 r1: y[1].position,
                 eps: Vector3::zeros(),
+                frame: centred.then(|| CentredFrame::at(&a)),
             };
             arms[count] = RotationArm {
                 a,
@@ -287,11 +308,11 @@ pub(crate) fn split_solve<P: RodPotential>(
     let mut strain_sum = Vector3::zeros();
     let mut forces = Vector3::zeros();
     for c in cells.iter() {
-        let eps = lag.linear_strain(c.sigma, s0, &y0, &c.r1, &start);
+        let eps = shear_strain(lag, c, s0, &y0, &start);
         let c1e = p.c1() * eps * (0.25 * dt);
         // |R₀w|∞ ≥ |w|∞/√3: the body vector's size stands for the term's.
         scale += largest_abs(&c1e);
-        strain_sum += c1e * c.sigma;
+        strain_sum += c.frame.map_or(c1e, |f| f.rotation * c1e) * c.sigma;
         if let Some(loads) = lag.loads() {
             // F⁰'s position part at (start, R₀): the linear damping and the
             // end force ([`CosseratCell::cell_force`]'s terms in its order;
@@ -310,14 +331,27 @@ pub(crate) fn split_solve<P: RodPotential>(
     let leg_r = (kinetic + weight) * n + mat3_vec(&r0m, &strain_sum) + forces;
     // ∂Leg_r/∂r₂ = −n R₀KR₀ᵀ: R₀ᵀ(r₂ − start) = −K⁻¹R₀ᵀ(μ_r − Leg_r)/n,
     // with K and K⁻¹ computed once per material point.
-    let Some(compliance) = constants.compliance else {
-        return fail(Failure::Singular, outcome);
-    };
     let rhs = r0m.tr_mul(&(mu.fixed_rows::<3>(0) - leg_r));
-    let z = compliance * rhs;
-    let r2 = start - mat3_vec(&r0m, &z) * n.recip();
+    let (z, stiffness) = if centred {
+        // Σ_σ [K + κ(E_σC₁E_σᵀ − C₁)] (module documentation of `shear`).
+        let kappa = dt / (4.0 * ds);
+        let mut stiffness = constants.stiffness * n;
+        for f in cells.iter().filter_map(|c| c.frame) {
+            stiffness += (f.rotation * p.c1() * f.rotation.transpose() - p.c1()) * kappa;
+        }
+        let Some(compliance) = stiffness.try_inverse() else {
+            return fail(Failure::Singular, outcome);
+        };
+        (compliance * rhs, stiffness)
+    } else {
+        let Some(compliance) = constants.compliance else {
+            return fail(Failure::Singular, outcome);
+        };
+        (compliance * rhs * n.recip(), constants.stiffness * n)
+    };
+    let r2 = start - mat3_vec(&r0m, &z);
     // The linear solve's residual, in the body frame.
-    let residual_r = largest_abs(&(constants.stiffness * z - rhs));
+    let residual_r = largest_abs(&(stiffness * z - rhs));
     if !residual_r.is_finite() || !r2.iter().all(|x| x.is_finite()) {
         // Reported as a NaN residual, not the default zero.
         outcome.relative_residual = f64::NAN;
@@ -327,10 +361,11 @@ pub(crate) fn split_solve<P: RodPotential>(
     // load's torque), with r₂ known; ε_σ is kept for the gradients.
     let mut fixed = Vector3::zeros();
     let mut fixed_scale = 0.0;
-    for c in cells.iter_mut() {
-        let eps = lag.linear_strain(c.sigma, s0, &y0, &c.r1, &r2);
+    for (c, arm) in cells.iter_mut().zip(arms) {
+        let eps = shear_strain(lag, c, s0, &y0, &r2);
         c.eps = eps;
-        let strain_term = lag.strain_torque(s0, &eps);
+        let torque = lag.strain_torque(s0, &eps);
+        let strain_term = c.frame.map_or(torque, |f| f.torques(&arm.da, &torque).0);
         fixed += strain_term;
         fixed_scale += largest_abs(&strain_term);
         if let Some(loads) = lag.loads() {
@@ -481,9 +516,17 @@ fn write_gradients<P: RodPotential>(
     let top = Pose::new(*r2, y0.rotation);
     for (c, arm) in cells.iter().zip(arms) {
         let q = lag.quantities_from_strain(c.sigma, s0, [y0, &top], arm.a, *b, c.eps);
-        let later = lag.later_gradients(&q, y0.rotation.matrix(), &arm.da, &db);
         let base = 3 * c.cell.shape;
-        gradients[base + 1..base + 3].copy_from_slice(&later);
+        let Some(f) = c.frame else {
+            let later = lag.later_gradients(&q, y0.rotation.matrix(), &arm.da, &db);
+            gradients[base + 1..base + 3].copy_from_slice(&later);
+            continue;
+        };
+        let [mut middle, top] = lag.later_gradients(&q, &(y0.rotation.matrix() * f.rotation), &arm.da, &db);
+        let mut rotation = middle.fixed_rows_mut::<3>(3);
+        rotation += f.torques(&arm.da, &lag.strain_torque(s0, &c.eps)).1;
+        gradients[base + 1] = middle;
+        gradients[base + 2] = top;
     }
 }
 

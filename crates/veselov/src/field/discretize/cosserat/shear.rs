@@ -22,11 +22,24 @@
 //! paper's quadratures of the density (6.1): a departure from Prop. 6.5,
 //! measured in `tests/rod/` (the first free–free bending frequency of a
 //! rod of radius ℓ/20 off by −0.62 %, −0.16 %, −0.039 % at 21, 41, 81
-//! points, where Prop. 6.5 is off by +14.9 %, +4.0 %, +1.0 %). Its step is
-//! the core's generic one (6-D Newton over dual numbers): the split step's
-//! closed forms are Prop. 6.5's.
+//! points, where Prop. 6.5 is off by +14.9 %, +4.0 %, +1.0 %).
+//!
+//! The shear does not depend on R₂, so the split step of note 003 §3.6
+//! keeps its shape: with E = exp(a/2), κ = Δt/(4Δs) and each cell's
+//! ∂Leg_r/∂r₂ = −R₀[K + κ(EC₁Eᵀ − C₁)]R₀ᵀ (K of `StepConstants`), the
+//! position is one 3×3 solve with the matrix summed over the cells based
+//! at v. With m = ε + e = EᵀR₀ᵀg and τ = A_β m × C₁ε, the variation
+//! δε = −(J_r(a/2)·½δa) × m − Eᵀ(ξ₀ × R₀ᵀg), δa = D_a ξ₁ − D_aᵀ ξ₀
+//! (left-trivialised perturbations R_k exp(ξ_k); J_r the right Jacobian of
+//! exp, D_a = dlog a) gives the shear's rotation gradients
+//!
+//! ∇_{R₀} = Eτ − ½D_a J_r(a/2)ᵀτ,  ∇_{R₁} = ½D_aᵀ J_r(a/2)ᵀτ,
+//!
+//! and its position gradients are Prop. 6.5's with R₀ replaced by R₀E.
+//! The rotation equation in b is unchanged. Vertices are solved one at a
+//! time (the eight-lane kernel is Prop. 6.5's).
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::CosseratCell;
 use crate::ad::Scalar;
@@ -44,6 +57,44 @@ pub enum ShearFrame {
     Centred,
 }
 
+/// The centred frame of one cell relative to R₀, E = exp(a/2), and the
+/// transposed right Jacobian of exp there, J_r(a/2)ᵀ = dexp_{a/2}
+/// ([`so3::dexp`] is the left one, J_r(c) = dexp_{−c} = dexp_cᵀ).
+#[derive(Clone, Copy, Debug)]
+pub(in crate::field::discretize) struct CentredFrame {
+    pub(in crate::field::discretize) rotation: Matrix3<f64>,
+    jacobian_t: Matrix3<f64>,
+}
+
+impl CentredFrame {
+    /// The frame of a cell with a = log(R₀ᵀR₁).
+    pub(in crate::field::discretize) fn at(a: &Vector3<f64>) -> Self {
+        let half = a * 0.5;
+        Self {
+            rotation: so3::exp(&half).into_matrix(),
+            jacobian_t: so3::dexp(&half),
+        }
+    }
+
+    /// The shear's rotation gradients at the base and middle vertices from
+    /// τ = A_β m × C₁ε and D_a: (Eτ − ½D_a J_r(a/2)ᵀτ, ½D_aᵀ J_r(a/2)ᵀτ).
+    pub(in crate::field::discretize) fn torques(
+        &self,
+        da: &Matrix3<f64>,
+        tau: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let half = self.jacobian_t * tau * 0.5;
+        (self.rotation * tau - da * half, da.tr_mul(&half))
+    }
+
+    /// ε = Eᵀ(ε₀ + e) − e from ε₀ = R₀ᵀg − e: the bits of
+    /// [`centred_strain`] (a split step's stored gradients are those a
+    /// restored march recomputes from the values).
+    pub(in crate::field::discretize) fn strain(&self, eps_at_vertex: &Vector3<f64>, e: &Vector3<f64>) -> Vector3<f64> {
+        self.rotation.transpose() * (eps_at_vertex + e) - e
+    }
+}
+
 /// ε in the centred frame from ε₀ = R₀ᵀg − e in the base vertex's frame:
 /// exp(−a/2)(ε₀ + e) − e.
 pub(super) fn centred_strain<D: Scalar>(
@@ -52,15 +103,13 @@ pub(super) fn centred_strain<D: Scalar>(
     strain: &Vector3<f64>,
 ) -> Vector3<D> {
     let e = strain.map(D::from);
-    so3::exp(&(a * D::from(-0.5))).act(&(eps_at_vertex + e)) - e
+    so3::exp(&(a * D::from(0.5))).into_matrix().transpose() * (eps_at_vertex + e) - e
 }
 
 impl<P: RodPotential> CosseratCell<P> {
-    /// The cell with its shear strain in `frame` ([`ShearFrame`]). The
-    /// closed forms (gradients and split step) are Prop. 6.5's: with
-    /// [`ShearFrame::Centred`] the core uses the dual-number passes and
-    /// the generic 6-D Newton, whatever
-    /// [`with_analytic_gradients`](Self::with_analytic_gradients) says.
+    /// The cell with its shear strain in `frame` ([`ShearFrame`]); the
+    /// closed forms and the split step follow it (one vertex at a time
+    /// with the centred frame).
     #[must_use]
     pub fn with_shear_frame(mut self, frame: ShearFrame) -> Self {
         self.shear = frame;
@@ -70,11 +119,5 @@ impl<P: RodPotential> CosseratCell<P> {
     /// The frame of the shear strain.
     pub fn shear_frame(&self) -> ShearFrame {
         self.shear
-    }
-
-    /// Whether the closed forms of Prop. 6.5 are in use: enabled, and the
-    /// shear measured in the base vertex's frame.
-    pub(in crate::field::discretize) fn closed_forms(&self) -> bool {
-        self.analytic && self.shear == ShearFrame::Vertex
     }
 }
