@@ -37,7 +37,9 @@
 //!
 //! and its position gradients are Prop. 6.5's with R₀ replaced by R₀E.
 //! The rotation equation in b is unchanged. Vertices are solved one at a
-//! time (the eight-lane kernel is Prop. 6.5's).
+//! time (the eight-lane kernel is Prop. 6.5's): a step of the 100-element
+//! `rod_step` bench rod costs about 3 times Prop. 6.5's, for a lattice
+//! that needs far fewer points in bending.
 
 use nalgebra::{Matrix3, Vector3};
 
