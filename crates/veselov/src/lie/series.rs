@@ -259,7 +259,7 @@ fn horner(c: &[f64], x: f64) -> f64 {
 
 pub(super) const SIN: Series<16> = Series::new(SIN_C);
 pub(super) const COS: Series<16> = Series::new(COS_C);
-const SIN3: Series<16> = Series::new(SIN3_C);
+pub(super) const SIN3: Series<16> = Series::new(SIN3_C);
 const Q2: Series<16> = Series::new(Q2_C);
 const Q3: Series<16> = Series::new(Q3_C);
 pub(super) const DLOG: Series<16> = Series::new(DLOG_C);

@@ -6,7 +6,7 @@
 //! function returns `None` when some lane needs the closed form (a larger
 //! angle), and the caller then takes the scalar path for the whole group.
 
-use super::series::{ATAN, COS, DLOG, DLOG_PRIME, SIN, Series, TIERS};
+use super::series::{ATAN, COS, DLOG, DLOG_PRIME, SIN, SIN3, Series, TIERS};
 
 impl<const N: usize> Series<N> {
     /// [`Series::eval`] on `f64` in each lane (`x` finite): the terms of the
@@ -71,6 +71,15 @@ pub(crate) fn sinc_cosc<const L: usize>(x: &[f64; L]) -> Option<([f64; L], [f64;
     x.iter()
         .all(|&v| v < 1.0)
         .then(|| (SIN.eval_lanes(x), COS.eval_lanes(x)))
+}
+
+/// (cosc, sin3) of [`super::series`] at x = θ² in each lane, `None` unless
+/// every x < 1 (the series branch of both: `so3::dexp`'s coefficients).
+#[inline(always)]
+pub(crate) fn cosc_sin3<const L: usize>(x: &[f64; L]) -> Option<([f64; L], [f64; L])> {
+    x.iter()
+        .all(|&v| v < 1.0)
+        .then(|| (COS.eval_lanes(x), SIN3.eval_lanes(x)))
 }
 
 /// [`super::series::dlog`] in each lane, `None` unless every x < 4.

@@ -8,7 +8,7 @@
 
 use nalgebra::Vector3;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions, LevelSplitting};
-use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential, RodLoads, RodParameters};
+use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential, RodLoads, RodParameters, ShearFrame};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 use veselov::lie::so3;
 use veselov::models::rod::{EndCondition, RodEnds, RodLattice, load_impulse};
@@ -87,11 +87,15 @@ fn rod_march<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
 #[test]
 fn free_rod_in_lanes_has_the_bits_of_one_vertex_at_a_time() {
     let lattice = RodLattice::new(61, 1.0, 0.005).expect("lattice");
-    for tolerance in [1e-16, CauchyOptions::default().tolerance] {
+    let cases = [1e-16, CauchyOptions::default().tolerance]
+        .into_iter()
+        .flat_map(|t| [(t, ShearFrame::Vertex), (t, ShearFrame::Centred)]);
+    for (tolerance, frame) in cases {
         same_bits(
             |lanes| {
                 let cell = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
-                    .expect("spacings");
+                    .expect("spacings")
+                    .with_shear_frame(frame);
                 rod_march(cell, &lattice, None, tumbling(lattice.length()), tolerance, lanes)
             },
             120,
@@ -114,25 +118,28 @@ fn clamped_profiled_rod_under_a_potential_in_lanes_has_the_same_bits() {
         start: EndCondition::Clamped(motion(0.0, 0.0)),
         end: EndCondition::Free,
     };
-    same_bits(
-        |lanes| {
-            let cell = CosseratCell::new(
-                CosseratDensity {
-                    parameters: unit_rod(0.1),
-                    potential: LinearPotential {
-                        gradient: Vector3::new(0.0, -0.5, 0.1),
+    for frame in [ShearFrame::Vertex, ShearFrame::Centred] {
+        same_bits(
+            |lanes| {
+                let cell = CosseratCell::new(
+                    CosseratDensity {
+                        parameters: unit_rod(0.1),
+                        potential: LinearPotential {
+                            gradient: Vector3::new(0.0, -0.5, 0.1),
+                        },
                     },
-                },
-                lattice.ds(),
-                lattice.dt(),
-            )
-            .expect("spacings")
-            .with_profile(profile.clone())
-            .expect("profile");
-            rod_march(cell, &lattice, Some(&ends), motion, 1e-16, lanes)
-        },
-        100,
-    );
+                    lattice.ds(),
+                    lattice.dt(),
+                )
+                .expect("spacings")
+                .with_profile(profile.clone())
+                .expect("profile")
+                .with_shear_frame(frame);
+                rod_march(cell, &lattice, Some(&ends), motion, 1e-16, lanes)
+            },
+            100,
+        );
+    }
 }
 
 #[test]
@@ -186,14 +193,17 @@ fn damped_end_loaded_cantilever_in_lanes_has_the_same_bits_and_impulses() {
         ramp: 0.05,
         start: 0.0,
     };
-    same_bits(
-        |lanes| {
-            let cell = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
-                .expect("spacings")
-                .with_loads(loads)
-                .expect("loads");
-            rod_march(cell, &lattice, Some(&ends), straight, 1e-16, lanes)
-        },
-        150,
-    );
+    for frame in [ShearFrame::Vertex, ShearFrame::Centred] {
+        same_bits(
+            |lanes| {
+                let cell = CosseratCell::new(CosseratDensity::free(unit_rod(0.1)), lattice.ds(), lattice.dt())
+                    .expect("spacings")
+                    .with_loads(loads)
+                    .expect("loads")
+                    .with_shear_frame(frame);
+                rod_march(cell, &lattice, Some(&ends), straight, 1e-16, lanes)
+            },
+            150,
+        );
+    }
 }

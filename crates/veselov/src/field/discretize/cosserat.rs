@@ -659,14 +659,9 @@ impl<P: RodPotential> DiscreteLagrangian<PositionRotation, 6> for CosseratCell<P
     }
 
     /// Eight with the closed forms (the split step of eight vertices side
-    /// by side in vector lanes), else 1 (and with the centred shear frame,
-    /// whose split step has no lane kernel).
+    /// by side in vector lanes), else 1.
     fn vertex_lanes(&self) -> usize {
-        if self.analytic && self.shear == ShearFrame::Vertex {
-            ROD_LANES
-        } else {
-            1
-        }
+        if self.analytic { ROD_LANES } else { 1 }
     }
 
     /// A rod is always confined to its material window.

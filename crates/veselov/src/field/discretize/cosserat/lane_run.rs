@@ -13,7 +13,7 @@ use nalgebra::{SVector, Vector3};
 use super::super::cosserat_step::split_solve;
 use super::super::rod_potential::RodPotential;
 use super::lanes::{Lanes, M3, V3};
-use super::{CosseratCell, ROD_LANES, ShearFrame};
+use super::{CosseratCell, ROD_LANES};
 use crate::field::cell::{SolvedVertex, VertexLane, VertexRun};
 use crate::field::complex::TopCell;
 use crate::field::fibre::Pose;
@@ -137,14 +137,6 @@ impl<P: RodPotential> CosseratCell<P> {
             let lane = run.lane(k);
             split_solve(self, &star, &lane.mu, lane.mu_scale, &lane.previous, options, terms)
         };
-        // The eight-lane kernel is Prop. 6.5's: the centred shear frame
-        // solves every vertex alone.
-        if self.shear == ShearFrame::Centred {
-            for k in 0..len {
-                solved[k] = scalar(k, &mut gradients[k * stride..(k + 1) * stride]);
-            }
-            return true;
-        }
         // Groups of vertices with whole stars, in run order; a vertex whose
         // star is cut by the window (an end of the rod), the vertices a
         // group leaves and the last few of a run alone.

@@ -21,10 +21,10 @@ use super::super::cosserat_step::remainder_bound;
 use super::super::rod_potential::RodPotential;
 use super::lane_run::LaneInput;
 use super::lanes::{
-    Lanes, M3, V3, add, cross, dexp_inv, dot, exp, gather_m3, gather_v3, inverse, lane_m3, lane_v3, largest_abs,
-    largest_abs_m3, log, mm, mv, neg, renormalize, row_sum_norm, scale, scale_by, sub, tmm, tmv,
+    Lanes, M3, V3, add, cross, dexp, dexp_inv, dot, exp, gather_m3, gather_v3, inverse, lane_m3, lane_v3, largest_abs,
+    largest_abs_m3, log, mm, mv, neg, renormalize, row_sum_norm, scale, scale_by, sub, tmm, tmv, transpose,
 };
-use super::{CosseratCell, join};
+use super::{CosseratCell, ShearFrame, join};
 use crate::field::cell::SolvedVertex;
 use crate::field::fibre::Pose;
 use crate::field::legendre::{CauchyOptions, VertexOutcome};
@@ -107,6 +107,39 @@ fn linear_strain<const L: usize>(
     sub(&tmv(r0m, &g), strain)
 }
 
+/// The centred shear frame of a cell in lanes (`CentredFrame`): E = exp(a/2)
+/// and J_r(a/2)ᵀ = dexp_{a/2}.
+#[derive(Clone, Copy)]
+struct LaneFrame<const L: usize> {
+    rotation: M3<L>,
+    jacobian_t: M3<L>,
+}
+
+impl<const L: usize> LaneFrame<L> {
+    /// `CentredFrame::at`, `None` unless every |a/2|² < 1.
+    #[inline(always)]
+    fn at(a: &V3<L>) -> Option<Self> {
+        let half = scale_by(a, 0.5);
+        Some(Self {
+            rotation: exp(&half)?,
+            jacobian_t: dexp(&half)?,
+        })
+    }
+
+    /// `CentredFrame::strain`: Eᵀ(ε₀ + e) − e.
+    #[inline(always)]
+    fn strain(&self, eps_at_vertex: &V3<L>, e: &V3<L>) -> V3<L> {
+        sub(&tmv(&self.rotation, &add(eps_at_vertex, e)), e)
+    }
+
+    /// `CentredFrame::torques`: (Eτ − D_a h, D_aᵀh), h = ½J_r(a/2)ᵀτ.
+    #[inline(always)]
+    fn torques(&self, da: &M3<L>, tau: &V3<L>) -> (V3<L>, V3<L>) {
+        let half = scale_by(&mv(&self.jacobian_t, tau), 0.5);
+        (sub(&mv(&self.rotation, tau), &mv(da, &half)), tmv(da, &half))
+    }
+}
+
 /// The solve's state in one lane.
 #[derive(Clone, Copy)]
 enum LaneState {
@@ -150,6 +183,11 @@ impl<P: RodPotential> CosseratCell<P> {
             arms_da[c] = dexp_inv(&neg(&arms_a[c]))?;
             r1[c] = v.r1[c];
         }
+        // The centred shear frames (`ShearFrame::Centred`), else none.
+        let frames = match self.shear {
+            ShearFrame::Vertex => None,
+            ShearFrame::Centred => Some([LaneFrame::at(&arms_a[0])?, LaneFrame::at(&arms_a[1])?]),
+        };
         let sigma = [1.0, -1.0];
         // The material point's parameters and constants, lane by lane (one
         // for all lanes without a profile).
@@ -171,10 +209,14 @@ impl<P: RodPotential> CosseratCell<P> {
         let mut strain_sum = [Lanes::splat(0.0); 3];
         let mut forces = zero_v;
         for c in 0..2 {
-            let eps = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &start, &strain);
+            let mut eps = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &start, &strain);
+            if let Some(f) = &frames {
+                eps = f[c].strain(&eps, &strain);
+            }
             let c1e = scale_by(&mv(&c1, &eps), 0.25 * dt);
             total = total + largest_abs(&c1e);
-            strain_sum = add(&strain_sum, &scale_by(&c1e, sigma[c]));
+            let framed = frames.as_ref().map_or(c1e, |f| mv(&f[c].rotation, &c1e));
+            strain_sum = add(&strain_sum, &scale_by(&framed, sigma[c]));
             if let Some(loads) = loads {
                 // F⁰'s position part at (start, R₀): the linear damping.
                 let mut f = zero_v;
@@ -195,11 +237,37 @@ impl<P: RodPotential> CosseratCell<P> {
                 state[l] = LaneState::Scalar;
             }
         }
-        let compliance = gather_m3::<L>(same, |l| constants[l].compliance.as_ref().unwrap_or(&zero));
-        let stiffness = gather_m3::<L>(same, |l| &constants[l].stiffness);
         let rhs = tmv(&r0m, &sub(&v.mu_r, &leg_r));
-        let z = mv(&compliance, &rhs);
-        let r2 = sub(&start, &scale_by(&mv(&r0m, &z), 0.5));
+        let mut stiffness = gather_m3::<L>(same, |l| &constants[l].stiffness);
+        for x in stiffness.iter_mut().flatten() {
+            *x = *x * n;
+        }
+        let z = match &frames {
+            // Σ_σ [K + κ(E_σC₁E_σᵀ − C₁)] (`split_solve`).
+            Some(f) => {
+                let kappa = dt / (4.0 * ds);
+                for frame in f {
+                    let spread = mm(&mm(&frame.rotation, &c1), &transpose(&frame.rotation));
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            stiffness[i][j] = stiffness[i][j] + (spread[i][j] - c1[i][j]) * kappa;
+                        }
+                    }
+                }
+                let (compliance, regular) = inverse(&stiffness);
+                for l in 0..L {
+                    if !regular[l] {
+                        state[l] = LaneState::Scalar;
+                    }
+                }
+                mv(&compliance, &rhs)
+            }
+            None => {
+                let compliance = gather_m3::<L>(same, |l| constants[l].compliance.as_ref().unwrap_or(&zero));
+                scale_by(&mv(&compliance, &rhs), 1.0 / n)
+            }
+        };
+        let r2 = sub(&start, &mv(&r0m, &z));
         let residual_r = largest_abs(&sub(&mv(&stiffness, &z), &rhs));
         for l in 0..L {
             if !residual_r.0[l].is_finite() || !lane_v3(&r2, l).iter().all(|x| x.is_finite()) {
@@ -210,12 +278,20 @@ impl<P: RodPotential> CosseratCell<P> {
         let area = 0.25 * self.ds * self.dt;
         let mut fixed = [Lanes::splat(0.0); 3];
         let mut fixed_scale = Lanes::splat(0.0);
-        // C₁ε_σ at r₂, kept for the gradients.
+        // C₁ε_σ at r₂ and the centred shear's torque at R₁, kept for the
+        // gradients.
         let mut c1_eps = [zero_v; 2];
+        let mut middle_torques = [zero_v; 2];
         for c in 0..2 {
-            let eps = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &r2, &strain);
+            let mut eps = linear_strain(sigma[c] * self.inv_ds, &r0m, &r0, &r1[c], &r2, &strain);
+            if let Some(f) = &frames {
+                eps = f[c].strain(&eps, &strain);
+            }
             c1_eps[c] = mv(&c1, &eps);
-            let torque = scale_by(&cross(&add(&eps, &strain), &c1_eps[c]), area);
+            let mut torque = scale_by(&cross(&add(&eps, &strain), &c1_eps[c]), area);
+            if let Some(f) = &frames {
+                (torque, middle_torques[c]) = f[c].torques(&arms_da[c], &torque);
+            }
             fixed = add(&fixed, &torque);
             fixed_scale = fixed_scale + largest_abs(&torque);
             if loads.is_some() {
@@ -330,7 +406,23 @@ impl<P: RodPotential> CosseratCell<P> {
         let b = log(&tmm(&r0m, &rotation))?;
         let db = dexp_inv(&neg(&b))?;
         let cell_forces = loads.map(|loads| self.lane_damping_forces(loads, &r0, &r2, &b));
-        let later = self.lane_gradients((&p, same), &r0m, &r0, &r2, (&arms_a, &arms_da), &c1_eps, &b, &db);
+        let mut later = self.lane_gradients(
+            (&p, same),
+            &r0m,
+            frames.as_ref(),
+            &r0,
+            &r2,
+            (&arms_a, &arms_da),
+            &c1_eps,
+            &b,
+            &db,
+        );
+        if frames.is_some() {
+            // The centred shear's torque at R₁ (`write_gradients`).
+            for (cell, torque) in later.iter_mut().zip(&middle_torques) {
+                cell[1] = add(&cell[1], torque);
+            }
+        }
         let mut done = [false; L];
         for l in 0..count.min(L) {
             if !matches!(state[l], LaneState::Solved) {
@@ -426,13 +518,15 @@ impl<P: RodPotential> CosseratCell<P> {
 
     /// The gradients at positions 1 and 2 of both cells of each lane
     /// (`CosseratCell::later_gradients` of the cells' quantities with
-    /// b = log(R₀ᵀR₂) and r₂, from C₁ε_σ), in the marcher's layout.
+    /// b = log(R₀ᵀR₂) and r₂, from C₁ε_σ, with the shear in R₀E_σ when
+    /// `frames` are given), in the marcher's layout.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn lane_gradients<const L: usize>(
         &self,
         (p, same): (&[&super::RodParameters; L], bool),
         r0m: &M3<L>,
+        frames: Option<&[LaneFrame<L>; 2]>,
         r0: &V3<L>,
         r2: &V3<L>,
         (arms_a, arms_da): (&[V3<L>; 2], &[M3<L>; 2]),
@@ -453,7 +547,10 @@ impl<P: RodPotential> CosseratCell<P> {
             let sigma = if c == 0 { 1.0 } else { -1.0 };
             let st = sigma * self.dt;
             let u = scale_by(&sub(&scale_by(&arms_a[c], 2.0), b), sigma * self.inv_ds);
-            let c1e = mv(r0m, &c1_eps[c]);
+            let c1e = match frames {
+                None => mv(r0m, &c1_eps[c]),
+                Some(f) => mv(&mm(r0m, &f[c].rotation), &c1_eps[c]),
+            };
             let c2u = mv(&c2, &u);
             *cell = [
                 scale_by(&neg(&c1e), st / 2.0),

@@ -300,6 +300,20 @@ pub(super) fn exp<const L: usize>(w: &V3<L>) -> Option<M3<L>> {
     Some(hat_series(w, Lanes(sinc), Lanes(cosc)))
 }
 
+/// `so3::dexp(w)` = I + cosc(|ω|²)ω̂ + sin3(|ω|²)ω̂², `None` unless every
+/// |ω|² < 1.
+#[inline(always)]
+pub(super) fn dexp<const L: usize>(w: &V3<L>) -> Option<M3<L>> {
+    let (cosc, sin3) = series_lanes::cosc_sin3(&dot(w, w).0)?;
+    Some(hat_series(w, Lanes(cosc), Lanes(sin3)))
+}
+
+/// mᵀ (the entries moved, no arithmetic).
+#[inline(always)]
+pub(super) fn transpose<const L: usize>(m: &M3<L>) -> M3<L> {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[j][i]))
+}
+
 /// `so3::dexp_inv(w)` = I − ω̂/2 + dlog(|ω|²)ω̂², `None` unless every
 /// |ω|² < 4.
 #[inline(always)]

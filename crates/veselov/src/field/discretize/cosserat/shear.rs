@@ -36,10 +36,8 @@
 //! ∇_{R₀} = Eτ − ½D_a J_r(a/2)ᵀτ,  ∇_{R₁} = ½D_aᵀ J_r(a/2)ᵀτ,
 //!
 //! and its position gradients are Prop. 6.5's with R₀ replaced by R₀E.
-//! The rotation equation in b is unchanged. Vertices are solved one at a
-//! time (the eight-lane kernel is Prop. 6.5's): a step of the 100-element
-//! `rod_step` bench rod costs about 3 times Prop. 6.5's, for a lattice
-//! that needs far fewer points in bending.
+//! The rotation equation in b is unchanged. The eight-lane kernel
+//! (`lane_step`) does the same, every vertex with its scalar bits.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -110,8 +108,7 @@ pub(super) fn centred_strain<D: Scalar>(
 
 impl<P: RodPotential> CosseratCell<P> {
     /// The cell with its shear strain in `frame` ([`ShearFrame`]); the
-    /// closed forms and the split step follow it (one vertex at a time
-    /// with the centred frame).
+    /// closed forms and the split step follow it.
     #[must_use]
     pub fn with_shear_frame(mut self, frame: ShearFrame) -> Self {
         self.shear = frame;
