@@ -194,8 +194,8 @@ fn bench(c: &mut Criterion) {
         let mut m = m.with_vertex_lanes(1);
         b.iter_custom(|steps| time_steps(&mut m, steps));
     });
-    // The shear in the centred frame (no locking; its split step solves
-    // one vertex at a time).
+    // The shear in the centred frame (no locking; the same split step and
+    // lanes with its frames).
     group.bench_function(format!("{elements} elements, centred shear frame (two levels)"), |b| {
         let (mut m, _) = rod_with(elements, 0.0705 * dl, None, ShearFrame::Centred);
         b.iter_custom(|steps| time_steps(&mut m, steps));
