@@ -11,7 +11,6 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
-use super::cosserat_step::{RotationArm, RotationEquation};
 use super::error::CellError;
 use super::rod_potential::{NoPotential, RodPotential, nearest_point};
 use super::smooth::SmoothDensity;
@@ -23,8 +22,8 @@ use crate::field::complex::TopCell;
 use crate::field::fibre::{Fibre, Pose, PositionRotation, Rotations};
 use crate::field::lattice::invalid;
 use crate::field::legendre::CauchyOptions;
-use crate::lie::so3;
 
+mod gradients;
 mod lane_run;
 mod lane_step;
 mod lanes;
@@ -454,74 +453,6 @@ impl<P: RodPotential> CosseratCell<P> {
             - quad(&p.c2, &c.u)
             - self.density.potential.potential(c.s0, &y[0].position) * 0.5;
         Ok(l * self.area())
-    }
-
-    /// The closed-form gradients of note 003 §3.5 (kinetic sign corrected):
-    /// [(∇_{r_k}L_β; ∇_{R_k}L_β)]_{k=0,1,2} in the chart of
-    /// [`PositionRotation`] (Euclidean, then left-trivialised), with
-    /// D_a = dlog a, D_b = dlog b (left-trivialised, Def. 6.9):
-    ///
-    /// * ∇_{r₀} = −(ρΔs/4)v_d + (σΔt/4)R₀C₁ε − (ΔsΔt/8)∇_rP(s₀, r₀)
-    /// * ∇_{r₁} = −(σΔt/2)R₀C₁ε
-    /// * ∇_{r₂} = (ρΔs/4)v_d + (σΔt/4)R₀C₁ε
-    /// * ∇_{R₀} = −(Δs/4)D_bJω_d + A_β (R₀ᵀg)^ C₁ε + (σΔt/4)(2D_a − D_b)C₂u
-    /// * ∇_{R₁} = −(σΔt/2)D_aᵀC₂u
-    /// * ∇_{R₂} = (Δs/4)D_bᵀJω_d + (σΔt/4)D_bᵀC₂u
-    ///
-    /// ∇_rP is exact (forward-mode AD of the potential).
-    ///
-    /// # Errors
-    /// As [`CosseratCell::try_cell_lagrangian`].
-    pub fn gradients(&self, cell: &TopCell, y: &[Pose<f64>]) -> std::result::Result<[SVector<f64, 6>; 3], CellError> {
-        let c = self.cell(cell, y)?;
-        let r0 = y[0].rotation.matrix();
-        let da = so3::dexp_inv(&(-c.a));
-        let db = so3::dexp_inv(&(-c.b));
-        let arm = RotationArm { a: c.a, da };
-        let equation = RotationEquation::new(self.constants_at(c.s0), &[arm], 0.0);
-        // The shear's frame and rotation gradients (base, middle vertex).
-        let tau = self.strain_torque(c.s0, &c.eps);
-        let (frame, torques) = match self.shear {
-            ShearFrame::Vertex => (*r0, (tau, Vector3::zeros())),
-            ShearFrame::Centred => {
-                let centred = CentredFrame::at(&c.a);
-                (r0 * centred.rotation, centred.torques(&da, &tau))
-            }
-        };
-        let first = join(
-            self.position_gradient(c.sigma, c.s0, &y[0], &frame, &c.v, &c.eps),
-            equation.value_with(&c.b, &db) + torques.0,
-        );
-        let [mut second, third] = self.later_gradients(&c, &frame, &da, &db);
-        let mut middle = second.fixed_rows_mut::<3>(3);
-        middle += torques.1;
-        Ok([first, second, third])
-    }
-
-    /// The gradients at positions 1 and 2 (note 003 §3.5), from the cell's
-    /// quantities, the shear's frame (R₀, or R₀E centred: see [`ShearFrame`];
-    /// the centred shear's term at ∇_{R₁} is the caller's), D_a and D_b:
-    /// (−(σΔt/2)R₀C₁ε; −(σΔt/2)D_aᵀC₂u) and
-    /// ((ρΔs/4)v_d + (σΔt/4)R₀C₁ε; D_bᵀ((Δs/4)Jω_d + (σΔt/4)C₂u)).
-    #[inline]
-    pub(super) fn later_gradients(
-        &self,
-        c: &Cell<f64>,
-        frame: &Matrix3<f64>,
-        da: &Matrix3<f64>,
-        db: &Matrix3<f64>,
-    ) -> [SVector<f64, 6>; 2] {
-        let p = self.parameters_at(c.s0);
-        let (ds, st) = (self.ds, c.sigma * self.dt);
-        let c1e = frame * (p.c1 * c.eps);
-        let c2u = p.c2 * c.u;
-        [
-            join(-c1e * (st / 2.0), -(da.transpose() * c2u) * (st / 2.0)),
-            join(
-                c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0),
-                db.transpose() * (p.inertia * c.omega * (ds / 4.0) + c2u * (st / 4.0)),
-            ),
-        ]
     }
 }
 
