@@ -204,6 +204,9 @@ struct StarCell {
     eps: Vector3<f64>,
     /// The centred shear frame ([`ShearFrame::Centred`]), else `None`.
     frame: Option<CentredFrame>,
+    /// The centred shear's torque at R₁ with ε at r₂ (zero in R₀'s frame),
+    /// kept for the gradients.
+    middle_torque: Vector3<f64>,
 }
 
 /// ε of cell `c` with its top at `r2`, in the cell's shear frame.
@@ -260,6 +263,7 @@ pub(crate) fn split_solve<P: RodPotential>(
         r1: Vector3::zeros(),
         eps: Vector3::zeros(),
         frame: None,
+        middle_torque: Vector3::zeros(),
     };
     let centred = lag.shear_frame() == ShearFrame::Centred;
     let mut cells = [blank; 2];
@@ -280,6 +284,7 @@ pub(crate) fn split_solve<P: RodPotential>(
                 r1: y[1].position,
                 eps: Vector3::zeros(),
                 frame: centred.then(|| CentredFrame::at(&a)),
+                middle_torque: Vector3::zeros(),
             };
             arms[count] = RotationArm {
                 a,
@@ -365,7 +370,14 @@ pub(crate) fn split_solve<P: RodPotential>(
         let eps = shear_strain(lag, c, s0, &y0, &r2);
         c.eps = eps;
         let torque = lag.strain_torque(s0, &eps);
-        let strain_term = c.frame.map_or(torque, |f| f.torques(&arm.da, &torque).0);
+        let strain_term = match c.frame {
+            None => torque,
+            Some(f) => {
+                let (base, middle) = f.torques(&arm.da, &torque);
+                c.middle_torque = middle;
+                base
+            }
+        };
         fixed += strain_term;
         fixed_scale += largest_abs(&strain_term);
         if let Some(loads) = lag.loads() {
@@ -524,7 +536,7 @@ fn write_gradients<P: RodPotential>(
         };
         let [mut middle, top] = lag.later_gradients(&q, &(y0.rotation.matrix() * f.rotation), &arm.da, &db);
         let mut rotation = middle.fixed_rows_mut::<3>(3);
-        rotation += f.torques(&arm.da, &lag.strain_torque(s0, &c.eps)).1;
+        rotation += c.middle_torque;
         gradients[base + 1] = middle;
         gradients[base + 2] = top;
     }
