@@ -326,6 +326,17 @@ pub(crate) struct RodSetup {
     pub nodes_for_bending: usize,
 }
 
+/// The values of `[method] shear_frame` and their frames.
+const SHEAR_FRAMES: [(&str, ShearFrame); 2] = [("vertex", ShearFrame::Vertex), ("centred", ShearFrame::Centred)];
+
+/// The name of `frame` in `[method] shear_frame` (and in summary.json).
+pub fn shear_frame_name(frame: ShearFrame) -> &'static str {
+    SHEAR_FRAMES
+        .iter()
+        .find(|(_, f)| *f == frame)
+        .map_or("vertex", |(name, _)| name)
+}
+
 /// The bending stiffening from shear locking that a run's advice aims at: 1 %.
 pub const BENDING_STIFFENING_ADVISED: f64 = 0.01;
 
@@ -598,15 +609,13 @@ impl RodSetup {
                 ));
             }
         };
-        let shear_frame = match scenario.method.shear_frame.as_deref().unwrap_or("vertex") {
-            "vertex" => ShearFrame::Vertex,
-            "centred" => ShearFrame::Centred,
-            other => {
-                return Err(key(
-                    "method.shear_frame",
-                    format!("unknown shear frame `{other}` (vertex | centred)"),
-                ));
-            }
+        let name = scenario.method.shear_frame.as_deref().unwrap_or("vertex");
+        let Some(&(_, shear_frame)) = SHEAR_FRAMES.iter().find(|(n, _)| *n == name) else {
+            let names: Vec<&str> = SHEAR_FRAMES.iter().map(|(n, _)| *n).collect();
+            return Err(key(
+                "method.shear_frame",
+                format!("unknown shear frame `{name}` ({})", names.join(" | ")),
+            ));
         };
         if symmetric && shear_frame == ShearFrame::Centred {
             return Err(key(

@@ -520,7 +520,7 @@ where
         "quadrature": if setup.symmetric { "symmetric" } else { "vertex" },
         "varying_material": setup.profile.is_some(),
         "bending_locking_number": setup.locking,
-        "shear_frame": match setup.shear_frame { ShearFrame::Vertex => "vertex", ShearFrame::Centred => "centred" },
+        "shear_frame": crate::rod::shear_frame_name(setup.shear_frame),
         "bending_stiffening_estimate": if setup.shear_frame == ShearFrame::Vertex {
             json!(BendingError::at(setup.locking).stiffening)
         } else {
