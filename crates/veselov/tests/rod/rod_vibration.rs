@@ -433,17 +433,12 @@ fn bending_mode_frequency_converges_to_timoshenkos_at_second_order() {
     // an independent path) and its frequency is measured as above. The
     // step keeps a fixed ratio to δ (Courant number 0.25 of the axial
     // wave), inside the step limit's shear–rotation term on every lattice.
-    let bending = Bending::first();
-    let errors: Vec<f64> = BENDING_REFINEMENT
-        .iter()
-        .map(|&nodes| {
-            let samples = march(&bending, nodes, step_at(nodes, 0.25), three_periods(bending.omega)).samples;
-            (frequency_from_crossings(&samples) - bending.omega) / bending.omega
-        })
-        .collect();
+    let errors = bending_errors(&BENDING_REFINEMENT, |lattice| {
+        CosseratCell::new(CosseratDensity::free(unit_rod(RADIUS)), lattice.ds(), lattice.dt()).expect("spacings")
+    });
     println!(
         "bending mode (Timoshenko ω = {:.9}), relative frequency errors at 21/41/81/161 nodes: {}, orders {:.3?}",
-        bending.omega,
+        Bending::first().omega,
         listed(&errors),
         orders(&BENDING_REFINEMENT, &errors)
     );
@@ -452,15 +447,26 @@ fn bending_mode_frequency_converges_to_timoshenkos_at_second_order() {
     // its frequency is high by √(1 + 0.245Λ) − 1; measured 3.5–5.5 % below
     // that, the ordinary O(δ²) error of the lattice (of the other sign),
     // 8 % allowed.
-    let p = unit_rod(RADIUS);
-    for (&nodes, e) in BENDING_REFINEMENT.iter().zip(&errors) {
-        let predicted = BendingError::at(locking_number(&p, LENGTH / (nodes - 1) as f64)).frequency_excess();
+    assert_locks_as_modelled(&BENDING_REFINEMENT, &errors);
+    assert_second_order(&BENDING_REFINEMENT, &errors, 3e-3);
+}
+
+/// The bending frequency's excess that shear locking alone predicts for
+/// the base vertex's frame on a lattice of `nodes` material points.
+fn locking_excess(nodes: usize) -> f64 {
+    BendingError::at(locking_number(&unit_rod(RADIUS), LENGTH / (nodes - 1) as f64)).frequency_excess()
+}
+
+/// Asserts that each relative frequency error is the locking model's
+/// excess ([`locking_excess`]) within 8 %.
+fn assert_locks_as_modelled(nodes: &[usize], errors: &[f64]) {
+    for (&nodes, e) in nodes.iter().zip(errors) {
+        let predicted = locking_excess(nodes);
         assert!(
             (e / predicted - 1.0).abs() < 0.08,
             "{nodes} nodes: {e:.3e} against {predicted:.3e}"
         );
     }
-    assert_second_order(&BENDING_REFINEMENT, &errors, 3e-3);
 }
 
 /// The relative errors of the first bending frequency against Timoshenko's
@@ -484,7 +490,7 @@ fn bending_errors<L: DiscreteLagrangian<PositionRotation, 6>>(
 #[test]
 fn with_the_centred_shear_frame_the_bending_frequency_does_not_lock() {
     // The same study with the shear strain in the centred frame
-    // (`ShearFrame::Centred`, the core's generic step): measured −0.62 %,
+    // (`ShearFrame::Centred`): measured −0.62 %,
     // −0.16 %, −0.039 % at 21, 41, 81 nodes, where Prop. 6.5's locking
     // alone predicts +15.7 %, +4.2 %, +1.1 %. Below 5 % of that, and
     // second order.
@@ -499,9 +505,8 @@ fn with_the_centred_shear_frame_the_bending_frequency_does_not_lock() {
         listed(&errors),
         orders(nodes, &errors)
     );
-    let p = unit_rod(RADIUS);
     for (&nodes, e) in nodes.iter().zip(&errors) {
-        let locking = BendingError::at(locking_number(&p, LENGTH / (nodes - 1) as f64)).frequency_excess();
+        let locking = locking_excess(nodes);
         assert!(
             e.abs() < 0.05 * locking,
             "{nodes} nodes: {e:.3e} against locking's {locking:.3e}"
@@ -527,12 +532,5 @@ fn the_symmetric_rule_locks_in_bending_as_the_vertex_rule_does() {
         "Q_sym bending: relative frequency errors at 21/41/81 nodes: {}",
         listed(&errors)
     );
-    let p = unit_rod(RADIUS);
-    for (&nodes, e) in nodes.iter().zip(&errors) {
-        let predicted = BendingError::at(locking_number(&p, LENGTH / (nodes - 1) as f64)).frequency_excess();
-        assert!(
-            (e / predicted - 1.0).abs() < 0.08,
-            "{nodes} nodes: {e:.3e} against {predicted:.3e}"
-        );
-    }
+    assert_locks_as_modelled(nodes, &errors);
 }
