@@ -264,7 +264,7 @@ fn same_bits_on_one_and_two_threads(frame: ShearFrame) {
 fn centred_shear_frame_conserves_momentum() {
     // The centred shear frame keeps the cell Lagrangian invariant under
     // rigid motions, so the discrete momenta are conserved as with
-    // Prop. 6.5 (the same tumbling rod, 160 levels, the core's generic step).
+    // Prop. 6.5 (the same tumbling rod, 160 levels, the split step).
     let lattice = RodLattice::new(21, 1.0, 0.05).expect("lattice");
     let mut m = rod_march(closed_form(&lattice).with_shear_frame(ShearFrame::Centred), &lattice);
     let (p0, l0) = (linear_momentum(&m), angular_momentum(&m));
