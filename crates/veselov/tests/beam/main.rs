@@ -7,6 +7,8 @@
 mod checkpoints;
 #[path = "../support/five_point.rs"]
 mod five_point;
+#[path = "../support/rk4.rs"]
+mod rk4;
 // The rod's tests also use its mode shapes.
 #[allow(dead_code)]
 #[path = "../support/timoshenko.rs"]

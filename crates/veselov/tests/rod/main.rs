@@ -3,11 +3,14 @@
 //! One test binary per area: the modules below were separate test files,
 //! and keep their names (`cargo test -p veselov --test rod <module>::`).
 
+#[path = "../support/rk4.rs"]
+mod rk4;
 #[path = "../support/threads.rs"]
 mod threads;
 #[path = "../support/timoshenko.rs"]
 mod timoshenko;
 
+mod reissner;
 mod rod_ends;
 mod rod_fast;
 mod rod_free;

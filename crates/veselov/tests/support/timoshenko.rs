@@ -11,6 +11,8 @@
 
 use nalgebra::Vector4;
 
+use crate::rk4::rk4;
+
 /// A uniform Timoshenko beam: ρA, ρI, EI, kGA and its length.
 #[derive(Clone, Copy, Debug)]
 pub struct Timoshenko {
@@ -39,18 +41,8 @@ impl Timoshenko {
 
     /// (w, w', ψ, ψ') at s = ℓ from `y` at s = 0, with `observe` called at
     /// every RK4 node (k = 0 … [`STEPS`], s = kℓ/STEPS).
-    fn shoot(&self, omega: f64, mut y: Vector4<f64>, mut observe: impl FnMut(usize, &Vector4<f64>)) -> Vector4<f64> {
-        let h = self.length / STEPS as f64;
-        observe(0, &y);
-        for k in 1..=STEPS {
-            let k1 = self.rhs(omega, &y);
-            let k2 = self.rhs(omega, &(y + k1 * (h / 2.0)));
-            let k3 = self.rhs(omega, &(y + k2 * (h / 2.0)));
-            let k4 = self.rhs(omega, &(y + k3 * h));
-            y += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
-            observe(k, &y);
-        }
-        y
+    fn shoot(&self, omega: f64, y: Vector4<f64>, observe: impl FnMut(usize, &Vector4<f64>)) -> Vector4<f64> {
+        rk4(y, self.length, STEPS, |y| self.rhs(omega, y), observe)
     }
 
     /// The two starts at s = 0 that meet its end condition: a clamped end
