@@ -17,7 +17,6 @@ use veselov::field::complex::{
 use veselov::field::lattice::{Boundary, CellShape};
 
 use crate::shared::SplitMix;
-use proptest::prelude::*;
 
 fn point(xs: &[i64]) -> Point {
     let mut p = [0; MAX_LATTICE_DIMENSION];
@@ -631,78 +630,4 @@ fn bad_input_is_a_typed_error() {
     let mobius =
         SimplicialMesh::new(6, &[[0, 1, 3], [1, 3, 4], [1, 2, 4], [2, 4, 5], [2, 5, 3], [5, 3, 0]]).expect("mesh");
     assert!(matches!(mobius.oriented(), Err(Error::Complex { ref reason, .. }) if reason.contains("orientable")));
-}
-
-fn random_cfk_cell(n: usize, k: usize, seed: u64) -> CfkCell {
-    let mut rng = SplitMix(seed);
-    let mut base = [0; MAX_LATTICE_DIMENSION];
-    for x in base.iter_mut().take(n) {
-        *x = rng.below(5) as i64 - 2;
-    }
-    // a random surjective labelling of a random subset of axes onto 1..=k
-    loop {
-        let mut labels = [0u8; MAX_LATTICE_DIMENSION];
-        let mut used = 0u32;
-        for l in labels.iter_mut().take(n) {
-            *l = rng.below(k + 1) as u8;
-            used |= 1 << *l;
-        }
-        if used >> 1 == (1 << k) - 1 {
-            return CfkCell {
-                base,
-                labels,
-                k: k as u8,
-            };
-        }
-    }
-}
-
-proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
-
-    /// Stokes on the infinite lattices: random chains of random cells near the
-    /// origin and random cochains on their faces.
-    #[test]
-    fn stokes_on_infinite_lattices(n in 1usize..=4, k_seed in 0usize..4, seed in any::<u64>(),
-                                   coefficients in proptest::collection::vec(-3i64..=3, 1..6)) {
-        let k = 1 + k_seed % n;
-        let cfk = CfkLattice::new(n).expect("CFK");
-        let mut c = Chain::new();
-        for (m, &a) in coefficients.iter().enumerate() {
-            c.add(random_cfk_cell(n, k, seed.wrapping_add(m as u64)), a);
-        }
-        let mut rng = SplitMix(seed);
-        let mut omega = Cochain::new();
-        let mut faces = Vec::new();
-        for (beta, _) in c.iter() {
-            cfk.faces(beta, &mut faces);
-            for (alpha, _) in &faces {
-                omega.set(*alpha, 2.0 * rng.uniform() - 1.0);
-            }
-        }
-        let lhs = c.pair(&omega.coboundary(&cfk));
-        let rhs = c.boundary(&cfk).pair(&omega);
-        prop_assert!((lhs - rhs).abs() <= 1e-13 * (1.0 + lhs.abs()));
-        prop_assert!(c.boundary(&cfk).boundary(&cfk).is_zero());
-
-        let cubic = CubicLattice::new(n).expect("cubic");
-        let mut cc = Chain::new();
-        for (m, &a) in coefficients.iter().enumerate() {
-            let cell = random_cfk_cell(n, k, seed.wrapping_add(m as u64));
-            cc.add(carrier_cube(&cell), a);
-        }
-        // (carrier cubes of k-cells may have several dimensions: Stokes holds
-        // dimension by dimension, so also for the mixed chain)
-        let mut w = Cochain::new();
-        let mut cube_faces = Vec::new();
-        for (beta, _) in cc.iter() {
-            cubic.faces(beta, &mut cube_faces);
-            for (alpha, _) in &cube_faces {
-                w.set(*alpha, 2.0 * rng.uniform() - 1.0);
-            }
-        }
-        let lhs = cc.pair(&w.coboundary(&cubic));
-        let rhs = cc.boundary(&cubic).pair(&w);
-        prop_assert!((lhs - rhs).abs() <= 1e-13 * (1.0 + lhs.abs()));
-    }
 }

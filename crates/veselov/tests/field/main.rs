@@ -17,6 +17,7 @@ mod threads;
 mod field_2p1;
 mod field_affine_chain;
 mod field_complex;
+mod field_complex_stokes;
 mod field_core;
 mod field_density;
 mod field_density_run;

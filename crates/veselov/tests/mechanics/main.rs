@@ -20,5 +20,6 @@ mod readme_example;
 mod run_resume;
 mod sem;
 mod sem_reference;
+mod sem_structure;
 mod separable_start;
 mod variational_order;
