@@ -45,7 +45,7 @@ def same_bits(a, b):
 
 
 # One scenario of each kind: mechanics (fixed step), SEM (variable step),
-# custom expression system, rigid body, lattice field, CFK field.
+# custom expression system, rigid body, lattice field, CFK field, beam, rod.
 KINDS = [
     ("kepler.toml", {"time.t_end": 20.0}),
     ("kepler_sem.toml", {"time.t_end": 10.0}),
@@ -53,6 +53,8 @@ KINDS = [
     ("rigid_body.toml", {"time.t_end": 10.0}),
     ("wave.toml", {"time.t_end": 5.0}),
     ("klein_gordon_complex.toml", {"time.t_end": 2.0}),
+    ("beam_free_free.toml", {"time.t_end": 0.1}),
+    ("rod_timoshenko.toml", {"time.t_end": 10.0}),
 ]
 
 
