@@ -34,6 +34,20 @@ fn random_cfk_cell(n: usize, k: usize, seed: u64) -> CfkCell {
     }
 }
 
+/// ⟨c, dω⟩ and ⟨∂c, ω⟩ for a random cochain ω on the faces of the cells of
+/// the chain `c`.
+fn stokes_sides<K: CellComplex>(complex: &K, c: &Chain<K::Cell>, rng: &mut SplitMix) -> (f64, f64) {
+    let mut omega = Cochain::new();
+    let mut faces = Vec::new();
+    for (beta, _) in c.iter() {
+        complex.faces(beta, &mut faces);
+        for (alpha, _) in &faces {
+            omega.set(alpha.clone(), 2.0 * rng.uniform() - 1.0);
+        }
+    }
+    (c.pair(&omega.coboundary(complex)), c.boundary(complex).pair(&omega))
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
@@ -49,16 +63,7 @@ proptest! {
             c.add(random_cfk_cell(n, k, seed.wrapping_add(m as u64)), a);
         }
         let mut rng = SplitMix(seed);
-        let mut omega = Cochain::new();
-        let mut faces = Vec::new();
-        for (beta, _) in c.iter() {
-            cfk.faces(beta, &mut faces);
-            for (alpha, _) in &faces {
-                omega.set(*alpha, 2.0 * rng.uniform() - 1.0);
-            }
-        }
-        let lhs = c.pair(&omega.coboundary(&cfk));
-        let rhs = c.boundary(&cfk).pair(&omega);
+        let (lhs, rhs) = stokes_sides(&cfk, &c, &mut rng);
         prop_assert!((lhs - rhs).abs() <= 1e-13 * (1.0 + lhs.abs()));
         prop_assert!(c.boundary(&cfk).boundary(&cfk).is_zero());
 
@@ -70,16 +75,7 @@ proptest! {
         }
         // (carrier cubes of k-cells may have several dimensions: Stokes holds
         // dimension by dimension, so also for the mixed chain)
-        let mut w = Cochain::new();
-        let mut cube_faces = Vec::new();
-        for (beta, _) in cc.iter() {
-            cubic.faces(beta, &mut cube_faces);
-            for (alpha, _) in &cube_faces {
-                w.set(*alpha, 2.0 * rng.uniform() - 1.0);
-            }
-        }
-        let lhs = cc.pair(&w.coboundary(&cubic));
-        let rhs = cc.boundary(&cubic).pair(&w);
+        let (lhs, rhs) = stokes_sides(&cubic, &cc, &mut rng);
         prop_assert!((lhs - rhs).abs() <= 1e-13 * (1.0 + lhs.abs()));
     }
 }
