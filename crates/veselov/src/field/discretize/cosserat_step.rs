@@ -529,16 +529,12 @@ fn write_gradients<P: RodPotential>(
     for (c, arm) in cells.iter().zip(arms) {
         let q = lag.quantities_from_strain(c.sigma, s0, [y0, &top], arm.a, *b, c.eps);
         let base = 3 * c.cell.shape;
-        let Some(f) = c.frame else {
-            let later = lag.later_gradients(&q, y0.rotation.matrix(), &arm.da, &db);
-            gradients[base + 1..base + 3].copy_from_slice(&later);
-            continue;
-        };
-        let [mut middle, top] = lag.later_gradients(&q, &(y0.rotation.matrix() * f.rotation), &arm.da, &db);
-        let mut rotation = middle.fixed_rows_mut::<3>(3);
-        rotation += c.middle_torque;
-        gradients[base + 1] = middle;
-        gradients[base + 2] = top;
+        let frame = c
+            .frame
+            .map_or(*y0.rotation.matrix(), |f| y0.rotation.matrix() * f.rotation);
+        let middle = c.frame.map(|_| &c.middle_torque);
+        let later = lag.later_gradients(&q, &frame, middle, &arm.da, &db);
+        gradients[base + 1..base + 3].copy_from_slice(&later);
     }
 }
 

@@ -51,15 +51,15 @@ impl<P: RodPotential> CosseratCell<P> {
             self.position_gradient(c.sigma, c.s0, &y[0], &frame, &c.v, &c.eps),
             equation.value_with(&c.b, &db) + torques.0,
         );
-        let [mut second, third] = self.later_gradients(&c, &frame, &da, &db);
-        let mut middle = second.fixed_rows_mut::<3>(3);
-        middle += torques.1;
+        let middle = (self.shear == ShearFrame::Centred).then_some(&torques.1);
+        let [second, third] = self.later_gradients(&c, &frame, middle, &da, &db);
         Ok([first, second, third])
     }
 
     /// The gradients at positions 1 and 2 (note 003 §3.5), from the cell's
-    /// quantities, the shear's frame (R₀, or R₀E centred: see [`ShearFrame`];
-    /// the centred shear's term at ∇_{R₁} is the caller's), D_a and D_b:
+    /// quantities, the shear's frame (R₀, or R₀E centred: see [`ShearFrame`]),
+    /// the centred shear's torque at R₁ (`middle_torque`, added to ∇_{R₁};
+    /// `None` in R₀'s frame), D_a and D_b:
     /// (−(σΔt/2)R₀C₁ε; −(σΔt/2)D_aᵀC₂u) and
     /// ((ρΔs/4)v_d + (σΔt/4)R₀C₁ε; D_bᵀ((Δs/4)Jω_d + (σΔt/4)C₂u)).
     #[inline]
@@ -67,6 +67,7 @@ impl<P: RodPotential> CosseratCell<P> {
         &self,
         c: &Cell<f64>,
         frame: &Matrix3<f64>,
+        middle_torque: Option<&Vector3<f64>>,
         da: &Matrix3<f64>,
         db: &Matrix3<f64>,
     ) -> [SVector<f64, 6>; 2] {
@@ -74,8 +75,12 @@ impl<P: RodPotential> CosseratCell<P> {
         let (ds, st) = (self.ds, c.sigma * self.dt);
         let c1e = frame * (p.c1 * c.eps);
         let c2u = p.c2 * c.u;
+        let mut middle_rotation = -(da.transpose() * c2u) * (st / 2.0);
+        if let Some(torque) = middle_torque {
+            middle_rotation += torque;
+        }
         [
-            join(-c1e * (st / 2.0), -(da.transpose() * c2u) * (st / 2.0)),
+            join(-c1e * (st / 2.0), middle_rotation),
             join(
                 c.v * (p.rho * ds / 4.0) + c1e * (st / 4.0),
                 db.transpose() * (p.inertia * c.omega * (ds / 4.0) + c2u * (st / 4.0)),
