@@ -38,21 +38,22 @@ impl<P: RodPotential> CosseratCell<P> {
         let db = so3::dexp_inv(&(-c.b));
         let arm = RotationArm { a: c.a, da };
         let equation = RotationEquation::new(self.constants_at(c.s0), &[arm], 0.0);
-        // The shear's frame and rotation gradients (base, middle vertex).
+        // The shear's frame and rotation gradients at the base vertex and,
+        // centred, at the middle one.
         let tau = self.strain_torque(c.s0, &c.eps);
-        let (frame, torques) = match self.shear {
-            ShearFrame::Vertex => (*r0, (tau, Vector3::zeros())),
+        let (frame, base_torque, middle_torque) = match self.shear {
+            ShearFrame::Vertex => (*r0, tau, None),
             ShearFrame::Centred => {
                 let centred = CentredFrame::at(&c.a);
-                (r0 * centred.rotation, centred.torques(&da, &tau))
+                let (base, middle) = centred.torques(&da, &tau);
+                (r0 * centred.rotation, base, Some(middle))
             }
         };
         let first = join(
             self.position_gradient(c.sigma, c.s0, &y[0], &frame, &c.v, &c.eps),
-            equation.value_with(&c.b, &db) + torques.0,
+            equation.value_with(&c.b, &db) + base_torque,
         );
-        let middle = (self.shear == ShearFrame::Centred).then_some(&torques.1);
-        let [second, third] = self.later_gradients(&c, &frame, middle, &da, &db);
+        let [second, third] = self.later_gradients(&c, &frame, middle_torque.as_ref(), &da, &db);
         Ok([first, second, third])
     }
 

@@ -406,10 +406,10 @@ impl<P: RodPotential> CosseratCell<P> {
         let b = log(&tmm(&r0m, &rotation))?;
         let db = dexp_inv(&neg(&b))?;
         let cell_forces = loads.map(|loads| self.lane_damping_forces(loads, &r0, &r2, &b));
-        let mut later = self.lane_gradients(
+        let later = self.lane_gradients(
             (&p, same),
             &r0m,
-            frames.as_ref(),
+            frames.as_ref().map(|f| (f, &middle_torques)),
             &r0,
             &r2,
             (&arms_a, &arms_da),
@@ -417,12 +417,6 @@ impl<P: RodPotential> CosseratCell<P> {
             &b,
             &db,
         );
-        if frames.is_some() {
-            // The centred shear's torque at R₁ (`write_gradients`).
-            for (cell, torque) in later.iter_mut().zip(&middle_torques) {
-                cell[1] = add(&cell[1], torque);
-            }
-        }
         let mut done = [false; L];
         for l in 0..count.min(L) {
             if !matches!(state[l], LaneState::Solved) {
@@ -518,15 +512,16 @@ impl<P: RodPotential> CosseratCell<P> {
 
     /// The gradients at positions 1 and 2 of both cells of each lane
     /// (`CosseratCell::later_gradients` of the cells' quantities with
-    /// b = log(R₀ᵀR₂) and r₂, from C₁ε_σ, with the shear in R₀E_σ when
-    /// `frames` are given), in the marcher's layout.
+    /// b = log(R₀ᵀR₂) and r₂, from C₁ε_σ; with the centred `frames` given,
+    /// the shear in R₀E_σ and each cell's torque at R₁ added to ∇_{R₁}), in
+    /// the marcher's layout.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn lane_gradients<const L: usize>(
         &self,
         (p, same): (&[&super::RodParameters; L], bool),
         r0m: &M3<L>,
-        frames: Option<&[LaneFrame<L>; 2]>,
+        frames: Option<(&[LaneFrame<L>; 2], &[V3<L>; 2])>,
         r0: &V3<L>,
         r2: &V3<L>,
         (arms_a, arms_da): (&[V3<L>; 2], &[M3<L>; 2]),
@@ -549,12 +544,16 @@ impl<P: RodPotential> CosseratCell<P> {
             let u = scale_by(&sub(&scale_by(&arms_a[c], 2.0), b), sigma * self.inv_ds);
             let c1e = match frames {
                 None => mv(r0m, &c1_eps[c]),
-                Some(f) => mv(&mm(r0m, &f[c].rotation), &c1_eps[c]),
+                Some((f, _)) => mv(&mm(r0m, &f[c].rotation), &c1_eps[c]),
             };
             let c2u = mv(&c2, &u);
+            let mut middle_rotation = scale_by(&neg(&tmv(&arms_da[c], &c2u)), st / 2.0);
+            if let Some((_, torques)) = frames {
+                middle_rotation = add(&middle_rotation, &torques[c]);
+            }
             *cell = [
                 scale_by(&neg(&c1e), st / 2.0),
-                scale_by(&neg(&tmv(&arms_da[c], &c2u)), st / 2.0),
+                middle_rotation,
                 add(&scale(&velocity, rho * ds / 4.0), &scale_by(&c1e, st / 4.0)),
                 tmv(
                     db,
