@@ -16,7 +16,7 @@ use std::path::Path;
 
 use nalgebra::{SMatrix, SVector};
 use serde_json::json;
-use veselov::field::evolution::{Direction, EndCondition, Evolution000, EvolutionStepper};
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000, EvolutionStepper};
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{CayleyMap, ExpMap, LieGroup, Retraction, SE3};
 use veselov::models::beam::paper::{DS, DT, LAST_TIME_NODE, XI0, prescribed_columns};

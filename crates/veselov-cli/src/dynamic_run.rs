@@ -10,9 +10,9 @@
 //! Forces and the variable-step SEM methods need at most
 //! [`MAX_FIXED_DIMENSION`] coordinates, and say so naming the key.
 
+use veselov::mechanics::DynStepper;
 use veselov::mechanics::{DynGalerkinIntegrator, DynLagrangian, DynState, GalerkinScheme, dyn_energy, dyn_momentum};
 use veselov::num_dual::Dual64;
-use veselov::run::DynStepper;
 
 use crate::catalog::Choice;
 use crate::custom::{DynCustomLagrangian, DynCustomSymmetry, MAX_DIMENSION, MAX_FIXED_DIMENSION};

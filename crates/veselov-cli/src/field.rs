@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::SVector;
 use serde::Deserialize;
-use veselov::field::{
+use veselov::spacetime::{
     Boundary, ComplexKleinGordon, ComplexPlaneWave, Density, FieldRunConfig, Generator, InitialData, Lattice, Model,
     NonlinearWave, Phi4, RectangleRule, Scheme, SineGordon, SolverOptions, TriangleRule, Wave,
 };

@@ -6,12 +6,12 @@
 
 use nalgebra::SVector;
 use serde_json::json;
-use veselov::field::{
+use veselov::run::{Checkpoint, Control, Observer, Outcome, StepStats, Stepper, StopWhen, Words, save_count};
+use veselov::spacetime::{
     BlockAccumulator, CellEnergy, DensityStepper, FastLevels, FastMarcher, FastStepper, FieldRunConfig, Generator,
     GenericMarcher, Lattice, Levels, Model, Phi4, ScalarPotential, SineGordon, Wave, level_energy, shift_charge,
     split_charge,
 };
-use veselov::run::{Checkpoint, Control, Observer, Outcome, StepStats, Stepper, StopWhen, Words, save_count};
 
 use crate::error::CliError;
 use crate::field::LoadedField;
@@ -202,7 +202,7 @@ where
     let s = &loaded.scenario;
     let dir = session.dir.clone();
     let dt = lattice.dt();
-    let total = veselov::field::run::planned_levels(s.time.t_end, dt);
+    let total = veselov::spacetime::run::planned_levels(s.time.t_end, dt);
     let nodes = lattice.nodes();
     let tail: Vec<usize> = if frame.components == 1 {
         vec![nodes]

@@ -26,13 +26,13 @@ use std::path::{Path, PathBuf};
 use nalgebra::{Matrix3, Quaternion, SVector, Vector3};
 use serde::Deserialize;
 use serde_json::json;
+use veselov::lgvi::GroupStepper;
 use veselov::lgvi::{
     GroupState, GroupStepMap, SplitLieIntegrator, SplitReducedLagrangian, energy, integrate_group, rk4_group_reference,
     spatial_momentum,
 };
 use veselov::lie::{CayleyMap, ExpMap, GroupFamily, Retraction, RigidMotions, Rotations, SE3, SO3, so3};
 use veselov::models::{FreeRigidBody, FreeRigidBodySE3, HeavyTop};
-use veselov::run::GroupStepper;
 
 use crate::error::CliError;
 use crate::output::prepare_dir;

@@ -49,13 +49,13 @@ use std::path::{Path, PathBuf};
 use nalgebra::Vector3;
 use serde::Deserialize;
 use veselov::field::cauchy::CauchyOptions;
-use veselov::field::discretize::{RodLoads, RodParameters, ShearFrame};
 use veselov::field::fibre::Pose;
 use veselov::lie::so3;
 use veselov::models::rod::{
     BENDING_STIFFENING_PER_LOCKING, CrossSection, EndCondition, Material, RodEnds, RodLattice, courant_number,
     largest_step, locking_number, rod_parameters, spacing_for_locking,
 };
+use veselov::models::rod::{RodLoads, RodParameters, ShearFrame};
 
 use crate::error::CliError;
 use crate::rod_motion::{Centreline, MotionSpec, driven_end, parse_expression};

@@ -28,10 +28,11 @@ use serde_json::json;
 use veselov::field::CauchyStepper;
 use veselov::field::cauchy::CauchyMarcher;
 use veselov::field::cell::DiscreteLagrangian;
-use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, ShearFrame, VertexRule, Weight};
+use veselov::field::discretize::{CfkNodes, VertexRule};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
 use veselov::models::rod::{BendingError, EndCondition, energy, load_impulse};
+use veselov::models::rod::{CosseratCell, CosseratDensity, ShearFrame, Weight};
 use veselov::run::{Checkpoint, Control, Observer, Status, StepStats, StopWhen, Words};
 
 use crate::error::CliError;

@@ -4,8 +4,10 @@
 
 use nalgebra::SVector;
 use serde_json::json;
+use veselov::mechanics::PhaseStepper;
 use veselov::mechanics::{GalerkinScheme, Method, PhaseState};
-use veselov::run::{Checkpoint, PhaseStepper, SemStepper, Stepper, StopWhen, Words};
+use veselov::run::{Checkpoint, Stepper, StopWhen, Words};
+use veselov::sem::SemStepper;
 use veselov::sem::{SemRule, SemState};
 
 use crate::catalog::{self, Choice};

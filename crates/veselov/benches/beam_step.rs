@@ -18,8 +18,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::SVector;
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000};
 use veselov::field::cauchy::CauchyOptions;
-use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{CayleyMap, Retraction, SE3, se3};
 use veselov::models::beam::{BeamDensity, BeamProperties, CayleyBeam, beam_lagrangian, straight};

@@ -15,13 +15,13 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::{Matrix3, SVector, Vector3};
 use veselov::ad::Scalar;
+use veselov::complex::{CfkTorus, TopCell, permutation};
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::DiscreteLagrangian;
-use veselov::field::complex::{CfkTorus, TopCell, permutation};
 use veselov::field::discretize::{CfkNodes, MidpointRule};
 use veselov::field::fibre::{Euclidean, Fibre, Pose, PositionRotation};
-use veselov::field::potential::{NonlinearWave, SineGordon};
 use veselov::lie::so3;
+use veselov::spacetime::potential::{NonlinearWave, SineGordon};
 
 const NODES: usize = 32;
 /// Nodes per axis of the frame-field run (its vertex solves are 6-D, with

@@ -5,7 +5,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use veselov::field::{FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
+use veselov::spacetime::{FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
 
 /// Levels between restarts (keeps the solitons in the same regime).
 const RESTART: usize = 20_000;

@@ -26,9 +26,9 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::Vector3;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
-use veselov::field::discretize::{CosseratCell, CosseratDensity, RodLoads, RodParameters, ShearFrame};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
+use veselov::models::rod::{CosseratCell, CosseratDensity, RodLoads, RodParameters, ShearFrame};
 use veselov::models::rod::{CrossSection, Material, RodLattice, Shear, largest_step, load_impulse, rod_parameters};
 use veselov::run::on_pool;
 

@@ -183,3 +183,13 @@ pub fn check_step(h: f64) -> Result<()> {
         Err(Error::InvalidStep { h })
     }
 }
+
+/// The [`Error::InvalidParameter`] for parameter `name` with `value`, refused
+/// for `reason`.
+pub(crate) fn invalid(name: &str, value: impl std::fmt::Display, reason: &str) -> Error {
+    Error::InvalidParameter {
+        name: name.to_string(),
+        value: value.to_string(),
+        reason: reason.to_string(),
+    }
+}

@@ -33,8 +33,10 @@
 //! ```
 
 pub mod ad;
+pub mod complex;
 pub mod diagnostics;
 pub mod error;
+pub mod evolution;
 pub mod expr;
 pub mod field;
 pub mod lgvi;
@@ -44,6 +46,7 @@ pub mod models;
 pub mod run;
 pub mod sem;
 pub mod solve;
+pub mod spacetime;
 pub mod special;
 pub mod tableau;
 #[cfg(test)]

@@ -23,7 +23,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use veselov::field::{
+use veselov::spacetime::{
     FastMarcher, FieldRunConfig, InitialData, Lattice, Scheme, SineGordon, SolverOptions, fourth_difference_max,
     highest_mode_amplitude, run_lattice,
 };

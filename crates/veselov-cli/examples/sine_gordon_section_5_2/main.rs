@@ -31,7 +31,7 @@ mod scheme_run;
 
 use std::path::{Path, PathBuf};
 
-use veselov::field::Scheme;
+use veselov::spacetime::Scheme;
 use veselov_cli::output::npy_header_shape;
 use veselov_cli::plot::{Figure, Scale, Series, draw};
 

@@ -22,7 +22,7 @@ use std::collections::VecDeque;
 use std::path::Path;
 use std::time::Instant;
 
-use veselov::field::{
+use veselov::spacetime::{
     BlockAccumulator, BlockStats, CollisionCounter, FieldRun, FieldRunConfig, Lattice, Scheme, SineGordon,
     guo_printed_energy, rectangle_energy, run_lattice,
 };

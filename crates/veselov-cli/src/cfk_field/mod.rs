@@ -41,12 +41,13 @@ use std::path::{Path, PathBuf};
 use nalgebra::{SVector, Vector3};
 use serde::Deserialize;
 use serde_json::json;
+use veselov::complex::CfkTorus;
+use veselov::field::CauchyStepper;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
-use veselov::field::complex::CfkTorus;
 use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
 use veselov::field::fibre::Euclidean;
-use veselov::field::{CauchyStepper, ComplexKleinGordon, NonlinearWave, Phi4, Potential, SineGordon, Wave};
 use veselov::run::{Control, Observer, StepStats, StopWhen, Words};
+use veselov::spacetime::{ComplexKleinGordon, NonlinearWave, Phi4, Potential, SineGordon, Wave};
 
 use crate::error::CliError;
 use crate::field::{FieldModelSpec, FieldTimeSpec};

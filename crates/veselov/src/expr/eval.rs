@@ -3,20 +3,9 @@
 
 use num_dual::DualNum;
 
-use super::ops::{Func, Op};
+use super::ops::{Node, Op};
 use super::parser::Parser;
 use super::{ExprError, ExprErrorKind, SymbolTable};
-
-/// Expression tree node; children are indices into the node array.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Node {
-    Var(usize),
-    Const(f64),
-    Unary(Func, usize),
-    Binary(Op, usize, usize),
-    /// `first op₁ x₁ op₂ x₂ …` evaluated left to right, links in `links[start..end]`.
-    Chain(usize, usize, usize),
-}
 
 /// A parsed, compiled expression. Evaluating it does not allocate: it walks a
 /// flat, constant-folded node array over the variable slots of the
@@ -115,6 +104,7 @@ impl Expr {
 
 #[cfg(test)]
 mod tests {
+    use super::super::ops::Func;
     use super::*;
     use crate::expr::test_support::table;
     use nalgebra::SVector;

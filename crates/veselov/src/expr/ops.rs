@@ -1,4 +1,5 @@
-//! The built-in operations, applied to any automatic-differentiation scalar.
+//! The built-in operations, applied to any automatic-differentiation scalar,
+//! and the node of a compiled expression that refers to them.
 
 use num_dual::DualNum;
 
@@ -130,4 +131,15 @@ pub(super) fn builtin(name: &str) -> Option<(usize, Result<Func, Op>)> {
         _ => return None,
     };
     Some((1, Ok(f)))
+}
+
+/// Expression tree node; children are indices into the node array.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Node {
+    Var(usize),
+    Const(f64),
+    Unary(Func, usize),
+    Binary(Op, usize, usize),
+    /// `first op₁ x₁ op₂ x₂ …` evaluated left to right, links in `links[start..end]`.
+    Chain(usize, usize, usize),
 }

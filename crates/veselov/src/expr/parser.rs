@@ -1,8 +1,7 @@
 //! Recursive-descent parser: source text to a constant-folded node array,
 //! with names resolved against a symbol table and nesting bounded.
 
-use super::eval::Node;
-use super::ops::{CONSTANTS, Func, Op, builtin};
+use super::ops::{CONSTANTS, Func, Node, Op, builtin};
 use super::symbols::Symbol;
 use super::{ExprError, ExprErrorKind, MAX_HEIGHT, MAX_NESTING, MIN_CHAIN, SymbolTable};
 

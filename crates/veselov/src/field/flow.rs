@@ -30,9 +30,9 @@ use super::cell::{
     DiscreteLagrangian, MAX_CELL_VERTICES, add_vertex_terms, check_closed_form, exact_gradient, vertex_force,
     with_values,
 };
-use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome, solve_legendre_from};
+use crate::complex::{StarEntry, TopCells};
 use crate::solve::SmallLu;
 use crate::{Error, Result};
 

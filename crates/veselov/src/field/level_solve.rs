@@ -23,9 +23,9 @@
 use nalgebra::SVector;
 
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, exact_gradient, mixed_block};
-use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
 use super::legendre::CauchyOptions;
+use crate::complex::{StarEntry, TopCells};
 use crate::solve::{BlockTridiagonal, BlockTridiagonalLu};
 use crate::{Error, Result};
 

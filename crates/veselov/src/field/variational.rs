@@ -10,8 +10,8 @@
 use nalgebra::SVector;
 
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, vertex_gradient};
-use super::complex::{StarEntry, TopCells};
 use super::fibre::Fibre;
+use crate::complex::{StarEntry, TopCells};
 use crate::{Error, Result};
 
 /// Checks that a field has one value per vertex.

@@ -49,6 +49,7 @@
 mod carry;
 mod diagnostics;
 mod discrete;
+mod group_stepper;
 mod integrator;
 mod lagrangian;
 mod reference;
@@ -57,8 +58,9 @@ mod state;
 
 pub use diagnostics::{body_velocity, energy, lie_symplecticity_defect, spatial_momentum};
 pub use discrete::{action_partials, discrete_lagrangian, left_gradient, momentum_residual};
+pub use group_stepper::{GroupStepper, integrate_group, integrate_group_observed};
 pub use integrator::LieGroupIntegrator;
 pub use lagrangian::{ReducedLagrangian, SplitReducedLagrangian};
 pub use reference::rk4_group_reference;
 pub use split::{SplitLieIntegrator, check_inertia};
-pub use state::{GroupState, GroupStepMap, GroupTrajectory, integrate_group, integrate_group_observed};
+pub use state::{GroupState, GroupStepMap, GroupTrajectory};

@@ -8,6 +8,7 @@ pub mod force;
 pub mod galerkin;
 pub mod lagrangian;
 pub mod noether;
+pub mod phase_stepper;
 pub mod scheme;
 pub mod separable;
 pub mod state;
@@ -21,6 +22,7 @@ pub use lagrangian::{
     Hessian, Jet, Lagrangian, acceleration, energy, forced_acceleration, hessian, jet, momentum, velocity_from_momentum,
 };
 pub use noether::{AffineSymmetry, Symmetry, invariance_defect, momentum_map};
+pub use phase_stepper::{DynStepper, PhaseStepper, integrate, integrate_observed};
 pub use scheme::{GalerkinScheme, MAX_STAGES, Method};
 pub use separable::{Potential, SeparableIntegrator, SeparableLagrangian};
-pub use state::{FlowJacobian, OneStepMap, PhaseState, StepStats, Trajectory, integrate, integrate_observed};
+pub use state::{FlowJacobian, OneStepMap, PhaseState, StepStats, Trajectory};

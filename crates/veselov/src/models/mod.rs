@@ -4,7 +4,7 @@
 //! The field models (sine-Gordon, wave, φ⁴, complex Klein–Gordon) are not
 //! here: each is just a potential of the field core's Lagrangian density and
 //! implements that core's traits, so they live with it in
-//! [`crate::field::potential`] (re-exported as `veselov::field::{SineGordon, …}`).
+//! [`crate::spacetime::potential`] (re-exported as `veselov::field::{SineGordon, …}`).
 
 pub mod beam;
 pub mod damped_kepler;

@@ -15,10 +15,10 @@ pub trait Checkpoint {
     /// Restore from words written by [`Checkpoint::save`] of the same kind of object.
     ///
     /// Words that do not fit leave the lattice marchers
-    /// ([`FastMarcher`](crate::field::FastMarcher),
-    /// [`GenericMarcher`](crate::field::GenericMarcher),
+    /// ([`FastMarcher`](crate::spacetime::FastMarcher),
+    /// [`GenericMarcher`](crate::spacetime::GenericMarcher),
     /// [`CauchyMarcher`](crate::field::cauchy::CauchyMarcher)) and seed
-    /// 000's [`Evolution000`](crate::field::evolution::Evolution000) as they
+    /// 000's [`Evolution000`](crate::evolution::marcher::Evolution000) as they
     /// were: they read every word before replacing anything. Other
     /// implementations (states, steppers' carries,
     /// observers) may be left partly restored by an error: restore into a

@@ -323,3 +323,11 @@ mod tests {
         assert_eq!((out.status, out.last_step), (Status::Interrupted, 4));
     }
 }
+
+/// The first non-finite quantity among named slices.
+pub(crate) fn first_non_finite<'a>(parts: impl IntoIterator<Item = (&'a str, &'a [f64])>) -> Option<String> {
+    parts
+        .into_iter()
+        .find(|(_, x)| x.iter().any(|v| !v.is_finite()))
+        .map(|(name, _)| name.to_string())
+}

@@ -2,10 +2,11 @@
 //! split of the `argmin` crate.
 //!
 //! * A [`Stepper`] advances a state by one step and reports [`StepStats`]:
-//!   `x_{k+1} = Φ(x_k)`. Every family implements it through an adapter
-//!   ([`PhaseStepper`] for fixed-step maps on phase space, [`GroupStepper`]
-//!   on matrix groups, [`SemStepper`] for variable steps, and the lattice
-//!   marchers of [`crate::field`]).
+//!   `x_{k+1} = Φ(x_k)`. Every family implements it beside its integrator
+//!   ([`crate::mechanics::PhaseStepper`] for fixed-step maps on phase space,
+//!   [`crate::lgvi::GroupStepper`] on matrix groups,
+//!   [`crate::sem::SemStepper`] for variable steps, and the lattice marchers
+//!   of [`crate::field`], [`crate::spacetime`] and [`crate::evolution`]).
 //! * [`drive`] runs a stepper until a [`StopWhen`] condition holds (end time,
 //!   step count, interruption flag) or a step fails, and shows every new
 //!   state to its [`Observer`]s: writers, progress bars, diagnostic
@@ -25,14 +26,13 @@
 //! [`on_pool`] runs a whole run on a thread of the rayon pool, where the
 //! lattice marchers hand a level's vertices to the other threads cheaply.
 
-mod adapters;
 mod checkpoint;
 mod driver;
 mod pool;
 mod states;
 
-pub use adapters::{DynStepper, GroupStepper, PhaseStepper, SemStepper};
 pub use checkpoint::{Checkpoint, Words, save_count};
 pub(crate) use checkpoint::{restore_option, save_option};
+pub(crate) use driver::first_non_finite;
 pub use driver::{Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, drive};
 pub use pool::on_pool;

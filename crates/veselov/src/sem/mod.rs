@@ -9,8 +9,10 @@ mod predictor;
 pub mod run;
 mod separable;
 pub mod stepper;
+mod variable_stepper;
 
 pub use action::{ActionDerivatives, SemAction, SemRule};
 pub use bvp::solve_lee_bvp;
 pub use run::{SemRun, run_sem};
 pub use stepper::{SemIntegrator, SemOptions, SemState, SemStepInfo, VariableStepMap};
+pub use variable_stepper::SemStepper;

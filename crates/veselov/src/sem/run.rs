@@ -4,7 +4,8 @@ use nalgebra::SVector;
 
 use super::stepper::{SemState, VariableStepMap};
 use crate::error::Error;
-use crate::run::{Control, SemStepper, StepStats, StopWhen, drive};
+use crate::run::{Control, StepStats, StopWhen, drive};
+use crate::sem::SemStepper;
 
 /// A variable-step trajectory; a failure keeps what was computed.
 #[derive(Debug, Clone, PartialEq)]

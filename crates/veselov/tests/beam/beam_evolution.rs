@@ -7,9 +7,9 @@
 use nalgebra::{SMatrix, SVector};
 
 use crate::checkpoints::check_checkpoint;
+use veselov::complex::{SpacetimeLattice, TopCells};
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000, EvolutionMomentum};
 use veselov::field::cauchy::CauchyOptions;
-use veselov::field::complex::{SpacetimeLattice, TopCells};
-use veselov::field::evolution::{Direction, EndCondition, Evolution000, EvolutionMomentum};
 use veselov::field::fibre::RigidMotions;
 use veselov::field::variational::{euler_lagrange, noether_balance};
 use veselov::lie::{CayleyMap, Retraction, SE3, se3};

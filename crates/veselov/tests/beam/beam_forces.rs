@@ -5,10 +5,10 @@
 //! Δs → 0.
 
 use nalgebra::SVector;
+use veselov::complex::{SpacetimeLattice, TopCells};
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::cell::{vertex_force, vertex_gradient};
-use veselov::field::complex::{SpacetimeLattice, TopCells};
-use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{CayleyMap, Retraction, SE3, se3};
 use veselov::models::beam::{BeamDensity, BeamProperties, CayleyBeam, beam_lagrangian, straight};

@@ -10,10 +10,10 @@
 
 use nalgebra::SVector;
 use veselov::ad::Scalar;
+use veselov::complex::TopCell;
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::cell::DiscreteLagrangian;
-use veselov::field::complex::TopCell;
-use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{CayleyMap, ExpMap, Retraction, SE3, se3};
 use veselov::models::beam::{BeamDensity, BeamLagrangian, BeamProperties, beam_lagrangian, straight};
@@ -180,7 +180,7 @@ fn one_edge_gradients_are_the_closed_forms_bits() {
     let cell = TopCell {
         index: 0,
         shape: 0,
-        origin: [0; veselov::field::complex::MAX_LATTICE_DIMENSION],
+        origin: [0; veselov::complex::MAX_LATTICE_DIMENSION],
     };
     for k in 0..20 {
         let y = [0, 1, 2].map(|l| straight(0.1, l % 2).compose(&se3::exp(&(wave(3 * k + l) * 0.4))));

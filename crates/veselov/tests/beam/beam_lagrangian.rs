@@ -5,10 +5,10 @@
 //! scheme (through the rolling-window evolution driver).
 
 use nalgebra::{SVector, Vector3};
+use veselov::complex::{SpacetimeLattice, TopCells};
+use veselov::evolution::split::{DiagonalQuadratic, Difference, GroupIncrement, Increment, SplitLagrangian};
 use veselov::field::cell::{DiscreteLagrangian, mixed_block_dual, vertex_gradient};
-use veselov::field::complex::{SpacetimeLattice, TopCells};
 use veselov::field::fibre::{Euclidean, RigidMotions};
-use veselov::field::split::{DiagonalQuadratic, Difference, GroupIncrement, Increment, SplitLagrangian};
 use veselov::field::variational::{action, euler_lagrange};
 use veselov::lie::{CayleyMap, ExpMap, Retraction, SE3};
 use veselov::models::beam::{BeamDensity, BeamLagrangian, BeamProperties, beam_lagrangian, left_generators, straight};

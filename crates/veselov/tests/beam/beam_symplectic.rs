@@ -8,9 +8,9 @@
 //! fourth-order central difference (truncation ~h⁴ ≈ 1e-12 at h = 1e-3).
 
 use nalgebra::{DMatrix, SVector};
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::cell::vertex_gradient;
-use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{CayleyMap, Retraction, SE3, se3};
 use veselov::models::beam::{BeamDensity, BeamProperties, CayleyBeam, beam_lagrangian, straight};

@@ -22,8 +22,8 @@
 //! at first order by symmetry.
 
 use nalgebra::{DMatrix, SVector};
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000};
 use veselov::field::cauchy::CauchyOptions;
-use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{SE3, se3};
 use veselov::models::beam::{BeamDensity, BeamProperties, CayleyBeam, beam_lagrangian, straight};

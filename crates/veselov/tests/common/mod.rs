@@ -96,9 +96,9 @@ pub fn step_counts(n0: usize, count: usize) -> Vec<usize> {
 
 /// The kink–antikink data of seed 002 §5.2 (paper start, ε = 1e-6) on a
 /// periodic lattice of `nodes` nodes over length 40 with h = k/`ratio`.
-pub fn kink_antikink(nodes: usize, ratio: f64) -> (veselov::field::Lattice, Vec<f64>, Vec<f64>) {
-    let lat = veselov::field::Lattice::periodic(nodes, 40.0, ratio).expect("valid lattice");
-    let (y0, y1) = veselov::field::InitialData::KinkAntikink {
+pub fn kink_antikink(nodes: usize, ratio: f64) -> (veselov::spacetime::Lattice, Vec<f64>, Vec<f64>) {
+    let lat = veselov::spacetime::Lattice::periodic(nodes, 40.0, ratio).expect("valid lattice");
+    let (y0, y1) = veselov::spacetime::InitialData::KinkAntikink {
         epsilon: 1e-6,
         paper_start: true,
     }

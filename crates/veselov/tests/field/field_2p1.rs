@@ -12,11 +12,11 @@
 use std::f64::consts::PI;
 
 use nalgebra::{SVector, Vector2, Vector3};
+use veselov::complex::CfkTorus;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions, LevelSplitting};
-use veselov::field::complex::CfkTorus;
 use veselov::field::discretize::{CfkNodes, MidpointRule};
 use veselov::field::fibre::Euclidean;
-use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
+use veselov::spacetime::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
 
 use crate::shared::cauchy_data;
 use crate::threads;
@@ -146,7 +146,7 @@ fn translation_momenta_and_phase_charge_are_conserved() {
 /// uncached path (node positions and edge inverse per cell).
 struct Uncached<P>(NonlinearWave<P>);
 
-impl<P: veselov::field::potential::Potential<1> + Send + Sync>
+impl<P: veselov::spacetime::potential::Potential<1> + Send + Sync>
     veselov::field::discretize::SmoothDensity<Euclidean<1>, 1, 3> for Uncached<P>
 {
     fn density<D: veselov::ad::Scalar>(
@@ -160,8 +160,8 @@ impl<P: veselov::field::potential::Potential<1> + Send + Sync>
 }
 
 /// The simplex of shape `shape` based at the origin.
-fn shape_cell(shape: usize) -> veselov::field::complex::TopCell {
-    veselov::field::complex::TopCell {
+fn shape_cell(shape: usize) -> veselov::complex::TopCell {
+    veselov::complex::TopCell {
         index: shape,
         shape,
         origin: [0; 8],
@@ -170,8 +170,8 @@ fn shape_cell(shape: usize) -> veselov::field::complex::TopCell {
 
 #[test]
 fn cached_shape_geometry_agrees_with_the_per_cell_path() {
+    use veselov::complex::factorial;
     use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
-    use veselov::field::complex::factorial;
     let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("node map");
     let cached = MidpointRule::new(NonlinearWave(SineGordon), nodes);
     let plain = MidpointRule::new(Uncached(NonlinearWave(SineGordon)), nodes);
@@ -201,8 +201,8 @@ fn cached_shape_geometry_agrees_with_the_per_cell_path() {
 /// 18 directions do not fit and are refused.
 #[test]
 fn later_gradients_in_one_pass_are_the_per_vertex_gradients() {
+    use veselov::complex::factorial;
     use veselov::field::cell::{later_gradients, vertex_gradient};
-    use veselov::field::complex::factorial;
     use veselov::field::fibre::{Pose, PositionRotation};
     let scalar = MidpointRule::new(
         NonlinearWave(SineGordon),
@@ -238,9 +238,9 @@ fn later_gradients_in_one_pass_are_the_per_vertex_gradients() {
         }
     }
     assert!(worst < 1e-14, "one wide pass and per-vertex passes differ by {worst:e}");
-    let frame = veselov::field::discretize::CosseratCell::new(
-        veselov::field::discretize::CosseratDensity::free(
-            veselov::field::discretize::RodParameters::new(
+    let frame = veselov::models::rod::CosseratCell::new(
+        veselov::models::rod::CosseratDensity::free(
+            veselov::models::rod::RodParameters::new(
                 1.0,
                 nalgebra::Matrix3::identity(),
                 nalgebra::Matrix3::identity(),

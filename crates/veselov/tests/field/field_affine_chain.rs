@@ -7,12 +7,12 @@
 
 use nalgebra::{SMatrix, SVector, Vector2};
 use veselov::ad::Scalar;
+use veselov::complex::{CfkTorus, MAX_LATTICE_DIMENSION, TopCell, factorial};
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::{DiscreteLagrangian, mixed_block_dual, vertex_gradient};
-use veselov::field::complex::{CfkTorus, MAX_LATTICE_DIMENSION, TopCell, factorial};
 use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
 use veselov::field::fibre::Euclidean;
-use veselov::field::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
+use veselov::spacetime::potential::{ComplexKleinGordon, NonlinearWave, SineGordon};
 
 use crate::shared::cauchy_data;
 use crate::threads;
@@ -511,7 +511,7 @@ fn a_wrong_metric_declaration_is_refused() {
 /// whose values are all known when it is built.
 #[test]
 fn a_flow_marcher_refuses_a_wrong_metric_declaration() {
-    use veselov::field::complex::{CfkWindow, TopCells};
+    use veselov::complex::{CfkWindow, TopCells};
     use veselov::field::flow::FlowMarcher;
     let window = CfkWindow::open(&[3, 3, 2]).expect("window");
     let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");

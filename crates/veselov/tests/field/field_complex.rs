@@ -6,15 +6,15 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use veselov::Error;
-use veselov::field::Lattice;
-use veselov::field::complex::window::factorial;
-use veselov::field::complex::{
+use veselov::complex::window::factorial;
+use veselov::complex::{
     Axis, CellComplex, CfkCell, CfkLattice, CfkWindow, Chain, Cochain, CubicCell, CubicLattice, CubicWindow,
     FiniteComplex, MAX_LATTICE_DIMENSION, Point, Simplicial, SimplicialMesh, SpacetimeKind, SpacetimeLattice,
     StarEntry, TopCells, carrier_cube, geometric_incidence, incidence_from_orientation, locate, orientation, validate,
     validate_cells,
 };
-use veselov::field::lattice::{Boundary, CellShape};
+use veselov::spacetime::Lattice;
+use veselov::spacetime::lattice::{Boundary, CellShape};
 
 use crate::shared::SplitMix;
 
@@ -364,9 +364,9 @@ fn example_2_19() {
             point(&[6, 3, 5, -1, 6])
         ]
     );
-    assert_eq!(veselov::field::complex::cfk_geometry::volume_axes(&beta), vec![0, 1, 2]);
+    assert_eq!(veselov::complex::cfk_geometry::volume_axes(&beta), vec![0, 1, 2]);
     let alpha = CfkCell::new(&beta.base, &[&[0, 2, 3], &[1]]).expect("face");
-    assert_eq!(veselov::field::complex::cfk_geometry::volume_axes(&alpha), vec![0, 1]);
+    assert_eq!(veselov::complex::cfk_geometry::volume_axes(&alpha), vec![0, 1]);
     assert_eq!(beta.face(1), Some((alpha, 1)), "α = β∖{{v1}}, closed form [β:α] = +1");
     assert_eq!(geometric_incidence(&beta, &alpha), 1, "Def. 2.18 [β:α] = +1");
     // exact point location with exactly representable fractions

@@ -2,7 +2,7 @@
 //! note 003 T3): random chains of random cells near the origin, random
 //! cochains on their faces, ∂∂ = 0 on the chains (property tests).
 
-use veselov::field::complex::{
+use veselov::complex::{
     CellComplex, CfkCell, CfkLattice, Chain, Cochain, CubicLattice, MAX_LATTICE_DIMENSION, carrier_cube,
 };
 

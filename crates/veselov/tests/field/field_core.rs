@@ -6,9 +6,9 @@
 
 use nalgebra::{DMatrix, Matrix3, SVector, Vector2, Vector3};
 use veselov::ad::Scalar;
+use veselov::complex::{CfkSlab, CfkTorus, TopCell, TopCells, permutation};
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::{DiscreteLagrangian, mixed_block_dual, vertex_gradient};
-use veselov::field::complex::{CfkSlab, CfkTorus, TopCell, TopCells, permutation};
 use veselov::field::fibre::{Euclidean, Fibre, Pose, PositionRotation, RigidMotions, Rotations};
 use veselov::field::flow::FlowMarcher;
 use veselov::field::variational::{action, euler_lagrange, noether_balance};
@@ -218,7 +218,7 @@ fn mixed_blocks_are_the_derivatives_of_the_vertex_gradients_for_every_fibre() {
     let cell = TopCell {
         index: 0,
         shape: 3,
-        origin: [0; veselov::field::complex::MAX_LATTICE_DIMENSION],
+        origin: [0; veselov::complex::MAX_LATTICE_DIMENSION],
     };
     let wave = AffineWave::<3, 2> {
         dx: 0.3,

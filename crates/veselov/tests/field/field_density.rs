@@ -4,7 +4,7 @@
 
 use nalgebra::SVector;
 use proptest::prelude::*;
-use veselov::field::{
+use veselov::spacetime::{
     Boundary, CellLagrangian, CellShape, ComplexKleinGordon, GenericMarcher, Lattice, Node, NonlinearWave,
     RectangleRule, Region, SineGordon, Tangent, TriangleRule, action, delf_residual, multisymplectic_boundary_sum,
     node_value, split_symplectic_form, window,

@@ -2,7 +2,7 @@
 //! on Dirichlet lattices, and the exact complex Klein–Gordon plane wave.
 
 use nalgebra::SVector;
-use veselov::field::{
+use veselov::spacetime::{
     Boundary, ComplexKleinGordon, ComplexPlaneWave, DensityRunConfig, FastMarcher, InitialData, Lattice, NonlinearWave,
     RectangleRule, Scheme, SineGordon, SolverOptions, TriangleRule, Wave, level_energy, run_density,
 };

@@ -8,15 +8,17 @@ use crate::field_discretize_rod::rod_parameters;
 use crate::shared::{SplitMix, cell, nodes_of, nudged, rel, rel_vec};
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use veselov::ad::Scalar;
+use veselov::complex::TopCell;
 use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
-use veselov::field::complex::TopCell;
 use veselov::field::discretize::{
-    CellCheck, CellError, CfkNodes, CosseratCell, CosseratDensity, CubeCentreRule, CubeNodes, MidpointRule, NodeMap,
-    SmoothDensity, SpaceTime, VertexRule, affine_jet, cube_corner, factorial, vertex_jet,
+    CellCheck, CellError, CfkNodes, CubeCentreRule, CubeNodes, MidpointRule, NodeMap, SmoothDensity, VertexRule,
+    affine_jet, cube_corner, factorial, vertex_jet,
 };
 use veselov::field::fibre::{Euclidean, Pose};
-use veselov::field::{CellLagrangian, NonlinearWave, RectangleRule, SineGordon, TriangleRule, Wave};
 use veselov::lie::{SO3, so3};
+use veselov::models::rod::{CosseratCell, CosseratDensity};
+use veselov::spacetime::SpaceTime;
+use veselov::spacetime::{CellLagrangian, NonlinearWave, RectangleRule, SineGordon, TriangleRule, Wave};
 
 /// A random well-conditioned matrix: identity plus a perturbation.
 fn random_map<const N: usize>(rng: &mut SplitMix) -> SMatrix<f64, N, N> {

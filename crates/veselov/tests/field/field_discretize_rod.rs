@@ -5,12 +5,11 @@
 
 use crate::shared::{SplitMix, cell, nodes_of, nudged, rel, rel_vec};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use veselov::complex::TopCell;
 use veselov::field::cell::{DiscreteLagrangian, mixed_block, vertex_gradient};
-use veselov::field::complex::TopCell;
-use veselov::field::discretize::{
-    CfkNodes, CosseratCell, CosseratDensity, LinearPotential, RodParameters, ShearFrame, VertexRule, vertex_jet,
-};
+use veselov::field::discretize::{CfkNodes, VertexRule, vertex_jet};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
+use veselov::models::rod::{CosseratCell, CosseratDensity, LinearPotential, RodParameters, ShearFrame};
 
 fn spd(rng: &mut SplitMix) -> Matrix3<f64> {
     let b = rng.mat::<3, 3>(1.0);

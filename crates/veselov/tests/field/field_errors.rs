@@ -2,7 +2,7 @@
 //! what they computed.
 
 use veselov::Error;
-use veselov::field::{
+use veselov::spacetime::{
     Boundary, ComplexKleinGordon, FastMarcher, FieldRunConfig, GenericMarcher, InitialData, Lattice, Model,
     NonlinearWave, PeriodicKink, Scheme, SineGordon, SolverOptions, TriangleRule, run_lattice,
 };

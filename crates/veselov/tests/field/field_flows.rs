@@ -6,9 +6,9 @@
 
 use nalgebra::SVector;
 use veselov::ad::Scalar;
+use veselov::complex::{SpacetimeLattice, TopCell, TopCells};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::cell::DiscreteLagrangian;
-use veselov::field::complex::{SpacetimeLattice, TopCell, TopCells};
 use veselov::field::fibre::Euclidean;
 use veselov::field::flow::FlowMarcher;
 

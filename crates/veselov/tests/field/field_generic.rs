@@ -4,7 +4,7 @@
 use nalgebra::SVector;
 
 use crate::checkpoints::check_checkpoint;
-use veselov::field::{
+use veselov::spacetime::{
     Boundary, CellLagrangian, FastMarcher, GenericMarcher, InitialData, Lattice, Node, NonlinearWave, Phi4, Potential,
     RectangleRule, ScalarPotential, Scheme, SineGordon, SolverOptions, TriangleRule, Wave, delf_residual, node_value,
 };

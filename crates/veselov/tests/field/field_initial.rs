@@ -5,7 +5,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use veselov::field::PeriodicKink;
+use veselov::spacetime::PeriodicKink;
 
 fn paper_kink() -> PeriodicKink {
     PeriodicKink::new(10.0, 1e-6).expect("the paper's data")

@@ -7,12 +7,12 @@
 
 use nalgebra::{SMatrix, SVector};
 use veselov::ad::Scalar;
+use veselov::complex::{SpacetimeLattice, StarEntry, TopCell, TopCells};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::cell::{DiscreteLagrangian, exact_gradient, mixed_block_dual};
-use veselov::field::complex::{SpacetimeLattice, StarEntry, TopCell, TopCells};
 use veselov::field::fibre::Euclidean;
 use veselov::field::level_solve::solve_level;
-use veselov::field::{
+use veselov::spacetime::{
     CellShape, CoreCell, FastMarcher, InitialData, Lattice, NonlinearWave, RectangleRule, Scheme, SineGordon,
     SolverOptions, TriangleRule,
 };
@@ -68,7 +68,7 @@ fn march_levels<L: DiscreteLagrangian<Euclidean<1>, 1>>(
     }
 }
 
-fn compare<L: veselov::field::CellLagrangian<1>>(scheme: Scheme, shape: CellShape, rule: &L, levels: usize) -> f64 {
+fn compare<L: veselov::spacetime::CellLagrangian<1>>(scheme: Scheme, shape: CellShape, rule: &L, levels: usize) -> f64 {
     let lat = Lattice::periodic(48, 24.0, 4.0).expect("lattice");
     let (y0, y1) = kink_antikink(&lat);
     let opts = SolverOptions {

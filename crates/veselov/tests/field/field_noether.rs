@@ -3,7 +3,7 @@
 //! Klein–Gordon field are conserved over 10⁴ levels.
 
 use nalgebra::{SVector, Vector2};
-use veselov::field::{
+use veselov::spacetime::{
     Boundary, ComplexKleinGordon, FastMarcher, GenericMarcher, InitialData, Lattice, NonlinearWave, Scheme,
     SolverOptions, TriangleRule, Wave, shift_charge, split_charge,
 };
@@ -106,7 +106,7 @@ fn complex_klein_gordon_phase_charge_with_rectangles() {
     let field = |t: f64| rotating_field(n, t);
     let jrot = |y: &SVector<f64, 2>| Vector2::new(-y[1], y[0]);
     for symmetric in [false, true] {
-        let lag = veselov::field::RectangleRule {
+        let lag = veselov::spacetime::RectangleRule {
             density: NonlinearWave(model),
             dt: h,
             dx: k,

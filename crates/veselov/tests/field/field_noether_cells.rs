@@ -14,10 +14,10 @@
 
 use crate::shared::Xorshift;
 use nalgebra::{SVector, Vector2};
-use veselov::field::complex::{SpacetimeLattice, TopCells};
+use veselov::complex::{SpacetimeLattice, TopCells};
 use veselov::field::fibre::Euclidean;
 use veselov::field::variational::noether_balance;
-use veselov::field::{
+use veselov::spacetime::{
     CellLagrangian, CellShape, ComplexKleinGordon, ComplexPlaneWave, CoreCell, GenericMarcher, Lattice, NonlinearWave,
     RectangleRule, TriangleRule, Wave, cell_gradient,
 };
@@ -148,7 +148,7 @@ fn solution<L: CellLagrangian<2> + Clone>(lag: L, lattice: Lattice, levels: usiz
 
 #[test]
 fn noether_currents_vanish_on_arbitrary_regions_of_a_solution() {
-    let lattice = Lattice::new(24, K, H, veselov::field::Boundary::Periodic).expect("lattice");
+    let lattice = Lattice::new(24, K, H, veselov::spacetime::Boundary::Periodic).expect("lattice");
     let levels = 12;
     let mut rng = Xorshift(0x5eed_0005);
     for (name, shape, symmetric) in [

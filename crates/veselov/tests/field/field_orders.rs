@@ -2,7 +2,7 @@
 //! sine-Gordon breather (second order in k at fixed h/k).
 
 use veselov::diagnostics::fit_order;
-use veselov::field::{FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
+use veselov::spacetime::{FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
 
 /// Breather with ω = 0.5 on a circle of length 60: its tails are
 /// ~e^{−30·√(1−ω²)} ≈ 5·10⁻¹² at the seam, far below the errors fitted.

@@ -1,7 +1,7 @@
 //! The fast paths solve the printed residual forms (5.8), (5.10), (5.12),
 //! (5.14), (5.15) (with the corrected increment forms of note 002 §1.4).
 
-use veselov::field::{FastMarcher, InitialData, Lattice, ScalarPotential, Scheme, SineGordon, SolverOptions};
+use veselov::spacetime::{FastMarcher, InitialData, Lattice, ScalarPotential, Scheme, SineGordon, SolverOptions};
 
 fn kink_antikink(n: usize, ratio: f64) -> (Lattice, Vec<f64>, Vec<f64>) {
     let lat = Lattice::periodic(n, 40.0, ratio).expect("valid lattice");

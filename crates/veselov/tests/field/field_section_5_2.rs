@@ -5,7 +5,7 @@
 
 use crate::common;
 use common::kink_antikink;
-use veselov::field::{
+use veselov::spacetime::{
     CollisionCounter, FastMarcher, FieldRunConfig, InitialData, Lattice, Scheme, SineGordon, SolverOptions,
     fourth_difference_max, guo_printed_energy, highest_mode_amplitude, rectangle_energy, run_lattice,
 };

@@ -6,7 +6,7 @@ use crate::common;
 use common::kink_antikink;
 use std::f64::consts::{PI, TAU};
 
-use veselov::field::{Boundary, FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
+use veselov::spacetime::{Boundary, FastMarcher, InitialData, Lattice, Scheme, SineGordon, SolverOptions};
 
 struct Block {
     min: f64,
@@ -49,7 +49,7 @@ fn energy_blocks(scheme: Scheme, levels: usize, block: usize) -> (f64, Vec<Block
 /// (≈ 25.73); the energy error oscillates with that period, so means over
 /// whole periods remove the oscillation and leave any drift.
 fn ten_collision_periods(h: f64) -> usize {
-    let c = veselov::field::PeriodicKink::new(10.0, 1e-6).expect("kink").speed;
+    let c = veselov::spacetime::PeriodicKink::new(10.0, 1e-6).expect("kink").speed;
     (10.0 * 40.0 / (2.0 * c) / h).round() as usize
 }
 
@@ -263,7 +263,7 @@ fn symmetric_rectangle_even_odd_mode() {
 /// `(1 − c²) φ'²/2 + cos φ` constant, with `φ(0) = 0`, `φ(L̃/2) = π`, `φ(L̃) = 2π`.
 #[test]
 fn kink_profile_has_the_papers_period_speed_and_ode() {
-    let kink = veselov::field::PeriodicKink::new(10.0, 1e-6).expect("kink");
+    let kink = veselov::spacetime::PeriodicKink::new(10.0, 1e-6).expect("kink");
     let kappa: f64 = 1.0 - 1e-6;
     // 1 − κ² = ε(2 − ε), without the cancellation of 1 − κ·κ.
     let (mut a, mut b) = (1.0_f64, (1e-6_f64 * (2.0 - 1e-6)).sqrt());

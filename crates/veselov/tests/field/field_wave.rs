@@ -3,7 +3,7 @@
 //! level, stability for h/k < 1 and growth for h/k > 1.
 
 use veselov::diagnostics::fit_order;
-use veselov::field::{FastMarcher, InitialData, Lattice, Scheme, SolverOptions, Wave};
+use veselov::spacetime::{FastMarcher, InitialData, Lattice, Scheme, SolverOptions, Wave};
 
 const DATA: InitialData = InitialData::DAlembert {
     amplitude: 1.0,

@@ -4,7 +4,7 @@
 //! random generators.
 
 use nalgebra::{SMatrix, SVector, Vector3};
-use veselov::field::complex::{CfkTorus, TopCell};
+use veselov::complex::{CfkTorus, TopCell};
 use veselov::field::discretize::{CfkNodes, NodeMap};
 use veselov::field::fibre::Fibre;
 use veselov::lie::{SO3, so3};

@@ -3,11 +3,13 @@
 //! reproduces the uninterrupted run bit for bit.
 
 use nalgebra::{Matrix3, Vector2, Vector3};
+use veselov::lgvi::GroupStepper;
 use veselov::lgvi::{GroupState, SplitLieIntegrator};
 use veselov::lie::{CayleyMap, Rotations, so3};
+use veselov::mechanics::PhaseStepper;
 use veselov::mechanics::{GalerkinIntegrator, GalerkinScheme, Method, OneStepMap, PhaseState, SeparableIntegrator};
 use veselov::models::{DoublePendulum, FreeRigidBody, Kepler, VanDerPol};
-use veselov::run::{Checkpoint, GroupStepper, PhaseStepper, Stepper, StopWhen, Words, drive};
+use veselov::run::{Checkpoint, Stepper, StopWhen, Words, drive};
 
 /// Run `total` steps in one go (`whole`), and `split` steps (`first`) then
 /// the rest with a fresh stepper (`second`) restored from words; return both
@@ -106,7 +108,7 @@ fn lie_group_integrator_resumes_bit_for_bit() {
 /// iterations and lands on the same bits; without the carry it would not.
 #[test]
 fn variable_step_integrator_resumes_bit_for_bit() {
-    use veselov::run::SemStepper;
+    use veselov::sem::SemStepper;
     use veselov::sem::{SemAction, SemIntegrator, SemRule, SemState};
     let kepler = Kepler::new(0.5).expect("valid");
     let x0 = kepler.initial_state();

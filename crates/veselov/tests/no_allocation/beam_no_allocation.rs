@@ -5,8 +5,8 @@
 use std::sync::atomic::Ordering;
 
 use nalgebra::SVector;
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000};
 use veselov::field::cauchy::CauchyOptions;
-use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{CayleyMap, Retraction, SE3};
 use veselov::models::beam::{BeamDensity, BeamProperties, CayleyBeam, beam_lagrangian, left_generators, straight};

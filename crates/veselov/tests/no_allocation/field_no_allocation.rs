@@ -7,7 +7,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use nalgebra::SVector;
-use veselov::field::{
+use veselov::spacetime::{
     Boundary, CellLagrangian, FastMarcher, GenericMarcher, InitialData, Lattice, NonlinearWave, RectangleRule, Scheme,
     SineGordon, SolverOptions, TriangleRule,
 };
@@ -128,11 +128,12 @@ where
 /// and an end load.
 #[test]
 fn cauchy_levels_do_not_allocate() {
+    use veselov::complex::CfkTorus;
     use veselov::field::cauchy::{CauchyMarcher, CauchyOptions, LevelSplitting};
-    use veselov::field::complex::CfkTorus;
-    use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, MidpointRule, RodParameters};
+    use veselov::field::discretize::{CfkNodes, MidpointRule};
     use veselov::field::fibre::Pose;
-    use veselov::field::potential::ComplexKleinGordon;
+    use veselov::models::rod::{CosseratCell, CosseratDensity, RodParameters};
+    use veselov::spacetime::potential::ComplexKleinGordon;
     let torus = CfkTorus::new(3, &[8, 8]).expect("torus");
     let nodes = CfkNodes::<3>::space_time(0.3, 0.1).expect("nodes");
     let data = |m: usize| -> Vec<Vec<SVector<f64, 2>>> {
@@ -201,7 +202,7 @@ fn cauchy_levels_do_not_allocate() {
             veselov::lie::so3::exp(&nalgebra::Vector3::new(0.01 * s, 0.0, 0.02 * t)),
         )
     });
-    let loads = veselov::field::discretize::RodLoads {
+    let loads = veselov::models::rod::RodLoads {
         damping_linear: 0.3,
         damping_angular: 0.01,
         end_force: nalgebra::Vector3::new(0.01, -0.02, 0.0),

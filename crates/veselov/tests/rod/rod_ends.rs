@@ -6,15 +6,15 @@
 //! (small loads) and to Reissner's exact static solution (large ones).
 
 use nalgebra::Vector3;
+use veselov::complex::TopCell;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
-use veselov::field::complex::TopCell;
-use veselov::field::discretize::{CosseratCell, CosseratDensity, RodLoads, RodParameters, ShearFrame};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 use veselov::lie::so3;
 use veselov::models::rod::{
     BendingError, EndCondition, RodEnds, RodLattice, angular_momentum, linear_momentum, load_impulse, locking_number,
 };
+use veselov::models::rod::{CosseratCell, CosseratDensity, RodLoads, RodParameters, ShearFrame};
 
 use crate::reissner::Reissner;
 use crate::sample::unit_rod;
@@ -169,7 +169,7 @@ fn cell_forces_are_the_cell_force_at_each_position() {
     for w in 0..6_i64 {
         for i in 0..lattice.torus().level_size() {
             for shape in 0..2 {
-                let perm = veselov::field::complex::permutation(2, shape);
+                let perm = veselov::complex::permutation(2, shape);
                 let v0 = lattice.window().unwrap(&lattice.torus().vertex(w, i));
                 if !lattice.window().contains_cell(&v0, &perm) {
                     continue;

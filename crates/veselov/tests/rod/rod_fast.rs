@@ -7,9 +7,9 @@
 use nalgebra::SVector;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
-use veselov::field::discretize::{CosseratCell, CosseratDensity, ShearFrame};
 use veselov::field::fibre::{Fibre, PositionRotation};
 use veselov::models::rod::RodLattice;
+use veselov::models::rod::{CosseratCell, CosseratDensity, ShearFrame};
 
 use crate::sample::{tumbling, unit_rod};
 

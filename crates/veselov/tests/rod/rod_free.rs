@@ -3,12 +3,13 @@
 //! window, with truncated stars at the free ends.
 
 use nalgebra::{SVector, Vector3};
+use veselov::complex::{TopCell, permutation};
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions, LevelSplitting};
 use veselov::field::cell::{DiscreteLagrangian, vertex_gradient};
-use veselov::field::complex::{TopCell, permutation};
-use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, ShearFrame, VertexRule};
+use veselov::field::discretize::{CfkNodes, VertexRule};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 use veselov::lie::so3;
+use veselov::models::rod::{CosseratCell, CosseratDensity, ShearFrame};
 use veselov::models::rod::{RodLattice, angular_momentum, linear_momentum};
 
 use crate::sample::{tumbling, unit_rod};

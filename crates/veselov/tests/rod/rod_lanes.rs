@@ -8,9 +8,9 @@
 
 use nalgebra::Vector3;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions, LevelSplitting};
-use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential, RodLoads, RodParameters, ShearFrame};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 use veselov::lie::so3;
+use veselov::models::rod::{CosseratCell, CosseratDensity, LinearPotential, RodLoads, RodParameters, ShearFrame};
 use veselov::models::rod::{EndCondition, RodEnds, RodLattice, load_impulse};
 
 use crate::sample::{tumbling, unit_rod};
@@ -20,7 +20,7 @@ type Rod<P> = CauchyMarcher<PositionRotation, CosseratCell<P>, 6>;
 
 /// Every coordinate of the last `levels` levels of a march of `levels`
 /// levels, as bits, with the iterations and Jacobians it reported.
-fn history<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
+fn history<P: veselov::models::rod::RodPotential + Clone + Send + Sync>(
     mut m: Rod<P>,
     levels: usize,
 ) -> (Vec<u64>, usize, usize) {
@@ -44,7 +44,7 @@ fn history<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
 
 /// The march `make(lanes)` with the model's lanes and one vertex at a
 /// time, on one and two threads: all four the same.
-fn same_bits<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
+fn same_bits<P: veselov::models::rod::RodPotential + Clone + Send + Sync>(
     make: impl Fn(usize) -> Rod<P> + Sync,
     levels: usize,
 ) {
@@ -58,7 +58,7 @@ fn same_bits<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
 
 /// The march of `cell` on `lattice` from `motion`, with `ends` (free if
 /// `None`) and at most `lanes` vertices solved together.
-fn rod_march<P: veselov::field::discretize::RodPotential + Clone + Send + Sync>(
+fn rod_march<P: veselov::models::rod::RodPotential + Clone + Send + Sync>(
     cell: CosseratCell<P>,
     lattice: &RodLattice,
     ends: Option<&RodEnds>,

@@ -7,11 +7,11 @@
 //! erratum 5) stays constant.
 
 use nalgebra::Vector3;
+use veselov::complex::permutation;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
-use veselov::field::complex::permutation;
-use veselov::field::discretize::{CosseratCell, CosseratDensity, LinearPotential};
 use veselov::field::fibre::Pose;
 use veselov::lie::so3;
+use veselov::models::rod::{CosseratCell, CosseratDensity, LinearPotential};
 use veselov::models::rod::{RodLattice, angular_momentum, linear_momentum, momenta};
 
 use crate::sample::unit_rod;

@@ -6,9 +6,9 @@
 
 use nalgebra::Vector3;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
-use veselov::field::discretize::{CosseratCell, CosseratDensity, RodParameters};
 use veselov::field::fibre::{Fibre, Pose, PositionRotation};
 use veselov::lie::so3;
+use veselov::models::rod::{CosseratCell, CosseratDensity, RodParameters};
 use veselov::models::rod::{
     CrossSection, Material, RodLattice, Shear, StepCheck, courant_number, largest_step, rod_parameters,
     rotary_frequency, wave_speed,

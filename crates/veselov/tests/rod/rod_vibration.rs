@@ -29,10 +29,11 @@ use nalgebra::Vector3;
 use veselov::diagnostics::local_rates;
 use veselov::field::cauchy::{CauchyMarcher, CauchyOptions};
 use veselov::field::cell::DiscreteLagrangian;
-use veselov::field::discretize::{CfkNodes, CosseratCell, CosseratDensity, ShearFrame, VertexRule};
+use veselov::field::discretize::{CfkNodes, VertexRule};
 use veselov::field::fibre::{Pose, PositionRotation};
 use veselov::lie::so3;
 use veselov::models::rod::{BendingError, RodLattice, locking_number};
+use veselov::models::rod::{CosseratCell, CosseratDensity, ShearFrame};
 
 use crate::sample::unit_rod;
 use crate::timoshenko::Timoshenko;

@@ -1,9 +1,9 @@
 //! The sample rod and motion that several rod tests share.
 
 use nalgebra::Vector3;
-use veselov::field::discretize::RodParameters;
 use veselov::field::fibre::Pose;
 use veselov::lie::so3;
+use veselov::models::rod::RodParameters;
 use veselov::models::rod::{CrossSection, Material, Shear, rod_parameters};
 
 /// A slender steel-like rod of circular cross-section `radius` in units

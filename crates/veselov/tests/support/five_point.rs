@@ -5,9 +5,9 @@
 //! r = (cΔt/Δs)², μ = (mΔt)².
 
 use nalgebra::SVector;
+use veselov::evolution::marcher::{Direction, EndCondition, Evolution000};
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::cell::DiscreteLagrangian;
-use veselov::field::evolution::{Direction, EndCondition, Evolution000};
 use veselov::field::fibre::Euclidean;
 
 /// Steps [`Evolution000`] in time from levels 0 and 1 of `u`, with `u` at

@@ -5,8 +5,8 @@
 use nalgebra::SVector;
 
 use super::{CauchyMarcher, LevelSplitting, MAX_VERTEX_LANES, VertexResult};
+use crate::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, permutation};
 use crate::field::cell::{DiscreteLagrangian, SolvedVertex, check_closed_form};
-use crate::field::complex::{CfkTorus, MAX_LATTICE_DIMENSION, MaterialWindow, permutation};
 use crate::field::fibre::Fibre;
 use crate::field::legendre::{CauchyOptions, VertexOutcome};
 use crate::{Error, Result};

@@ -45,10 +45,10 @@ use std::sync::Arc;
 use nalgebra::SVector;
 
 use super::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex};
-use super::complex::{CfkTorus, LevelReduction, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell};
 use super::fibre::Fibre;
 use super::legendre::VertexOutcome;
 pub use super::legendre::{CauchyOptions, LevelReport};
+use crate::complex::{CfkTorus, LevelReduction, MAX_LATTICE_DIMENSION, MaterialWindow, TopCell};
 use crate::solve::SmallLu;
 use crate::{Error, Result};
 

@@ -6,8 +6,8 @@ use nalgebra::SVector;
 use rayon::prelude::*;
 
 use super::CauchyMarcher;
+use crate::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::field::cell::DiscreteLagrangian;
-use crate::field::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::field::fibre::Fibre;
 
 /// Vertices per block of [`CauchyMarcher::sum_straddling_cells`].
@@ -249,9 +249,9 @@ mod tests {
     use nalgebra::Vector3;
 
     use crate::field::cauchy::{CauchyMarcher, CauchyOptions};
-    use crate::field::discretize::{CosseratCell, CosseratDensity, RodLoads};
     use crate::field::fibre::Pose;
     use crate::lie::so3;
+    use crate::models::rod::{CosseratCell, CosseratDensity, RodLoads};
     use crate::models::rod::{CrossSection, Material, RodLattice, Shear, load_impulse, rod_parameters};
 
     type LoadedRod = CauchyMarcher<crate::field::fibre::PositionRotation, CosseratCell, 6>;

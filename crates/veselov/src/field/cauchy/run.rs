@@ -4,8 +4,8 @@
 //! momenta, from the stored cell terms.
 
 use super::{CauchyMarcher, LevelRows};
+use crate::complex::TopCell;
 use crate::field::cell::{DiscreteLagrangian, VertexLane, VertexRun};
-use crate::field::complex::TopCell;
 use crate::field::fibre::Fibre;
 
 /// The vertices `first … first + len − 1` of the level of `rows`, every one with an

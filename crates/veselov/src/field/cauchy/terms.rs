@@ -6,8 +6,8 @@
 use nalgebra::SVector;
 
 use super::{CauchyMarcher, LevelRows};
+use crate::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::field::cell::{DiscreteLagrangian, later_gradients, vertex_gradient};
-use crate::field::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::field::fibre::Fibre;
 use crate::solve::largest_abs;
 

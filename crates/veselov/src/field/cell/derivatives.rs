@@ -8,7 +8,7 @@ use num_dual::{Dual64, DualSVec, DualSVec64, HyperDual64, HyperDualSVec64};
 
 use super::{DiscreteLagrangian, MAX_CELL_VERTICES, SMALL_CELL, with_values};
 use crate::ad::Scalar;
-use crate::field::complex::TopCell;
+use crate::complex::TopCell;
 use crate::field::fibre::Fibre;
 
 /// The seeds e_i (i = 0..M) of M-direction dual numbers over `D`.
@@ -369,7 +369,7 @@ mod tests {
     const CELL: TopCell = TopCell {
         index: 0,
         shape: 0,
-        origin: [0; crate::field::complex::MAX_LATTICE_DIMENSION],
+        origin: [0; crate::complex::MAX_LATTICE_DIMENSION],
     };
 
     /// 50 random scalar cells of each size from 2 to `largest` vertices.

@@ -10,10 +10,10 @@
 
 use nalgebra::{Const, SMatrix, SVector, U1};
 
-use super::complex::TopCell;
 use super::fibre::Fibre;
 use super::legendre::{CauchyOptions, VertexOutcome};
 use crate::ad::Scalar;
+use crate::complex::TopCell;
 use crate::solve::SmallLu;
 
 mod derivatives;

@@ -6,14 +6,14 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::error::CellError;
-use super::metric_star::{LaneOutput, METRIC_LANES};
+use super::metric_lanes::{LaneOutput, METRIC_LANES};
 use super::nodes::{NodeMap, factorial};
 use super::rules::{cell_nodes, finite, invert_nodes, vertex_jet};
 use super::smooth::{SmoothDensity, energy_momentum_density};
 use super::suitability::CellCheck;
 use crate::ad::Scalar;
+use crate::complex::TopCell;
 use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES, SolvedVertex, VertexRun, VertexStar};
-use crate::field::complex::TopCell;
 use crate::field::fibre::Euclidean;
 use crate::field::legendre::CauchyOptions;
 
@@ -84,7 +84,7 @@ impl<L, X: NodeMap<N>, const N: usize> MidpointRule<L, X, N> {
                 let probe = TopCell {
                     index: 0,
                     shape,
-                    origin: [0; crate::field::complex::MAX_LATTICE_DIMENSION],
+                    origin: [0; crate::complex::MAX_LATTICE_DIMENSION],
                 };
                 let mut x = [SVector::<f64, N>::zeros(); MAX_CELL_VERTICES];
                 if cell_nodes(&nodes, &probe, &mut x) == N + 1 {

@@ -11,19 +11,19 @@
 //! not depend on position and every shape has its cached geometry); the
 //! vertices are then solved eight at a time by
 //! `solve_metric_stars`. The known sums and rises of each cell are those of
-//! [`PartialFrame::sum_and_rises`](super::affine_chain::PartialFrame::sum_and_rises) and the first guess is the fibre's extrapolation,
+//! [`PartialFrame::sum_and_rises`](super::affine_frame::PartialFrame::sum_and_rises) and the first guess is the fibre's extrapolation,
 //! as for a single star, so every vertex gets the bits it gets alone.
 
 use nalgebra::{SMatrix, SVector};
 
 use super::affine::MidpointRule;
-use super::metric_star::{
+use super::metric_lanes::{
     CellWeights, LaneFrames, LaneOutput, METRIC_CELL_VERTICES, METRIC_LANES, MetricStar, Potentials, StarGeometry,
 };
 use super::nodes::{NodeMap, factorial};
 use super::smooth::SmoothDensity;
+use crate::complex::TopCell;
 use crate::field::cell::{VertexLane, VertexRun};
-use crate::field::complex::TopCell;
 use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::CauchyOptions;
 

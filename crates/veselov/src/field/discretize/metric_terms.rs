@@ -18,7 +18,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::affine_chain::{AffineFrame, vertex_coefficient};
+use super::affine_frame::{AffineFrame, vertex_coefficient};
 
 /// η_a c_{la} for a = 0 … N − 1: the weights of vertex l's jet term.
 #[inline]

@@ -11,9 +11,9 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::super::complex::{MAX_LATTICE_DIMENSION, TopCell};
+use crate::complex::{MAX_LATTICE_DIMENSION, TopCell};
 use crate::error::Result;
-use crate::field::lattice::invalid;
+use crate::error::invalid;
 
 /// Positions x(v) ∈ ℝ^N of the ordered vertices of top cells.
 pub trait NodeMap<const N: usize>: Send + Sync {
@@ -30,7 +30,52 @@ pub trait NodeMap<const N: usize>: Send + Sync {
     }
 }
 
-pub use crate::field::complex::factorial;
+pub use crate::complex::factorial;
+
+/// Relative size below which a node determinant counts as singular:
+/// |det T| ≤ `SINGULAR_NODES` · Π|columns of T|.
+pub const SINGULAR_NODES: f64 = 1e-12;
+
+/// Inverse and determinant of a small square matrix by Gauss–Jordan
+/// elimination with partial pivoting (`None` if a pivot vanishes).
+pub fn invert<const N: usize>(t: &SMatrix<f64, N, N>) -> Option<(SMatrix<f64, N, N>, f64)> {
+    let mut a = *t;
+    let mut inv = SMatrix::<f64, N, N>::identity();
+    let mut det = 1.0;
+    for c in 0..N {
+        let (p, pivot) =
+            (c..N).map(|r| (r, a[(r, c)])).fold(
+                (c, 0.0_f64),
+                |best, (r, v)| if v.abs() > best.1.abs() { (r, v) } else { best },
+            );
+        if pivot == 0.0 || !pivot.is_finite() {
+            return None;
+        }
+        if p != c {
+            a.swap_rows(p, c);
+            inv.swap_rows(p, c);
+            det = -det;
+        }
+        det *= pivot;
+        let scale = 1.0 / pivot;
+        for j in 0..N {
+            a[(c, j)] *= scale;
+            inv[(c, j)] *= scale;
+        }
+        for r in 0..N {
+            if r != c {
+                let f = a[(r, c)];
+                if f != 0.0 {
+                    for j in 0..N {
+                        a[(r, j)] -= f * a[(c, j)];
+                        inv[(r, j)] -= f * inv[(c, j)];
+                    }
+                }
+            }
+        }
+    }
+    Some((inv, det))
+}
 
 /// The permutation σ ∈ Sym(n) with index `shape` in the **lexicographic
 /// order** of Sym(n) written as sequences (σ(0), …, σ(n−1)): index 0 is the
@@ -48,7 +93,7 @@ pub fn permutation(n: usize, shape: usize) -> Result<[usize; MAX_LATTICE_DIMENSI
     if shape >= factorial(n) {
         return Err(invalid("shape", shape, "permutation index must be below n!"));
     }
-    Ok(crate::field::complex::permutation(n, shape))
+    Ok(crate::complex::permutation(n, shape))
 }
 
 /// Corner k (0 ≤ k < 2ⁿ) of the unit cube in **binary order**: coordinate i
@@ -65,8 +110,8 @@ fn check_affine<const N: usize>(a: &SMatrix<f64, N, N>, offset: &SVector<f64, N>
         return Err(invalid("A", format!("{a}"), "entries must be finite"));
     }
     let scale: f64 = a.column_iter().map(|c| c.norm()).product();
-    let det = super::rules::invert(a).map_or(0.0, |(_, d)| d);
-    if !(scale > 0.0 && det.abs() > super::rules::SINGULAR_NODES * scale) {
+    let det = invert(a).map_or(0.0, |(_, d)| d);
+    if !(scale > 0.0 && det.abs() > SINGULAR_NODES * scale) {
         return Err(invalid(
             "A",
             format!("{a}"),
@@ -164,7 +209,7 @@ impl<const N: usize> NodeMap<N> for CfkNodes<N> {
         if out.len() < N + 1 || cell.shape >= factorial(N) {
             return 0;
         }
-        let sigma = crate::field::complex::permutation(N, cell.shape);
+        let sigma = crate::complex::permutation(N, cell.shape);
         let mut v = cell.origin;
         out[0] = self.node(&v);
         for i in 0..N {

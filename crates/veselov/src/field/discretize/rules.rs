@@ -27,60 +27,15 @@ use std::marker::PhantomData;
 use nalgebra::{SMatrix, SVector};
 
 use super::error::CellError;
-use super::nodes::{NodeMap, factorial};
+use super::nodes::{NodeMap, SINGULAR_NODES, factorial, invert};
 use super::smooth::SmoothDensity;
 use super::suitability::{CellCheck, GeodesicBall};
 use crate::ad::Scalar;
+use crate::complex::TopCell;
 use crate::error::Result;
+use crate::error::invalid;
 use crate::field::cell::{DiscreteLagrangian, MAX_CELL_VERTICES};
-use crate::field::complex::TopCell;
 use crate::field::fibre::Fibre;
-use crate::field::lattice::invalid;
-
-/// Relative size below which a node determinant counts as singular:
-/// |det T| ≤ `SINGULAR_NODES` · Π|columns of T|.
-pub const SINGULAR_NODES: f64 = 1e-12;
-
-/// Inverse and determinant of a small square matrix by Gauss–Jordan
-/// elimination with partial pivoting (`None` if a pivot vanishes).
-pub fn invert<const N: usize>(t: &SMatrix<f64, N, N>) -> Option<(SMatrix<f64, N, N>, f64)> {
-    let mut a = *t;
-    let mut inv = SMatrix::<f64, N, N>::identity();
-    let mut det = 1.0;
-    for c in 0..N {
-        let (p, pivot) =
-            (c..N).map(|r| (r, a[(r, c)])).fold(
-                (c, 0.0_f64),
-                |best, (r, v)| if v.abs() > best.1.abs() { (r, v) } else { best },
-            );
-        if pivot == 0.0 || !pivot.is_finite() {
-            return None;
-        }
-        if p != c {
-            a.swap_rows(p, c);
-            inv.swap_rows(p, c);
-            det = -det;
-        }
-        det *= pivot;
-        let scale = 1.0 / pivot;
-        for j in 0..N {
-            a[(c, j)] *= scale;
-            inv[(c, j)] *= scale;
-        }
-        for r in 0..N {
-            if r != c {
-                let f = a[(r, c)];
-                if f != 0.0 {
-                    for j in 0..N {
-                        a[(r, j)] -= f * a[(c, j)];
-                        inv[(r, j)] -= f * inv[(c, j)];
-                    }
-                }
-            }
-        }
-    }
-    Some((inv, det))
-}
 
 /// Inverse of a node matrix T (columns = edge vectors) and |det T|.
 pub(super) fn invert_nodes<const N: usize>(

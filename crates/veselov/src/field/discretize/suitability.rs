@@ -5,7 +5,7 @@
 use nalgebra::SVector;
 
 use super::error::CellError;
-use crate::field::complex::TopCell;
+use crate::complex::TopCell;
 use crate::field::fibre::{Euclidean, Fibre, PositionRotation, RigidMotions, Rotations};
 use crate::lie::SO3;
 

@@ -2,7 +2,7 @@
 //! [`SplitDensity`] on SE(3), and its discrete Lagrangian on seed 000's
 //! triangles, ℒ̄_d = ΔsΔt [K(ξ) − Φ(η) − ½(Π(g₁) + Π(g₃))] (note 000
 //! §15.2, with the potential averaged over the cell's space edge: see
-//! [`crate::field::split::SplitLagrangian`]).
+//! [`crate::evolution::split::SplitLagrangian`]).
 //!
 //! Gravity: Π(g) = −ρA ⟨𝐠, r⟩ per unit length for the acceleration 𝐠 (for
 //! example (0, 0, −9.81) m/s²) and the centreline position r of g = (Λ, r).
@@ -12,8 +12,8 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use super::section::BeamProperties;
 use crate::ad::Scalar;
 use crate::error::Result;
+use crate::evolution::split::{DiagonalQuadratic, GroupIncrement, SplitDensity, SplitLagrangian};
 use crate::field::fibre::RigidMotions;
-use crate::field::split::{DiagonalQuadratic, GroupIncrement, SplitDensity, SplitLagrangian};
 use crate::lie::{CayleyMap, ExpMap, LieGroup, SE3};
 
 /// K(ξ) = ½⟨𝕁ξ, ξ⟩, Φ(η) = ½⟨ℂ(η − E6), η − E6⟩, Π(g) = −ρA⟨𝐠, r⟩.
@@ -160,7 +160,7 @@ pub fn straight(ds: f64, a: usize) -> SE3<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::split::chart_gradient;
+    use crate::evolution::split::chart_gradient;
     use crate::lie::se3;
 
     /// The closed-form ∇Π against the dual pass through the chart and

@@ -8,7 +8,7 @@
 //! with diagonal 𝕁 and ℂ built from physical inputs ([`section`]) and an
 //! optional gravity potential ([`density`]). The discrete Lagrangian on
 //! seed 000's triangles is the core's
-//! [`SplitLagrangian`](crate::field::split::SplitLagrangian) over the group
+//! [`SplitLagrangian`](crate::evolution::split::SplitLagrangian) over the group
 //! increment τ⁻¹(g₁⁻¹g₂) with τ = Cayley or exp; the beam knows nothing of
 //! marchers or solvers.
 

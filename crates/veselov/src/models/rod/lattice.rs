@@ -6,8 +6,8 @@
 //! two levels. The lattice is a periodic [`CfkTorus`] cut to the body by a
 //! [`MaterialWindow`] (free ends).
 
+use crate::complex::{CfkTorus, MaterialWindow};
 use crate::error::{Error, Result};
-use crate::field::complex::{CfkTorus, MaterialWindow};
 use crate::field::fibre::Pose;
 use crate::models::positive;
 

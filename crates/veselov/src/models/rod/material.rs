@@ -13,8 +13,8 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::Result;
-use crate::field::discretize::RodParameters;
 pub use crate::models::elastic::{CrossSection, Material, Shear};
+use crate::models::rod::RodParameters;
 
 /// The rod parameters (6.1) of a uniform rod of `section` and `material`.
 ///

@@ -9,8 +9,8 @@ use nalgebra::{SVector, Vector3};
 
 use crate::field::cauchy::CauchyMarcher;
 use crate::field::cell::DiscreteLagrangian;
-use crate::field::discretize::{CosseratCell, RodPotential};
 use crate::field::fibre::{Pose, PositionRotation};
+use crate::models::rod::{CosseratCell, RodPotential};
 
 /// Linear momentum at the cut below the marcher's current level
 /// ([`CauchyMarcher::level_momentum`] of the translations; it approximates

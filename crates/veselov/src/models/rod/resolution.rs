@@ -32,11 +32,11 @@
 //! solid circle with ν = 0.3, κ = 0.9), not only against the length of the
 //! rod: [`spacing_for_locking`] gives the largest spacing for a chosen Λ.
 //! Or the shear is measured in the centred frame
-//! ([`ShearFrame::Centred`](crate::field::discretize::ShearFrame)), which
+//! ([`ShearFrame::Centred`](crate::models::rod::ShearFrame)), which
 //! does not lock; this module's estimates are those of the base vertex's
 //! frame (Prop. 6.5 and Q_sym).
 
-use crate::field::discretize::RodParameters;
+use crate::models::rod::RodParameters;
 
 /// The lattice's bending stiffening per unit of the locking number Λ
 /// ([`locking_number`]): the lattice bends like a rod of stiffness

@@ -21,8 +21,8 @@
 use crate::error::{Error, Result};
 use nalgebra::Matrix3;
 
-use crate::field::discretize::RodParameters;
 use crate::lie::so3;
+use crate::models::rod::RodParameters;
 
 /// The largest step number √((cΔt/Δs)² + (ωΔt/2)²) at which the march is stable.
 pub const COURANT_LIMIT: f64 = 1.0;
