@@ -18,7 +18,7 @@
 //! 002 and 000).
 //!
 //! ```
-//! use veselov::field::complex::{CfkWindow, SpacetimeLattice, StarEntry, TopCells};
+//! use veselov::complex::{CfkWindow, SpacetimeLattice, StarEntry, TopCells};
 //!
 //! // A periodic 4 × 5 CFK torus: 2 simplices per square, 6 in every star.
 //! let torus = CfkWindow::periodic(&[4, 5]).unwrap();

@@ -46,7 +46,7 @@ pub(crate) fn keep_wrapped<C>(cells: &mut Vec<(C, i8)>, wrap: impl Fn(&C) -> Opt
 /// Checks a lattice dimension: 1 ≤ n ≤ [`MAX_LATTICE_DIMENSION`].
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] naming `dimension`.
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) naming `dimension`.
 pub fn check_dimension(n: usize) -> Result<()> {
     if n == 0 || n > MAX_LATTICE_DIMENSION {
         return Err(invalid(
@@ -75,7 +75,7 @@ impl Extent {
     /// A window with the given axes (`axes.len()` is the dimension).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a dimension outside
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for a dimension outside
     /// 1..=[`MAX_LATTICE_DIMENSION`], an open axis of no cells, a periodic axis
     /// of fewer than 3 cells (the quotient would identify star-adjacent
     /// vertices), or a window whose size overflows.

@@ -109,7 +109,7 @@ pub fn integrate<const N: usize, M: OneStepMap<N> + ?Sized>(
 ///
 /// A thin wrapper over [`crate::run::drive`] with an observer that stores the
 /// states; a state that stops being finite ends the run with
-/// [`Error::NonFiniteState`] and is not stored.
+/// [`Error::NonFiniteState`](crate::Error::NonFiniteState) and is not stored.
 pub fn integrate_observed<const N: usize, M: OneStepMap<N> + ?Sized>(
     map: &mut M,
     initial: PhaseState<N>,

@@ -1,10 +1,15 @@
 //! The problem zoo: one file per physical model, with exact solutions and
 //! invariants where known. Models know nothing about integrators or solvers.
 //!
+//! The geometrically exact beam ([`beam`]) and the Cosserat rod ([`rod`])
+//! are here, as models of the field core ([`crate::evolution`] and
+//! [`crate::field`]): each holds everything that is the beam or the rod.
+//!
 //! The field models (sine-Gordon, wave, φ⁴, complex Klein–Gordon) are not
-//! here: each is just a potential of the field core's Lagrangian density and
-//! implements that core's traits, so they live with it in
-//! [`crate::spacetime::potential`] (re-exported as `veselov::field::{SineGordon, …}`).
+//! here: each is just a potential N(φ) of the nonlinear-wave density and
+//! implements the traits the fast 1+1 kernels need, so they live with those
+//! traits in [`crate::spacetime::potential`] (re-exported as
+//! `veselov::spacetime::{SineGordon, …}`).
 
 pub mod beam;
 pub mod damped_kepler;

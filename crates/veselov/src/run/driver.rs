@@ -225,6 +225,14 @@ pub fn drive<S: Stepper + ?Sized>(
     out
 }
 
+/// The first non-finite quantity among named slices.
+pub(crate) fn first_non_finite<'a>(parts: impl IntoIterator<Item = (&'a str, &'a [f64])>) -> Option<String> {
+    parts
+        .into_iter()
+        .find(|(_, x)| x.iter().any(|v| !v.is_finite()))
+        .map(|(name, _)| name.to_string())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -322,12 +330,4 @@ mod tests {
         );
         assert_eq!((out.status, out.last_step), (Status::Interrupted, 4));
     }
-}
-
-/// The first non-finite quantity among named slices.
-pub(crate) fn first_non_finite<'a>(parts: impl IntoIterator<Item = (&'a str, &'a [f64])>) -> Option<String> {
-    parts
-        .into_iter()
-        .find(|(_, x)| x.iter().any(|v| !v.is_finite()))
-        .map(|(name, _)| name.to_string())
 }

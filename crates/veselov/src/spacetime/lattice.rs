@@ -58,7 +58,7 @@ impl Lattice {
     /// (both positive and finite).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming `nodes`, `dx`, `dt` or `boundary`.
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) naming `nodes`, `dx`, `dt` or `boundary`.
     pub fn new(nodes: usize, dx: f64, dt: f64, boundary: Boundary) -> Result<Self> {
         if nodes < 3 {
             return Err(invalid("nodes", nodes, "a lattice needs at least 3 nodes"));

@@ -46,7 +46,7 @@ pub trait SmoothDensity<F: Fibre<M>, const M: usize, const N: usize>: Send + Syn
     /// `false` (the default): not provided, nothing written; rules then
     /// differentiate point by point. A density overrides it where its
     /// points share work (the sine-Gordon potential's trigonometry runs in
-    /// vector lanes, [`Potential::batch_derivatives`]).
+    /// vector lanes, [`Potential::batch_derivatives`](crate::spacetime::Potential::batch_derivatives)).
     fn jet_free_derivatives(
         &self,
         _x: &[SVector<f64, N>],
