@@ -29,7 +29,7 @@ use crate::output::Table;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run};
-use crate::run::RunJob;
+use crate::pipeline::RunJob;
 
 type Beam<R> = Evolution000<RigidMotions, BeamLagrangian<R>, 6>;
 

@@ -34,7 +34,7 @@ use veselov::field::{
 use crate::error::CliError;
 use crate::field_run::{march_fast, march_generic};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Session};
-use crate::run::RunJob;
+use crate::pipeline::RunJob;
 use crate::scenario::{check_plot_format, finite_value, key_error, output_dir, parse_toml, positive_value};
 
 /// The lattice-field model names.

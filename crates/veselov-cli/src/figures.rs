@@ -84,7 +84,7 @@ pub(crate) fn draw_changes(
 
 /// The coordinate columns of a trajectory table, each with its momentum
 /// column: the columns `c` before `energy` for which `p_c` also exists, or
-/// `q<i>` with `p<i>` (see [`crate::run::trajectory_header`]).
+/// `q<i>` with `p<i>` (see [`crate::kinds::mechanics::run::trajectory_header`]).
 pub fn coordinate_columns(table: &Table) -> Vec<(String, String)> {
     let before_energy = table.header.iter().take_while(|h| *h != "energy");
     let pairs = |p: &dyn Fn(&str) -> Option<String>| -> Vec<(String, String)> {

@@ -40,7 +40,7 @@ use crate::pipeline::finish::{finish, open_table_session, start_or_resume, t_of,
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::summary;
 use crate::pipeline::table::{Acc, TableObserver};
-use crate::run::RunJob;
+use crate::pipeline::RunJob;
 use crate::scenario::{
     OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, note_step_length, output_dir, parse_toml,
     planned_steps, step_count, step_length,

@@ -41,7 +41,7 @@ use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run};
 use crate::rod::RodSetup;
-use crate::run::RunJob;
+use crate::pipeline::RunJob;
 
 type Cell = CosseratCell<Weight>;
 /// The rod with Q_sym (`[method] quadrature = "symmetric"`): the core's

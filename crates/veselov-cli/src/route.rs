@@ -5,8 +5,9 @@
 use std::path::Path;
 
 use crate::error::CliError;
-use crate::scenario::LoadedScenario;
-use crate::{beam_run, field, rigid, rod_run, run, systems, verify};
+use crate::kinds::mechanics;
+use crate::pipeline::RunJob;
+use crate::{beam_run, field, rigid, rod_run, verify};
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -77,7 +78,7 @@ fn unknown_model(path: &Path, name: &str) -> CliError {
 }
 
 /// Run the scenario file at `path` (the entry point of `veselov run`).
-pub fn run_scenario(path: &Path, job: run::RunJob) -> Result<(), CliError> {
+pub fn run_scenario(path: &Path, job: RunJob) -> Result<(), CliError> {
     run_text(path, &read(path)?, job)
 }
 
@@ -86,21 +87,21 @@ pub fn run_scenario(path: &Path, job: run::RunJob) -> Result<(), CliError> {
 /// the kind's job and run it on the pipeline into the job's directory, on a
 /// thread of the rayon pool ([`veselov::run::on_pool`]: the lattice
 /// marchers' parallel levels are cheap to hand over from there).
-pub fn run_text(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliError> {
-    let job = run::RunJob {
+pub fn run_text(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    let job = RunJob {
         scenario: Some(text.to_owned()),
         ..job
     };
     veselov::run::on_pool(|| run_kind(path, text, job))
 }
 
-fn run_kind(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliError> {
+fn run_kind(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     match kind(path, text)? {
         ScenarioKind::RigidBody => rigid::run(path, text, job),
         ScenarioKind::Field => field::run(path, text, job),
         ScenarioKind::Rod => rod_run::run(path, text, job),
         ScenarioKind::Beam => beam_run::run(path, text, job),
-        ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),
+        ScenarioKind::Mechanics => mechanics::run(path, text, job),
     }
 }
 
@@ -128,6 +129,6 @@ pub fn verify_text(path: &Path, text: &str, job: verify::VerifyJob) -> Result<()
              cantilever deflection at second order) is measured by the test suite (crates/veselov/tests/rod/rod_ends.rs)",
             path.display()
         ))),
-        ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),
+        ScenarioKind::Mechanics => mechanics::verify(path, text, job),
     }
 }

@@ -1,0 +1,4 @@
+//! The kinds of scenario the command runs, one folder each: its schema, its
+//! jobs with their observers, and its figures.
+
+pub mod mechanics;
