@@ -26,10 +26,10 @@ use veselov::run::{Control, Observer, Status, StepStats, StopWhen, Words};
 use crate::beam::{BeamSetup, BeamStart};
 use crate::error::CliError;
 use crate::output::Table;
+use crate::pipeline::RunJob;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run};
-use crate::pipeline::RunJob;
 
 type Beam<R> = Evolution000<RigidMotions, BeamLagrangian<R>, 6>;
 

@@ -33,8 +33,8 @@ use veselov::field::{
 
 use crate::error::CliError;
 use crate::field_run::{march_fast, march_generic};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Session};
 use crate::pipeline::RunJob;
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Session};
 use crate::scenario::{check_plot_format, finite_value, key_error, output_dir, parse_toml, positive_value};
 
 /// The lattice-field model names.

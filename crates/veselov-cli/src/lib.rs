@@ -19,7 +19,6 @@ pub mod pipeline;
 pub mod plot;
 pub mod progress;
 pub mod redraw;
-pub mod rigid;
 pub mod rod;
 pub mod rod_motion;
 pub mod rod_run;

@@ -6,8 +6,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use veselov_cli::error::CliError;
-use veselov_cli::route::{run_scenario, verify_scenario};
 use veselov_cli::pipeline::RunJob;
+use veselov_cli::route::{run_scenario, verify_scenario};
 use veselov_cli::{catalog, redraw, verify};
 
 /// Structure-preserving variational integrators.

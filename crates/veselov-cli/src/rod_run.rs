@@ -36,12 +36,12 @@ use veselov::run::{Checkpoint, Control, Observer, Status, StepStats, StopWhen, W
 
 use crate::error::CliError;
 use crate::output::Table;
+use crate::pipeline::RunJob;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, after_recording, open_lattice_run};
 use crate::rod::RodSetup;
-use crate::pipeline::RunJob;
 
 type Cell = CosseratCell<Weight>;
 /// The rod with Q_sym (`[method] quadrature = "symmetric"`): the core's

@@ -5,9 +5,9 @@
 use std::path::Path;
 
 use crate::error::CliError;
-use crate::kinds::mechanics;
+use crate::kinds::{mechanics, rigid};
 use crate::pipeline::RunJob;
-use crate::{beam_run, field, rigid, rod_run, verify};
+use crate::{beam_run, field, rod_run, verify};
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,7 +37,7 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
     let table: toml::Table = crate::scenario::parse_toml(path, text)?;
     let name = table.get("model").and_then(|m| m.get("name")).and_then(|n| n.as_str());
     Ok(match name {
-        Some(n) if crate::rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
+        Some(n) if rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
         Some(n) if crate::field::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
         Some(crate::rod::ROD_MODEL) => ScenarioKind::Rod,
         Some(crate::beam::BEAM_MODEL) => ScenarioKind::Beam,

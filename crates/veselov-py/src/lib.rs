@@ -21,8 +21,8 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use veselov_cli::error::CliError;
-use veselov_cli::route::{run_text, verify_text};
 use veselov_cli::pipeline::RunJob;
+use veselov_cli::route::{run_text, verify_text};
 use veselov_cli::verify::VerifyJob;
 use veselov_cli::{catalog, scenario::key_at};
 

@@ -51,11 +51,11 @@ use veselov::run::{Control, Observer, StepStats, StopWhen, Words};
 use crate::error::CliError;
 use crate::field::{FieldModelSpec, FieldTimeSpec};
 use crate::output::Table;
+use crate::pipeline::RunJob;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::readback::rows_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumable, Resumed, open_lattice_run};
-use crate::pipeline::RunJob;
 use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, positive_value};
 
 /// Whether a field scenario asks for a CFK lattice.

@@ -2,3 +2,4 @@
 //! jobs with their observers, and its figures.
 
 pub mod mechanics;
+pub mod rigid;
