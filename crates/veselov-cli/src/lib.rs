@@ -8,8 +8,6 @@ pub mod beam_run;
 pub mod catalog;
 pub mod cfk_field;
 pub mod error;
-pub mod field;
-pub mod field_run;
 pub mod figures;
 pub mod gif_frames;
 pub mod heatmap;

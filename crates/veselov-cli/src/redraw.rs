@@ -166,7 +166,7 @@ fn redraw_field(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErro
     let shape = npy_shape(&dir.join("snapshots.npy"))?;
     let components = (shape.iter().skip(1).product::<usize>() / nodes).max(1);
     let model = summary.get("model").and_then(Value::as_str).unwrap_or_default();
-    crate::field_run::draw_field_files(
+    crate::kinds::lattice::figures::draw_field_files(
         dir,
         (model, components),
         (nodes, dx, length),

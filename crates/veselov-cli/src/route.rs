@@ -5,9 +5,9 @@
 use std::path::Path;
 
 use crate::error::CliError;
-use crate::kinds::{mechanics, rigid};
+use crate::kinds::{lattice, mechanics, rigid};
 use crate::pipeline::RunJob;
-use crate::{beam_run, field, rod_run, verify};
+use crate::{beam_run, cfk_field, rod_run, verify};
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,7 +38,7 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
     let name = table.get("model").and_then(|m| m.get("name")).and_then(|n| n.as_str());
     Ok(match name {
         Some(n) if rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
-        Some(n) if crate::field::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
+        Some(n) if lattice::schema::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
         Some(crate::rod::ROD_MODEL) => ScenarioKind::Rod,
         Some(crate::beam::BEAM_MODEL) => ScenarioKind::Beam,
         Some(n) if !model_names().contains(&n) => {
@@ -98,7 +98,8 @@ pub fn run_text(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
 fn run_kind(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     match kind(path, text)? {
         ScenarioKind::RigidBody => rigid::run(path, text, job),
-        ScenarioKind::Field => field::run(path, text, job),
+        ScenarioKind::Field if cfk_field::is_cfk(text) => cfk_field::run(path, text, job),
+        ScenarioKind::Field => lattice::run::run(path, text, job),
         ScenarioKind::Rod => rod_run::run(path, text, job),
         ScenarioKind::Beam => beam_run::run(path, text, job),
         ScenarioKind::Mechanics => mechanics::run(path, text, job),

@@ -49,7 +49,7 @@ use veselov::field::{CauchyStepper, ComplexKleinGordon, NonlinearWave, Phi4, Pot
 use veselov::run::{Control, Observer, StepStats, StopWhen, Words};
 
 use crate::error::CliError;
-use crate::field::{FieldModelSpec, FieldTimeSpec};
+use crate::kinds::lattice::schema::{FieldModelSpec, FieldTimeSpec};
 use crate::output::Table;
 use crate::pipeline::RunJob;
 use crate::pipeline::finish::{Ending, close_run};

@@ -1,5 +1,6 @@
 //! The kinds of scenario the command runs, one folder each: its schema, its
 //! jobs with their observers, and its figures.
 
+pub mod lattice;
 pub mod mechanics;
 pub mod rigid;
