@@ -66,40 +66,9 @@ pub fn run_variable<const N: usize>(
             "a variable-step run does not know its step times in advance; use `every`",
         ));
     }
-    let mut header = trajectory_header(&system);
-    header.push("h".into());
-    header.push("discrete_energy".into());
-    let (mut session, positions, words) = open_table_session(
-        job,
-        &scenario.path,
-        (&s.time, &s.output),
-        (planned, None),
-        header.len(),
-        "mechanics",
-    )?;
-    let out = &s.output;
-    let rows = (planned / out.every as f64 + 2.0).min(u64::MAX as f64) as u64;
-    let sink = TableSink::create(&session.dir, "trajectory", &header, &out.formats, rows, positions)?;
     let system = &system;
-    let mut table = TableObserver::new(
-        header,
-        Box::new(move |x: &SemState<N>, _| {
-            let mut row = trajectory_row(system, &PhaseState::new(x.t, x.q, x.p), 0.0);
-            row.extend([x.h, x.energy]);
-            row
-        }),
-        sink,
-        out.every,
-    );
-    table.track("energy", Acc::Dev);
-    for (name, _) in &system.momenta {
-        table.track(&format!("J_{name}"), Acc::Dev);
-    }
-    table.states = vec![
-        (|x: &SemState<N>| x.energy, Tracker::new(Acc::Dev)),
-        (|x: &SemState<N>| x.h, Tracker::new(Acc::Min)),
-        (|x: &SemState<N>| x.h, Tracker::new(Acc::Max)),
-    ];
+    let (mut session, mut table, words) = open_variable(job, scenario, system, planned)?;
+    let out = &s.output;
     let started = session.resumed.is_none().then(|| map.start(x0.t, x0.q, x0.p, dt));
     let mut stepper = SemStepper::new(map.as_mut(), None);
     let (mut x, first, failure) = start_variable(
@@ -157,6 +126,52 @@ pub fn run_variable<const N: usize>(
         },
         |_| format!("{}: {} steps to t = {t_final}", rule.name(), outcome.last_step),
     )
+}
+
+/// The session of a variable-step run of about `planned` steps, the
+/// observer of its trajectory (with the step `h` and the discrete energy)
+/// and the observer's words of the checkpoint it resumes from.
+fn open_variable<'a, const N: usize>(
+    job: &RunJob,
+    scenario: &LoadedScenario,
+    system: &'a System<N>,
+    planned: f64,
+) -> Result<(Session, TableObserver<'a, SemState<N>>, Vec<f64>), CliError> {
+    let s = &scenario.scenario;
+    let mut header = trajectory_header(system);
+    header.push("h".into());
+    header.push("discrete_energy".into());
+    let (session, positions, words) = open_table_session(
+        job,
+        &scenario.path,
+        (&s.time, &s.output),
+        (planned, None),
+        header.len(),
+        "mechanics",
+    )?;
+    let out = &s.output;
+    let rows = (planned / out.every as f64 + 2.0).min(u64::MAX as f64) as u64;
+    let sink = TableSink::create(&session.dir, "trajectory", &header, &out.formats, rows, positions)?;
+    let mut table = TableObserver::new(
+        header,
+        Box::new(move |x: &SemState<N>, _| {
+            let mut row = trajectory_row(system, &PhaseState::new(x.t, x.q, x.p), 0.0);
+            row.extend([x.h, x.energy]);
+            row
+        }),
+        sink,
+        out.every,
+    );
+    table.track("energy", Acc::Dev);
+    for (name, _) in &system.momenta {
+        table.track(&format!("J_{name}"), Acc::Dev);
+    }
+    table.states = vec![
+        (|x: &SemState<N>| x.energy, Tracker::new(Acc::Dev)),
+        (|x: &SemState<N>| x.h, Tracker::new(Acc::Min)),
+        (|x: &SemState<N>| x.h, Tracker::new(Acc::Max)),
+    ];
+    Ok((session, table, words))
 }
 
 /// Where a variable-step run starts: resuming, the state, step and stepper
