@@ -6,7 +6,6 @@ pub mod animation;
 pub mod beam;
 pub mod beam_run;
 pub mod catalog;
-pub mod cfk_field;
 pub mod error;
 pub mod figures;
 pub mod gif_frames;

@@ -68,7 +68,7 @@ pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
         let shape = npy_shape(&dir.join("snapshots.npy"))?;
         let per_row = shape.iter().skip(1).product::<usize>();
         let components = (per_row / (nx * ny).max(1)).max(1);
-        crate::cfk_field::draw(dir, ([nx, ny], dx), components, rows(&shape), format)?;
+        crate::kinds::cfk::figures::draw(dir, ([nx, ny], dx), components, rows(&shape), format)?;
     } else if has("scheme") {
         redraw_field(dir, summary.as_ref().unwrap_or(&Value::Null), format)?;
     } else {

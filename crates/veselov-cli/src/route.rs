@@ -5,9 +5,9 @@
 use std::path::Path;
 
 use crate::error::CliError;
-use crate::kinds::{lattice, mechanics, rigid};
+use crate::kinds::{cfk, lattice, mechanics, rigid};
 use crate::pipeline::RunJob;
-use crate::{beam_run, cfk_field, rod_run, verify};
+use crate::{beam_run, rod_run, verify};
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -98,7 +98,7 @@ pub fn run_text(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
 fn run_kind(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     match kind(path, text)? {
         ScenarioKind::RigidBody => rigid::run(path, text, job),
-        ScenarioKind::Field if cfk_field::is_cfk(text) => cfk_field::run(path, text, job),
+        ScenarioKind::Field if cfk::is_cfk(text) => cfk::run::run(path, text, job),
         ScenarioKind::Field => lattice::run::run(path, text, job),
         ScenarioKind::Rod => rod_run::run(path, text, job),
         ScenarioKind::Beam => beam_run::run(path, text, job),

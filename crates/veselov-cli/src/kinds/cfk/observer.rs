@@ -1,7 +1,23 @@
 //! The observer of a CFK field run: energy, momenta, snapshots and checkpoints.
 
-use super::*;
-use crate::pipeline::after_recording;
+use nalgebra::SVector;
+use veselov::field::cauchy::CauchyMarcher;
+use veselov::field::complex::CfkTorus;
+use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
+use veselov::field::fibre::Euclidean;
+use veselov::field::{NonlinearWave, Potential};
+use veselov::run::{Control, Observer, StepStats, Words};
+
+use crate::error::CliError;
+use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::{Resumable, after_recording};
+
+/// A vertical symmetry's generator: the field's variation at a value.
+pub(super) type Generator<const M: usize> = fn(&SVector<f64, M>) -> SVector<f64, M>;
+/// The midpoint rule of the density on the space–time CFK nodes.
+pub(super) type Rule<P> = MidpointRule<NonlinearWave<P>, CfkNodes<3>, 3>;
+/// The march of an M-component field.
+pub(super) type Marcher<P, const M: usize> = CauchyMarcher<Euclidean<M>, Rule<P>, M>;
 
 /// Writes the rows of one time step Δt (every 3 levels) and the snapshots.
 pub(super) struct CfkObserver<P, const M: usize> {
