@@ -455,7 +455,7 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
 /// (`centerline.gif`), momentum-map changes and energy, read back from the
 /// files.
 pub fn draw_beam(dir: &Path, cross: usize, rows: u64, x: &str, format: &str) -> Result<(), CliError> {
-    crate::rod_run::draw_centerline_figures(
+    crate::centerline::draw_centerline_figures(
         dir,
         ("frames", 12),
         (cross, rows),

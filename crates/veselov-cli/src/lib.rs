@@ -6,6 +6,7 @@ pub mod animation;
 pub mod beam;
 pub mod beam_run;
 pub mod catalog;
+pub mod centerline;
 pub mod error;
 pub mod figures;
 pub mod gif_frames;
