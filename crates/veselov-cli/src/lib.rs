@@ -3,8 +3,6 @@
 //! only parses the command line.
 
 pub mod animation;
-pub mod beam;
-pub mod beam_run;
 pub mod catalog;
 pub mod centerline;
 pub mod error;

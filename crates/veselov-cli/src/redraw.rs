@@ -49,7 +49,7 @@ pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
     } else if text("model") == Some("beam") {
         let shape = npy_shape(&dir.join("frames.npy"))?;
         let x = if text("evolution") == Some("space") { "s" } else { "t" };
-        crate::beam_run::draw_beam(dir, dimension(&shape, 1)?, rows(&shape), x, format)?;
+        crate::kinds::beam::figures::draw_beam(dir, dimension(&shape, 1)?, rows(&shape), x, format)?;
     } else if text("model") == Some("cosserat-rod") {
         let shape = npy_shape(&dir.join("centerline.npy"))?;
         crate::rod_run::draw_rod(dir, dimension(&shape, 1)?, rows(&shape), format)?;

@@ -5,9 +5,9 @@
 use std::path::Path;
 
 use crate::error::CliError;
-use crate::kinds::{cfk, lattice, mechanics, rigid};
+use crate::kinds::{beam, cfk, lattice, mechanics, rigid};
 use crate::pipeline::RunJob;
-use crate::{beam_run, rod_run, verify};
+use crate::{rod_run, verify};
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -40,7 +40,7 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
         Some(n) if rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
         Some(n) if lattice::schema::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
         Some(crate::rod::ROD_MODEL) => ScenarioKind::Rod,
-        Some(crate::beam::BEAM_MODEL) => ScenarioKind::Beam,
+        Some(beam::schema::BEAM_MODEL) => ScenarioKind::Beam,
         Some(n) if !model_names().contains(&n) => {
             // Named before the file is read against a kind's schema, which
             // would otherwise report that kind's missing keys first.
@@ -101,7 +101,7 @@ fn run_kind(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         ScenarioKind::Field if cfk::is_cfk(text) => cfk::run::run(path, text, job),
         ScenarioKind::Field => lattice::run::run(path, text, job),
         ScenarioKind::Rod => rod_run::run(path, text, job),
-        ScenarioKind::Beam => beam_run::run(path, text, job),
+        ScenarioKind::Beam => beam::run::run(path, text, job),
         ScenarioKind::Mechanics => mechanics::run(path, text, job),
     }
 }
