@@ -15,9 +15,6 @@ pub mod pipeline;
 pub mod plot;
 pub mod progress;
 pub mod redraw;
-pub mod rod;
-pub mod rod_motion;
-pub mod rod_run;
 pub mod route;
 pub mod scenario;
 #[cfg(test)]

@@ -52,7 +52,7 @@ pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
         crate::kinds::beam::figures::draw_beam(dir, dimension(&shape, 1)?, rows(&shape), x, format)?;
     } else if text("model") == Some("cosserat-rod") {
         let shape = npy_shape(&dir.join("centerline.npy"))?;
-        crate::rod_run::draw_rod(dir, dimension(&shape, 1)?, rows(&shape), format)?;
+        crate::kinds::rod::figures::draw_rod(dir, dimension(&shape, 1)?, rows(&shape), format)?;
     } else if text("lattice") == Some("cfk") {
         let s = summary.as_ref().unwrap_or(&Value::Null);
         let nodes = s.get("nodes").and_then(Value::as_array).map(|a| {

@@ -5,9 +5,9 @@
 use std::path::Path;
 
 use crate::error::CliError;
-use crate::kinds::{beam, cfk, lattice, mechanics, rigid};
+use crate::kinds::{beam, cfk, lattice, mechanics, rigid, rod};
 use crate::pipeline::RunJob;
-use crate::{rod_run, verify};
+use crate::verify;
 
 /// The kinds of scenario the command runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,7 +39,7 @@ pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
     Ok(match name {
         Some(n) if rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
         Some(n) if lattice::schema::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
-        Some(crate::rod::ROD_MODEL) => ScenarioKind::Rod,
+        Some(rod::schema::ROD_MODEL) => ScenarioKind::Rod,
         Some(beam::schema::BEAM_MODEL) => ScenarioKind::Beam,
         Some(n) if !model_names().contains(&n) => {
             // Named before the file is read against a kind's schema, which
@@ -100,7 +100,7 @@ fn run_kind(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         ScenarioKind::RigidBody => rigid::run(path, text, job),
         ScenarioKind::Field if cfk::is_cfk(text) => cfk::run::run(path, text, job),
         ScenarioKind::Field => lattice::run::run(path, text, job),
-        ScenarioKind::Rod => rod_run::run(path, text, job),
+        ScenarioKind::Rod => rod::run::run(path, text, job),
         ScenarioKind::Beam => beam::run::run(path, text, job),
         ScenarioKind::Mechanics => mechanics::run(path, text, job),
     }

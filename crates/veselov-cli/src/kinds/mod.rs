@@ -6,3 +6,4 @@ pub mod cfk;
 pub mod lattice;
 pub mod mechanics;
 pub mod rigid;
+pub mod rod;
