@@ -12,3 +12,32 @@ pub mod observer;
 pub mod run;
 pub mod schema;
 pub mod setup;
+
+use std::path::Path;
+
+use super::ScenarioKind;
+use crate::error::CliError;
+use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
+use schema::BEAM_MODEL;
+
+/// The beam kind.
+pub struct BeamKind;
+
+impl ScenarioKind for BeamKind {
+    fn models(&self) -> &'static [&'static str] {
+        &[BEAM_MODEL]
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        run::run(path, text, job)
+    }
+
+    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
+        Err(CliError::Setup(format!(
+            "{}: `veselov verify` does not take beam scenarios; the beam's convergence (Timoshenko's \
+             frequencies and deflection) is measured by the test suite (crates/veselov/tests/beam/)",
+            path.display()
+        )))
+    }
+}

@@ -43,10 +43,42 @@ pub mod observer;
 pub mod run;
 pub mod schema;
 
-/// Whether a field scenario asks for a CFK lattice.
-pub fn is_cfk(text: &str) -> bool {
-    toml::from_str::<toml::Table>(text)
-        .ok()
-        .and_then(|t| t.get("lattice")?.get("kind")?.as_str().map(|k| k == "cfk"))
-        .unwrap_or(false)
+use std::path::Path;
+
+use super::ScenarioKind;
+use super::lattice::no_verify;
+use super::lattice::schema::FIELD_MODELS;
+use crate::error::CliError;
+use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
+
+/// Whether a field scenario (its TOML `table`) asks for a CFK lattice.
+pub fn is_cfk(table: &toml::Table) -> bool {
+    table
+        .get("lattice")
+        .and_then(|l| l.get("kind"))
+        .and_then(|k| k.as_str())
+        .is_some_and(|k| k == "cfk")
+}
+
+/// The CFK-lattice field kind: the field models, on a `[lattice]` of
+/// `kind = "cfk"`.
+pub struct CfkKind;
+
+impl ScenarioKind for CfkKind {
+    fn models(&self) -> &'static [&'static str] {
+        FIELD_MODELS
+    }
+
+    fn takes(&self, model: &str, table: &toml::Table) -> bool {
+        self.models().contains(&model) && is_cfk(table)
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        run::run(path, text, job)
+    }
+
+    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
+        Err(no_verify(path))
+    }
 }

@@ -31,3 +31,38 @@ pub mod figures;
 pub mod observer;
 pub mod run;
 pub mod schema;
+
+use std::path::Path;
+
+use super::ScenarioKind;
+use crate::error::CliError;
+use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
+use schema::FIELD_MODELS;
+
+/// The 1+1 lattice-field kind.
+pub struct LatticeKind;
+
+impl ScenarioKind for LatticeKind {
+    fn models(&self) -> &'static [&'static str] {
+        FIELD_MODELS
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        run::run(path, text, job)
+    }
+
+    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
+        Err(no_verify(path))
+    }
+}
+
+/// Why `veselov verify` takes no lattice-field scenario (of the 1+1 or the
+/// CFK lattice) from the file `path`.
+pub(crate) fn no_verify(path: &Path) -> CliError {
+    CliError::Setup(format!(
+        "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
+         is measured by the test suite (crates/veselov/tests/field/)",
+        path.display()
+    ))
+}

@@ -21,6 +21,7 @@ pub mod verify;
 
 use std::path::Path;
 
+use super::ScenarioKind;
 use crate::catalog::Choice;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
@@ -43,12 +44,32 @@ impl Job for RunJob {
     }
 }
 
-/// Run the mechanics scenario `text` (attributed to `path`).
-pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
-    LoadedScenario::parse(path, text).and_then(|s| dispatch(&s, job))
-}
+/// The mechanics model names: the built-in models and `custom`.
+pub const MECHANICS_MODELS: &[&str] = &[
+    "harmonic",
+    "pendulum",
+    "kepler",
+    "henon-heiles",
+    "double-pendulum",
+    "damped-oscillator",
+    "van-der-pol",
+    "damped-kepler",
+    "custom",
+];
 
-/// Convergence study of the mechanics scenario `text` (attributed to `path`).
-pub fn verify(path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
-    LoadedScenario::parse(path, text).and_then(|s| dispatch(&s, job))
+/// The mechanics kind.
+pub struct MechanicsKind;
+
+impl ScenarioKind for MechanicsKind {
+    fn models(&self) -> &'static [&'static str] {
+        MECHANICS_MODELS
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        LoadedScenario::parse(path, text).and_then(|s| dispatch(&s, job))
+    }
+
+    fn verify(&self, path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
+        LoadedScenario::parse(path, text).and_then(|s| dispatch(&s, job))
+    }
 }

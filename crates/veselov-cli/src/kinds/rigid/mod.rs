@@ -36,8 +36,10 @@ use veselov::lgvi::{GroupState, SplitReducedLagrangian};
 use veselov::lie::{CayleyMap, ExpMap, GroupFamily, Retraction, RigidMotions, Rotations, SE3, so3};
 use veselov::models::{FreeRigidBody, FreeRigidBodySE3, HeavyTop};
 
+use super::ScenarioKind;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
 use schema::LoadedRigid;
 
 /// The rigid-body model names.
@@ -62,9 +64,21 @@ pub trait RigidJob {
         L: SplitReducedLagrangian<G, N> + Clone;
 }
 
-/// Run a rigid-body scenario.
-pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
-    dispatch(path, text, job)
+/// The rigid-body kind.
+pub struct RigidKind;
+
+impl ScenarioKind for RigidKind {
+    fn models(&self) -> &'static [&'static str] {
+        RIGID_MODELS
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        dispatch(path, text, job)
+    }
+
+    fn verify(&self, path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
+        dispatch(path, text, job)
+    }
 }
 
 /// Build the scenario's body and initial state and hand them to `job`.

@@ -16,3 +16,32 @@ pub mod run;
 pub mod schema;
 pub mod setup;
 pub mod shape;
+
+use std::path::Path;
+
+use super::ScenarioKind;
+use crate::error::CliError;
+use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
+use schema::ROD_MODEL;
+
+/// The Cosserat-rod kind.
+pub struct RodKind;
+
+impl ScenarioKind for RodKind {
+    fn models(&self) -> &'static [&'static str] {
+        &[ROD_MODEL]
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        run::run(path, text, job)
+    }
+
+    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
+        Err(CliError::Setup(format!(
+            "{}: `veselov verify` does not take rod scenarios; the rod's convergence (Timoshenko's \
+             cantilever deflection at second order) is measured by the test suite (crates/veselov/tests/rod/rod_ends.rs)",
+            path.display()
+        )))
+    }
+}
