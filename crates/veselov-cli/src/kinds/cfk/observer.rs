@@ -142,7 +142,7 @@ where
 }
 
 impl<P, const M: usize> CfkObserver<P, M> {
-    /// Restore the accumulators after [`Position::read_all`].
+    /// Restore the accumulators after [`Position::read_all`](crate::pipeline::stream::Position::read_all).
     pub(super) fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
         [self.energy0, self.energy_error_max, self.charge0, self.charge_error_max] =
             [w.one()?, w.one()?, w.one()?, w.one()?];
