@@ -1,6 +1,7 @@
 //! The `veselov` command as a library: scenario files, the built-in catalogue,
-//! the run and verify jobs, output writers and plots. The binary in `main.rs`
-//! only parses the command line.
+//! the kinds of scenario with their run and verify jobs (one folder each under
+//! [`kinds`], dispatched by [`route`]), the run pipeline they share, output
+//! writers and plots. The binary in `main.rs` only parses the command line.
 
 pub mod animation;
 pub mod catalog;
