@@ -504,8 +504,8 @@ methods without forces, and verify is not available), {nesting} levels of nested
 parentheses, signs, powers and calls, and an expression tree {height} levels tall
 (long sums and products are fine). Errors name the key and the column.
 ",
-        max = crate::custom::MAX_DIMENSION,
-        fixed = crate::custom::MAX_FIXED_DIMENSION,
+        max = crate::kinds::mechanics::custom::MAX_DIMENSION,
+        fixed = crate::kinds::mechanics::custom::MAX_FIXED_DIMENSION,
         nesting = veselov::expr::MAX_NESTING,
         height = veselov::expr::MAX_HEIGHT,
         constants = constants.join(", "),

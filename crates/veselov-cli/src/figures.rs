@@ -84,7 +84,7 @@ pub(crate) fn draw_changes(
 
 /// The coordinate columns of a trajectory table, each with its momentum
 /// column: the columns `c` before `energy` for which `p_c` also exists, or
-/// `q<i>` with `p<i>` (see [`crate::run::trajectory_header`]).
+/// `q<i>` with `p<i>` (see [`crate::kinds::mechanics::run::trajectory_header`]).
 pub fn coordinate_columns(table: &Table) -> Vec<(String, String)> {
     let before_energy = table.header.iter().take_while(|h| *h != "energy");
     let pairs = |p: &dyn Fn(&str) -> Option<String>| -> Vec<(String, String)> {
@@ -299,81 +299,4 @@ pub fn draw_convergence(
         equal_aspect: false,
     };
     draw(path, &fig).map_err(plot_err)
-}
-
-/// How a field's values are shown in the space–time heat map.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FieldView {
-    /// A real field, as it is.
-    Real,
-    /// An S¹-valued field, as sin²(φ/2).
-    Circle,
-    /// The first component (Re φ) of a complex field.
-    RealPart,
-}
-
-/// The figures of a lattice-field run with node spacing `dx` over a domain
-/// of `length`: energy error against time, the final waveform (in `format`)
-/// and the space–time heat map of the stored snapshots
-/// (always PNG; sin²(φ/2) for a circle-valued field).
-pub fn draw_field(
-    dir: &Path,
-    energy: &Table,
-    snapshots: &[Vec<f64>],
-    times: &[f64],
-    (dx, length): (f64, f64),
-    view: FieldView,
-    format: &str,
-) -> Result<(), CliError> {
-    let file = |name: &str| dir.join(format!("{name}.{format}"));
-    if let (Some(t), Some(e)) = (energy.column("t"), energy.column("energy")) {
-        draw_energy_error(&file("energy_error"), "Discrete energy error", &t, &e)?;
-    }
-    if let Some(last) = snapshots.last() {
-        let n = last.len();
-        let x: Vec<f64> = (0..n).map(|i| i as f64 * dx).collect();
-        let title = format!("Waveform at t = {}", times.last().copied().unwrap_or(0.0));
-        let (y_label, label) = match view {
-            FieldView::RealPart => ("Re φ", "Re φ(x)"),
-            FieldView::Real | FieldView::Circle => ("φ", "φ(x)"),
-        };
-        let fig = Figure {
-            title: &title,
-            x_label: "x",
-            y_label,
-            x_scale: Scale::Linear,
-            y_scale: Scale::Linear,
-            series: vec![Series { label, x: &x, y: last }],
-            markers: false,
-            equal_aspect: false,
-        };
-        draw(&file("final_waveform"), &fig).map_err(plot_err)?;
-    }
-    if snapshots.len() >= 2 {
-        // An S¹-valued field is shown as sin²(φ/2): 0 in every vacuum 2πn,
-        // 1 at the centre of a kink, independent of the winding.
-        let shown: Vec<Vec<f64>> = if view == FieldView::Circle {
-            snapshots
-                .iter()
-                .map(|row| row.iter().map(|v| (0.5 * v).sin().powi(2)).collect())
-                .collect()
-        } else {
-            snapshots.to_vec()
-        };
-        let map = crate::heatmap::Heatmap {
-            title: match view {
-                FieldView::Circle => "Space–time, sin²(φ/2)",
-                FieldView::Real => "Space–time, φ",
-                FieldView::RealPart => "Space–time, Re φ",
-            },
-            x_label: "x",
-            y_label: "t",
-            x_range: (0.0, length),
-            y_range: (times[0], times[times.len() - 1]),
-            values: &shown,
-        };
-        // A raster image suits a dense grid; SVG would hold one rectangle per cell.
-        crate::heatmap::draw_heatmap(&dir.join("spacetime.png"), &map).map_err(plot_err)?;
-    }
-    Ok(())
 }

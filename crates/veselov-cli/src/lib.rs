@@ -1,33 +1,23 @@
 //! The `veselov` command as a library: scenario files, the built-in catalogue,
-//! the run and verify jobs, output writers and plots. The binary in `main.rs`
-//! only parses the command line.
+//! the kinds of scenario with their run and verify jobs (one folder each under
+//! [`kinds`], dispatched by [`route`]), the run pipeline they share, output
+//! writers and plots. The binary in `main.rs` only parses the command line.
 
 pub mod animation;
-pub mod beam;
-pub mod beam_run;
 pub mod catalog;
-pub mod cfk_field;
-pub mod custom;
-pub mod dynamic_run;
+pub mod centerline;
 pub mod error;
-pub mod field;
-pub mod field_run;
 pub mod figures;
 pub mod gif_frames;
 pub mod heatmap;
+pub mod kinds;
 pub mod output;
 pub mod pipeline;
 pub mod plot;
 pub mod progress;
 pub mod redraw;
-pub mod rigid;
-pub mod rod;
-pub mod rod_motion;
-pub mod rod_run;
 pub mod route;
-pub mod run;
 pub mod scenario;
-pub mod systems;
 #[cfg(test)]
 mod test_scratch;
 pub mod verify;

@@ -6,8 +6,9 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use veselov_cli::error::CliError;
+use veselov_cli::pipeline::RunJob;
 use veselov_cli::route::{run_scenario, verify_scenario};
-use veselov_cli::{catalog, redraw, run, verify};
+use veselov_cli::{catalog, redraw, verify};
 
 /// Structure-preserving variational integrators.
 #[derive(Parser)]
@@ -133,7 +134,7 @@ fn main() -> ExitCode {
             checkpoint_seconds,
         } => run_scenario(
             &scenario,
-            run::RunJob {
+            RunJob {
                 out,
                 quiet,
                 force,

@@ -49,10 +49,10 @@ pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
     } else if text("model") == Some("beam") {
         let shape = npy_shape(&dir.join("frames.npy"))?;
         let x = if text("evolution") == Some("space") { "s" } else { "t" };
-        crate::beam_run::draw_beam(dir, dimension(&shape, 1)?, rows(&shape), x, format)?;
+        crate::kinds::beam::figures::draw_beam(dir, dimension(&shape, 1)?, rows(&shape), x, format)?;
     } else if text("model") == Some("cosserat-rod") {
         let shape = npy_shape(&dir.join("centerline.npy"))?;
-        crate::rod_run::draw_rod(dir, dimension(&shape, 1)?, rows(&shape), format)?;
+        crate::kinds::rod::figures::draw_rod(dir, dimension(&shape, 1)?, rows(&shape), format)?;
     } else if text("lattice") == Some("cfk") {
         let s = summary.as_ref().unwrap_or(&Value::Null);
         let nodes = s.get("nodes").and_then(Value::as_array).map(|a| {
@@ -68,7 +68,7 @@ pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
         let shape = npy_shape(&dir.join("snapshots.npy"))?;
         let per_row = shape.iter().skip(1).product::<usize>();
         let components = (per_row / (nx * ny).max(1)).max(1);
-        crate::cfk_field::draw(dir, ([nx, ny], dx), components, rows(&shape), format)?;
+        crate::kinds::cfk::figures::draw(dir, ([nx, ny], dx), components, rows(&shape), format)?;
     } else if has("scheme") {
         redraw_field(dir, summary.as_ref().unwrap_or(&Value::Null), format)?;
     } else {
@@ -166,7 +166,7 @@ fn redraw_field(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErro
     let shape = npy_shape(&dir.join("snapshots.npy"))?;
     let components = (shape.iter().skip(1).product::<usize>() / nodes).max(1);
     let model = summary.get("model").and_then(Value::as_str).unwrap_or_default();
-    crate::field_run::draw_field_files(
+    crate::kinds::lattice::figures::draw_field_files(
         dir,
         (model, components),
         (nodes, dx, length),

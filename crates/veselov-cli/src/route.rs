@@ -1,27 +1,30 @@
 //! Which kind of scenario a file holds, decided by `[model] name` before the
 //! file is parsed against the schema of that kind (each schema rejects the
-//! keys of the others).
+//! keys of the others): the table of kinds ([`KINDS`]) on which `veselov
+//! run` and `veselov verify` dispatch.
 
 use std::path::Path;
 
 use crate::error::CliError;
-use crate::scenario::LoadedScenario;
-use crate::{beam_run, field, rigid, rod_run, run, systems, verify};
+use crate::kinds::ScenarioKind;
+use crate::kinds::beam::BeamKind;
+use crate::kinds::cfk::CfkKind;
+use crate::kinds::lattice::LatticeKind;
+use crate::kinds::mechanics::MechanicsKind;
+use crate::kinds::rigid::RigidKind;
+use crate::kinds::rod::RodKind;
+use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
 
-/// The kinds of scenario the command runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ScenarioKind {
-    /// Lagrangian mechanics in generalised coordinates (built-in or custom).
-    Mechanics,
-    /// Rigid bodies on SO(3) and SE(3).
-    RigidBody,
-    /// Fields on a 1+1 spacetime lattice.
-    Field,
-    /// The Cosserat rod on the leapfrog CFK lattice.
-    Rod,
-    /// The geometrically exact beam on SE(3) (seed 000).
-    Beam,
-}
+/// The kinds of scenario the command runs, in the order they are tried: the
+/// first that takes a file runs it (the CFK lattice before the 1+1 lattice:
+/// both run the field models, the CFK one those on a `[lattice]` of `kind =
+/// "cfk"`).
+pub const KINDS: &[&dyn ScenarioKind] = &[&RigidKind, &CfkKind, &LatticeKind, &RodKind, &BeamKind, &MechanicsKind];
+
+/// The kind of a file whose `[model] name` is not a string (or is missing):
+/// the mechanics schema names what is wrong with it.
+const FALLBACK: &dyn ScenarioKind = &MechanicsKind;
 
 /// Read a scenario file.
 pub fn read(path: &Path) -> Result<String, CliError> {
@@ -32,22 +35,20 @@ pub fn read(path: &Path) -> Result<String, CliError> {
 }
 
 /// The kind of the scenario in `text` (attributed to `path`).
-pub fn kind(path: &Path, text: &str) -> Result<ScenarioKind, CliError> {
+pub fn kind(path: &Path, text: &str) -> Result<&'static dyn ScenarioKind, CliError> {
     let table: toml::Table = crate::scenario::parse_toml(path, text)?;
     let name = table.get("model").and_then(|m| m.get("name")).and_then(|n| n.as_str());
-    Ok(match name {
-        Some(n) if crate::rigid::RIGID_MODELS.contains(&n) => ScenarioKind::RigidBody,
-        Some(n) if crate::field::FIELD_MODELS.contains(&n) => ScenarioKind::Field,
-        Some(crate::rod::ROD_MODEL) => ScenarioKind::Rod,
-        Some(crate::beam::BEAM_MODEL) => ScenarioKind::Beam,
-        Some(n) if !model_names().contains(&n) => {
-            // Named before the file is read against a kind's schema, which
-            // would otherwise report that kind's missing keys first.
-            return Err(unknown_model(path, n));
-        }
-        // A name that is not a string is named by the mechanics schema.
-        _ => ScenarioKind::Mechanics,
-    })
+    // A name that is not a string is named by the mechanics schema.
+    let Some(name) = name else { return Ok(FALLBACK) };
+    if let Some(kind) = KINDS.iter().find(|k| k.takes(name, &table)) {
+        return Ok(*kind);
+    }
+    if !model_names().contains(&name) {
+        // Named before the file is read against a kind's schema, which
+        // would otherwise report that kind's missing keys first.
+        return Err(unknown_model(path, name));
+    }
+    Ok(FALLBACK)
 }
 
 /// Every model name the command knows, of every kind (those `veselov
@@ -77,7 +78,7 @@ fn unknown_model(path: &Path, name: &str) -> CliError {
 }
 
 /// Run the scenario file at `path` (the entry point of `veselov run`).
-pub fn run_scenario(path: &Path, job: run::RunJob) -> Result<(), CliError> {
+pub fn run_scenario(path: &Path, job: RunJob) -> Result<(), CliError> {
     run_text(path, &read(path)?, job)
 }
 
@@ -86,48 +87,40 @@ pub fn run_scenario(path: &Path, job: run::RunJob) -> Result<(), CliError> {
 /// the kind's job and run it on the pipeline into the job's directory, on a
 /// thread of the rayon pool ([`veselov::run::on_pool`]: the lattice
 /// marchers' parallel levels are cheap to hand over from there).
-pub fn run_text(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliError> {
-    let job = run::RunJob {
+pub fn run_text(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    let job = RunJob {
         scenario: Some(text.to_owned()),
         ..job
     };
     veselov::run::on_pool(|| run_kind(path, text, job))
 }
 
-fn run_kind(path: &Path, text: &str, job: run::RunJob) -> Result<(), CliError> {
-    match kind(path, text)? {
-        ScenarioKind::RigidBody => rigid::run(path, text, job),
-        ScenarioKind::Field => field::run(path, text, job),
-        ScenarioKind::Rod => rod_run::run(path, text, job),
-        ScenarioKind::Beam => beam_run::run(path, text, job),
-        ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),
-    }
+fn run_kind(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    kind(path, text)?.run(path, text, job)
 }
 
 /// Convergence study of the scenario file at `path` (`veselov verify`).
-pub fn verify_scenario(path: &Path, job: verify::VerifyJob) -> Result<(), CliError> {
+pub fn verify_scenario(path: &Path, job: VerifyJob) -> Result<(), CliError> {
     verify_text(path, &read(path)?, job)
 }
 
 /// Convergence study of the scenario `text` attributed to `path`.
-pub fn verify_text(path: &Path, text: &str, job: verify::VerifyJob) -> Result<(), CliError> {
-    match kind(path, text)? {
-        ScenarioKind::RigidBody => rigid::dispatch(path, text, job),
-        ScenarioKind::Field => Err(CliError::Setup(format!(
-            "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
-             is measured by the test suite (crates/veselov/tests/field/)",
-            path.display()
-        ))),
-        ScenarioKind::Beam => Err(CliError::Setup(format!(
-            "{}: `veselov verify` does not take beam scenarios; the beam's convergence (Timoshenko's \
-             frequencies and deflection) is measured by the test suite (crates/veselov/tests/beam/)",
-            path.display()
-        ))),
-        ScenarioKind::Rod => Err(CliError::Setup(format!(
-            "{}: `veselov verify` does not take rod scenarios; the rod's convergence (Timoshenko's \
-             cantilever deflection at second order) is measured by the test suite (crates/veselov/tests/rod/rod_ends.rs)",
-            path.display()
-        ))),
-        ScenarioKind::Mechanics => LoadedScenario::parse(path, text).and_then(|s| systems::dispatch(&s, job)),
+pub fn verify_text(path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
+    kind(path, text)?.verify(path, text, job)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every model `veselov models` lists is run by a kind of the table.
+    #[test]
+    fn every_listed_model_has_a_kind() {
+        for name in model_names() {
+            assert!(
+                KINDS.iter().any(|k| k.models().contains(&name)),
+                "no kind runs `{name}`"
+            );
+        }
     }
 }

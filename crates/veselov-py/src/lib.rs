@@ -7,7 +7,7 @@
 //! as `veselov run`. The Python layer reads those files back into NumPy
 //! arrays. While integrating the GIL is released; the calling thread
 //! polls Python's signal handlers and turns Ctrl-C into the run's
-//! interruption flag ([`veselov_cli::run::RunJob::interrupt`]).
+//! interruption flag ([`veselov_cli::pipeline::RunJob::interrupt`]).
 
 mod scenario;
 
@@ -21,8 +21,8 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use veselov_cli::error::CliError;
+use veselov_cli::pipeline::RunJob;
 use veselov_cli::route::{run_text, verify_text};
-use veselov_cli::run::RunJob;
 use veselov_cli::verify::VerifyJob;
 use veselov_cli::{catalog, scenario::key_at};
 

@@ -8,12 +8,11 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::data::{axis_range, equalise, extent, offset, offset_label, prepare};
-use super::ticks::{Ticks, ticks};
+use super::ticks::{TICK_LABEL_SIZE, Ticks, ticks};
 use super::{FONT, Figure, Scale};
 
 const TITLE_SIZE: u32 = 24;
 const AXIS_LABEL_SIZE: u32 = 18;
-pub(super) const TICK_LABEL_SIZE: u32 = 15;
 const LEGEND_SIZE: u32 = 15;
 const MARGIN: u32 = 20;
 const X_LABEL_AREA: u32 = 60;

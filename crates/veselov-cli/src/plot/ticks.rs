@@ -1,7 +1,9 @@
 //! Tick marks and their labels on linear and logarithmic axes.
 
 use super::Scale;
-use super::render::TICK_LABEL_SIZE;
+
+/// Font size of the tick labels (the renderer draws them at this size).
+pub(super) const TICK_LABEL_SIZE: u32 = 15;
 
 /// Tick marks of one axis: labelled major ticks (with grid lines) and
 /// unlabelled minor grid lines, at display coordinates.

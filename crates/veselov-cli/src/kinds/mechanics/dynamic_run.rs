@@ -3,7 +3,7 @@
 //! the run-time-dimension Galerkin integrator
 //! ([`veselov::mechanics::DynGalerkinIntegrator`], Newton with the exact
 //! Jacobian) on the same run pipeline, table, summary and plots as every
-//! other fixed-step mechanics run ([`crate::run::run_fixed_table`]).
+//! other fixed-step mechanics run ([`super::run::run_fixed_table`]).
 //!
 //! What it serves: unforced Lagrangians with the fixed-step methods and
 //! declared symmetries (checked for invariance as on the fixed-size path).
@@ -14,13 +14,14 @@ use veselov::mechanics::DynStepper;
 use veselov::mechanics::{DynGalerkinIntegrator, DynLagrangian, DynState, GalerkinScheme, dyn_energy, dyn_momentum};
 use veselov::num_dual::Dual64;
 
+use super::custom::{DynCustomLagrangian, DynCustomSymmetry, MAX_DIMENSION, MAX_FIXED_DIMENSION};
+use super::run::{FixedRun, header_of, resolve_choice, run_fixed_table};
+use super::schema::LoadedScenario;
+use super::systems::{check_defect, invariance_samples};
 use crate::catalog::Choice;
-use crate::custom::{DynCustomLagrangian, DynCustomSymmetry, MAX_DIMENSION, MAX_FIXED_DIMENSION};
 use crate::error::CliError;
 use crate::pipeline::RunJob;
-use crate::run::{FixedRun, header_of, resolve_choice, run_fixed_table};
-use crate::scenario::{LoadedScenario, note_step_length};
-use crate::systems::{check_defect, invariance_samples};
+use crate::scenario::note_step_length;
 
 /// Run the custom model of `scenario` (more than [`MAX_FIXED_DIMENSION`]
 /// coordinates) with the options of `job`.

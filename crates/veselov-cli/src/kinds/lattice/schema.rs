@@ -1,41 +1,16 @@
-//! Lattice field scenarios: sine-Gordon, the linear wave equation and φ⁴
-//! Klein–Gordon on a 1+1 spacetime lattice, with the schemes of seed 002 §5.
-//!
-//! ```toml
-//! [model]
-//! name = "sine-gordon"     # sine-gordon | wave | klein-gordon-phi4
-//! params = { m2 = 1.0, lambda = 1.0 }   # klein-gordon-phi4: N = −½m²φ² − ¼λφ⁴
-//! [lattice]
-//! nodes = 255
-//! length = 40.0
-//! boundary = "periodic"    # periodic | winding (jump = 2π by default)
-//! courant = 0.125          # or: dt = 0.0196…
-//! [method]
-//! scheme = "triangle"      # triangle | triangle-explicit | rectangle | symmetric-rectangle | vu-quoc-li | guo
-//! [initial]
-//! kind = "kink-antikink"   # kink-antikink | kink | breather | dalembert
-//! [time]
-//! t_end = 200.0
-//! [output]
-//! dir = "out/sg"
-//! snapshot_every = 100
-//! ```
+//! The schema of a lattice-field scenario file (`[model]`, `[lattice]`,
+//! `[method]`, `[initial]`, `[time]`, `[output]`), parsed with key-level
+//! errors and validated into the library's model, lattice, scheme and
+//! initial data.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use nalgebra::SVector;
 use serde::Deserialize;
-use veselov::spacetime::{
-    Boundary, ComplexKleinGordon, ComplexPlaneWave, Density, FieldRunConfig, Generator, InitialData, Lattice, Model,
-    NonlinearWave, Phi4, RectangleRule, Scheme, SineGordon, SolverOptions, TriangleRule, Wave,
-};
+use veselov::spacetime::{Boundary, ComplexKleinGordon, InitialData, Lattice, Model, Scheme, SolverOptions};
 
 use crate::error::CliError;
-use crate::field_run::{march_fast, march_generic};
-use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Session};
-use crate::run::RunJob;
-use crate::scenario::{check_plot_format, finite_value, key_error, output_dir, parse_toml, positive_value};
+use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, positive_value};
 
 /// The lattice-field model names.
 pub const FIELD_MODELS: &[&str] = &["sine-gordon", "wave", "klein-gordon-phi4", "klein-gordon-complex"];
@@ -217,15 +192,15 @@ impl LoadedField {
         key_error(&self.path, key, message)
     }
 
-    fn positive(&self, key: &str, v: f64) -> Result<f64, CliError> {
+    pub(super) fn positive(&self, key: &str, v: f64) -> Result<f64, CliError> {
         positive_value(&self.path, key, v)
     }
 
-    fn finite(&self, key: &str, v: f64) -> Result<f64, CliError> {
+    pub(super) fn finite(&self, key: &str, v: f64) -> Result<f64, CliError> {
         finite_value(&self.path, key, v)
     }
 
-    fn model(&self) -> Result<FieldModel, CliError> {
+    pub(super) fn model(&self) -> Result<FieldModel, CliError> {
         let m = &self.scenario.model;
         let allowed: &[&str] = match m.name.as_str() {
             "klein-gordon-phi4" | "klein-gordon-complex" => &["m2", "lambda"],
@@ -257,7 +232,7 @@ impl LoadedField {
         }
     }
 
-    fn lattice(&self) -> Result<Lattice, CliError> {
+    pub(super) fn lattice(&self) -> Result<Lattice, CliError> {
         let l = &self.scenario.lattice;
         if l.nodes < 3 {
             return Err(self.key_error("lattice.nodes", format!("expected at least 3 nodes, got {}", l.nodes)));
@@ -301,7 +276,7 @@ impl LoadedField {
         Lattice::new(l.nodes, dx, dt, boundary).map_err(|e| self.key_error("lattice", e.to_string()))
     }
 
-    fn scheme(&self) -> Result<Scheme, CliError> {
+    pub(super) fn scheme(&self) -> Result<Scheme, CliError> {
         let name = self.scenario.method.scheme.as_str();
         Ok(match name {
             "triangle" => Scheme::Triangle,
@@ -322,7 +297,7 @@ impl LoadedField {
         })
     }
 
-    fn initial(&self, length: f64) -> Result<FieldInitial, CliError> {
+    pub(super) fn initial(&self, length: f64) -> Result<FieldInitial, CliError> {
         let i = &self.scenario.initial;
         let allowed: &[&str] = match i.kind.as_str() {
             "kink-antikink" => &["epsilon", "paper_start"],
@@ -389,7 +364,7 @@ impl LoadedField {
         Ok(FieldInitial::Scalar(data))
     }
 
-    fn solver(&self) -> Result<SolverOptions, CliError> {
+    pub(super) fn solver(&self) -> Result<SolverOptions, CliError> {
         let s = &self.scenario;
         let mut solver = SolverOptions::default();
         if let Some(tol) = s.method.tolerance {
@@ -408,7 +383,7 @@ impl LoadedField {
 
 /// The field equation of a scenario.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum FieldModel {
+pub(super) enum FieldModel {
     /// A real scalar field (fast paths on periodic lattices).
     Scalar(Model),
     /// The complex (O(2)-invariant) Klein–Gordon field.
@@ -417,7 +392,7 @@ enum FieldModel {
 
 /// The initial data of a scenario.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum FieldInitial {
+pub(super) enum FieldInitial {
     /// Scalar data of the library.
     Scalar(InitialData),
     /// The exact complex plane wave.
@@ -427,201 +402,4 @@ enum FieldInitial {
         /// Mode number.
         mode: i32,
     },
-}
-
-/// The cell rule of a variational scheme, or an error naming `method.scheme`.
-fn variational_rule<F: Density<DIM> + Copy, const DIM: usize, R>(
-    loaded: &LoadedField,
-    scheme: Scheme,
-    density: F,
-    lattice: &Lattice,
-    go: impl FnOnce(Either<TriangleRule<F>, RectangleRule<F>>) -> R,
-) -> Result<R, CliError> {
-    let (dt, dx) = (lattice.dt(), lattice.dx());
-    match scheme {
-        Scheme::Triangle => Ok(go(Either::Triangle(TriangleRule { density, dt, dx }))),
-        Scheme::Rectangle | Scheme::SymmetricRectangle => Ok(go(Either::Rectangle(RectangleRule {
-            density,
-            dt,
-            dx,
-            symmetric: scheme == Scheme::SymmetricRectangle,
-        }))),
-        other => Err(loaded.key_error(
-            "method.scheme",
-            format!(
-                "`{}` has no cell Lagrangian: on dirichlet or free boundaries and for the complex field only \
-                 the variational schemes triangle, rectangle and symmetric-rectangle run",
-                other.name()
-            ),
-        )),
-    }
-}
-
-/// One of the two cell rules.
-enum Either<T, R> {
-    Triangle(T),
-    Rectangle(R),
-}
-
-/// Run a lattice-field scenario.
-pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
-    if crate::cfk_field::is_cfk(text) {
-        return crate::cfk_field::run(path, text, job);
-    }
-    let loaded = LoadedField::parse(path, text)?;
-    let s = &loaded.scenario;
-    let solver = loaded.solver()?;
-    let model = loaded.model()?;
-    let scheme = loaded.scheme()?;
-    let mut lattice = loaded.lattice()?;
-    let initial = loaded.initial(lattice.length())?;
-    let t_end = loaded.positive("time.t_end", s.time.t_end)?;
-    crate::scenario::note_lattice_end(t_end, lattice.dt(), job.quiet);
-    let mut session = open_session(&loaded, &job, &lattice, t_end)?;
-    let progress = &mut session;
-    let initial_error = |e: veselov::Error| loaded.key_error("initial", e.to_string());
-    match (model, initial) {
-        (FieldModel::Scalar(model), FieldInitial::Scalar(data)) => {
-            if lattice.is_periodic() {
-                let config = FieldRunConfig {
-                    model,
-                    scheme,
-                    lattice,
-                    initial: data,
-                    t_end,
-                    snapshot_every: s.output.snapshot_every,
-                    energy_block: 0,
-                    keep_energies: true,
-                    recentre_every: if model == Model::SineGordon { 1000 } else { 0 },
-                    solver,
-                };
-                march_fast(&loaded, progress, &config)?
-            } else {
-                let (y0, y1) = data.levels(&lattice).map_err(initial_error)?;
-                if let Boundary::Dirichlet { .. } = lattice.boundary() {
-                    // Unless given, the end values are the initial ones.
-                    let l = &s.lattice;
-                    let n = y0.len();
-                    let boundary = Boundary::Dirichlet {
-                        left: l.left.unwrap_or(y0[0]),
-                        right: l.right.unwrap_or(y0[n - 1]),
-                    };
-                    lattice = Lattice::new(lattice.nodes(), lattice.dx(), lattice.dt(), boundary)
-                        .map_err(|e| loaded.key_error("lattice", e.to_string()))?;
-                }
-                let lift = |y: Vec<f64>| -> Vec<SVector<f64, 1>> { y.into_iter().map(SVector::from_element).collect() };
-                let levels = (lift(y0), lift(y1));
-                let shift = |_: &SVector<f64, 1>| SVector::<f64, 1>::from_element(1.0);
-                // The shift y ↦ y + s is a symmetry of the wave equation that a
-                // Dirichlet boundary breaks.
-                let charge: Option<(&'static str, Generator<'_, 1>)> = (model == Model::Wave
-                    && lattice.boundary() == Boundary::Free)
-                    .then_some(("split_shift_charge", &shift));
-                match model {
-                    Model::SineGordon => variational_rule(
-                        &loaded,
-                        scheme,
-                        NonlinearWave(SineGordon),
-                        &lattice,
-                        |rule| match rule {
-                            Either::Triangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
-                            Either::Rectangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
-                        },
-                    )??,
-                    Model::Wave => {
-                        variational_rule(&loaded, scheme, NonlinearWave(Wave), &lattice, |rule| match rule {
-                            Either::Triangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
-                            Either::Rectangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
-                        })??
-                    }
-                    Model::Phi4 { m2, lambda } => {
-                        variational_rule(&loaded, scheme, NonlinearWave(Phi4 { m2, lambda }), &lattice, |rule| {
-                            match rule {
-                                Either::Triangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
-                                Either::Rectangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
-                            }
-                        })??
-                    }
-                }
-            }
-        }
-        (FieldModel::Complex(kg), FieldInitial::PlaneWave { amplitude, mode }) => {
-            let wave = ComplexPlaneWave {
-                amplitude,
-                mode,
-                m2: kg.m2,
-                lambda: kg.lambda,
-            };
-            let levels = wave.levels(&lattice).map_err(initial_error)?;
-            let rotation = |y: &SVector<f64, 2>| SVector::<f64, 2>::new(-y[1], y[0]);
-            // Fixed end values (every component the same) break the phase symmetry.
-            let fixed = matches!(lattice.boundary(), Boundary::Dirichlet { .. });
-            let charge: Option<(&'static str, Generator<'_, 2>)> = (!fixed).then_some(("phase_charge", &rotation));
-            variational_rule(&loaded, scheme, NonlinearWave(kg), &lattice, |rule| match rule {
-                Either::Triangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
-                Either::Rectangle(r) => march_generic(&loaded, progress, r, lattice, levels, charge),
-            })??
-        }
-        (FieldModel::Complex(_), FieldInitial::Scalar(_)) => {
-            return Err(loaded.key_error(
-                "initial.kind",
-                "the complex Klein–Gordon field takes `plane-wave` initial data",
-            ));
-        }
-        (FieldModel::Scalar(_), FieldInitial::PlaneWave { .. }) => {
-            return Err(loaded.key_error(
-                "initial.kind",
-                "`plane-wave` initial data are for the complex Klein–Gordon field",
-            ));
-        }
-    };
-    Ok(())
-}
-
-/// The session of a field run: levels and output size planned from the
-/// lattice, the horizon and the output keys.
-fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f64) -> Result<Session, CliError> {
-    let o = &loaded.scenario.output;
-    let levels = t_end / lattice.dt();
-    let components = if loaded.scenario.model.name == "klein-gordon-complex" {
-        2.0
-    } else {
-        1.0
-    };
-    let snapshots = if o.snapshot_every == 0 {
-        2.0
-    } else {
-        levels / o.snapshot_every as f64 + 2.0
-    };
-    let snapshot_bytes = snapshots * lattice.nodes() as f64 * components * 8.0;
-    let energy_bytes = (levels / o.energy_every as f64 + 2.0) * 3.0 * CSV_BYTES_PER_VALUE;
-    let plan = Plan {
-        steps: levels,
-        steps_key: "time.t_end",
-        bytes: snapshot_bytes + energy_bytes,
-        bytes_key: if snapshot_bytes > energy_bytes {
-            "output.snapshot_every"
-        } else {
-            "output.energy_every"
-        },
-        unit: "levels",
-        step: Some(lattice.dt()),
-        t_end: None,
-    };
-    Session::open(
-        &loaded.path,
-        job,
-        output_dir(&loaded.path, &output_spec(&loaded.scenario), job.out.as_deref()),
-        &plan,
-        Some(o.checkpoint_every),
-        "lattice-field",
-    )
-}
-
-/// The `[output]` keys `output_dir` understands.
-fn output_spec(s: &FieldScenario) -> crate::scenario::OutputSpec {
-    crate::scenario::OutputSpec {
-        dir: s.output.dir.clone(),
-        ..Default::default()
-    }
 }

@@ -15,10 +15,10 @@ use veselov::models::{
 use veselov::sem::{SemAction, SemIntegrator, SemRule, VariableStepMap};
 use veselov::solve::NewtonOptions;
 
+use super::custom::{CustomForce, CustomLagrangian, CustomSymmetry, MAX_DIMENSION};
+use super::schema::LoadedScenario;
 use crate::catalog;
-use crate::custom::{CustomForce, CustomLagrangian, CustomSymmetry, MAX_DIMENSION};
 use crate::error::CliError;
-use crate::scenario::LoadedScenario;
 
 /// Builds a one-step map for a method and step.
 pub type MapFactory<const N: usize> =
@@ -70,7 +70,7 @@ fn sem_factory<const N: usize, L: Lagrangian<N> + Clone + 'static>(l: Rc<L>, for
 pub trait Job {
     /// Do it.
     fn run<const N: usize>(self, scenario: &LoadedScenario, system: System<N>) -> Result<(), CliError>;
-    /// Do it for a custom model with more than [`crate::custom::MAX_FIXED_DIMENSION`]
+    /// Do it for a custom model with more than [`super::custom::MAX_FIXED_DIMENSION`]
     /// coordinates (the run-time-dimension integrator).
     fn run_dynamic(self, scenario: &LoadedScenario) -> Result<(), CliError>;
 }

@@ -2,23 +2,18 @@
 //! streams `energy.csv`, `snapshots.npy` and `snapshot_times.csv` as levels
 //! are computed, accumulates the energy and charge errors and the energy
 //! blocks, and writes `summary.json` and the plots at the end. (Parsing and
-//! validation live in [`crate::field`].)
+//! validation live in [`super::schema`].)
 
-use nalgebra::SVector;
 use serde_json::json;
 use veselov::run::{Checkpoint, Control, Observer, Outcome, StepStats, Stepper, StopWhen, Words, save_count};
-use veselov::spacetime::{
-    BlockAccumulator, CellEnergy, DensityStepper, FastLevels, FastMarcher, FastStepper, FieldRunConfig, Generator,
-    GenericMarcher, Lattice, Levels, Model, Phi4, ScalarPotential, SineGordon, Wave, level_energy, shift_charge,
-    split_charge,
-};
+use veselov::spacetime::{BlockAccumulator, Lattice};
 
+use super::figures::draw_field_files;
+use super::schema::LoadedField;
 use crate::error::CliError;
-use crate::field::LoadedField;
-use crate::figures::{FieldView, draw_field};
 use crate::output::Table;
 use crate::pipeline::finish::{Ending, close_run};
-use crate::pipeline::readback::{MAX_PLOT_SNAPSHOTS, rows_for_plots, table_for_plots};
+use crate::pipeline::readback::table_for_plots;
 use crate::pipeline::stream::{CsvStream, NpyStream, Position};
 use crate::pipeline::table::{Acc, Tracker};
 use crate::pipeline::{Resumable, Session, after_recording, restore, words_error};
@@ -385,134 +380,4 @@ fn close<S>(
             s.model.name, s.method.scheme, levels, t_final, energy_error_max,
         )
     })
-}
-
-/// The figures of a 1+1 lattice run of `model` (`components` values per
-/// node) on `nodes` nodes `dx` apart over `length`, from its `energy` table
-/// and its `snapshot_rows` stored snapshots (first component; a circle-valued
-/// sine-Gordon field as sin²(φ/2), a complex one as Re φ).
-pub fn draw_field_files(
-    dir: &std::path::Path,
-    (model, components): (&str, usize),
-    (nodes, dx, length): (usize, f64, f64),
-    (energy, snapshot_rows): (&Table, u64),
-    format: &str,
-) -> Result<(), CliError> {
-    let width: Vec<String> = (0..nodes * components).map(|i| i.to_string()).collect();
-    let snaps = rows_for_plots(dir, "snapshots", &width, snapshot_rows, MAX_PLOT_SNAPSHOTS)?;
-    let times = rows_for_plots(
-        dir,
-        "snapshot_times",
-        &["t".to_string()],
-        snapshot_rows,
-        MAX_PLOT_SNAPSHOTS,
-    )?;
-    let first_component: Vec<Vec<f64>> = snaps
-        .rows
-        .iter()
-        .map(|row| row.iter().step_by(components).copied().collect())
-        .collect();
-    let times: Vec<f64> = times.rows.iter().map(|r| r[0]).collect();
-    let view = match (model, components) {
-        ("sine-gordon", _) => FieldView::Circle,
-        (_, 1) => FieldView::Real,
-        _ => FieldView::RealPart,
-    };
-    draw_field(dir, energy, &first_component, &times, (dx, length), view, format)
-}
-
-/// The fast path (the scheme's own O(N) solver) on a periodic lattice.
-pub fn march_fast(loaded: &LoadedField, session: &mut Session, config: &FieldRunConfig) -> Result<(), CliError> {
-    match config.model {
-        Model::SineGordon => march_fast_with(loaded, session, config, SineGordon),
-        Model::Wave => march_fast_with(loaded, session, config, Wave),
-        Model::Phi4 { m2, lambda } => march_fast_with(loaded, session, config, Phi4 { m2, lambda }),
-    }
-}
-
-fn march_fast_with<P: ScalarPotential>(
-    loaded: &LoadedField,
-    session: &mut Session,
-    config: &FieldRunConfig,
-    potential: P,
-) -> Result<(), CliError> {
-    let lattice = config.lattice;
-    let (y0, y1) = config
-        .initial
-        .levels(&lattice)
-        .map_err(|e| loaded.key_error("initial", e.to_string()))?;
-    let marcher = FastMarcher::new(potential, config.scheme, lattice, &y0, &y1, config.solver)
-        .map_err(|e| loaded.key_error("lattice", e.to_string()))?;
-    let wave = config.model == Model::Wave;
-    let recentre = if config.model == Model::SineGordon {
-        config.recentre_every
-    } else {
-        0
-    };
-    let frame = Frame {
-        measure: Box::new(move |s: &FastLevels<P>| {
-            let m = &s.marcher;
-            (m.energy(), wave.then(|| shift_charge(m.previous(), m.current())))
-        }),
-        values: Box::new(|s: &FastLevels<P>| s.marcher.current().iter().map(|v| v + s.recentred_by).collect()),
-        level_of: |s| s.marcher.level(),
-        charge: wave.then_some("shift_charge"),
-        offset: 2,
-        path: "fast",
-        components: 1,
-        recentred_by: |s| s.recentred_by,
-    };
-    march(
-        loaded,
-        session,
-        lattice,
-        FastStepper::<P>::new(recentre),
-        FastLevels::new(marcher),
-        frame,
-        y0,
-    )
-}
-
-/// The generic (density) path for the variational schemes.
-pub fn march_generic<L: CellEnergy<DIM>, const DIM: usize>(
-    loaded: &LoadedField,
-    session: &mut Session,
-    lag: L,
-    lattice: Lattice,
-    (y0, y1): Levels<DIM>,
-    charge: Option<(&'static str, Generator<'_, DIM>)>,
-) -> Result<(), CliError> {
-    let flat = |level: &[SVector<f64, DIM>]| -> Vec<f64> { level.iter().flat_map(|v| v.iter().copied()).collect() };
-    let first = flat(&y0);
-    let mut marcher =
-        GenericMarcher::new(lag, lattice, y0, y1).map_err(|e| loaded.key_error("lattice", e.to_string()))?;
-    let tol = loaded.scenario.method.tolerance.unwrap_or(1e-13);
-    if !(tol.is_finite() && tol > 0.0) {
-        return Err(loaded.key_error("method.tolerance", format!("expected a finite number > 0, got {tol}")));
-    }
-    marcher.rel_tol = tol;
-    let xi = charge.map(|c| c.1);
-    let frame = Frame {
-        measure: Box::new(move |m: &GenericMarcher<L, DIM>| {
-            let e = level_energy(m.lagrangian(), &lattice, m.previous(), m.current());
-            let q = xi.map(|xi| split_charge(m.lagrangian(), &lattice, m.previous(), m.current(), xi));
-            (e, q)
-        }),
-        values: Box::new(move |m: &GenericMarcher<L, DIM>| flat(m.current())),
-        level_of: |m| m.level(),
-        charge: charge.map(|c| c.0),
-        offset: 1,
-        path: "generic",
-        components: DIM,
-        recentred_by: |_| 0.0,
-    };
-    march(
-        loaded,
-        session,
-        lattice,
-        DensityStepper::<L, DIM>::new(),
-        marcher,
-        frame,
-        first,
-    )
 }

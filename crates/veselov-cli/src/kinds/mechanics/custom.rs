@@ -10,8 +10,8 @@ use veselov::ad::Scalar;
 use veselov::expr::{Expr, SymbolTable};
 use veselov::mechanics::{DynLagrangian, Force, Lagrangian, Symmetry};
 
+use super::schema::LoadedScenario;
 use crate::error::CliError;
-use crate::scenario::LoadedScenario;
 
 /// Largest number of coordinates of a custom system integrated with a
 /// dimension fixed at compile time (every method and option); beyond it the

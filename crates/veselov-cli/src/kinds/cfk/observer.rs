@@ -1,7 +1,23 @@
 //! The observer of a CFK field run: energy, momenta, snapshots and checkpoints.
 
-use super::*;
-use crate::pipeline::after_recording;
+use nalgebra::SVector;
+use veselov::complex::CfkTorus;
+use veselov::field::cauchy::CauchyMarcher;
+use veselov::field::discretize::{CfkNodes, MidpointRule, SmoothDensity};
+use veselov::field::fibre::Euclidean;
+use veselov::run::{Control, Observer, StepStats, Words};
+use veselov::spacetime::{NonlinearWave, Potential};
+
+use crate::error::CliError;
+use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::{Resumable, after_recording};
+
+/// A vertical symmetry's generator: the field's variation at a value.
+pub(super) type Generator<const M: usize> = fn(&SVector<f64, M>) -> SVector<f64, M>;
+/// The midpoint rule of the density on the space–time CFK nodes.
+pub(super) type Rule<P> = MidpointRule<NonlinearWave<P>, CfkNodes<3>, 3>;
+/// The march of an M-component field.
+pub(super) type Marcher<P, const M: usize> = CauchyMarcher<Euclidean<M>, Rule<P>, M>;
 
 /// Writes the rows of one time step Δt (every 3 levels) and the snapshots.
 pub(super) struct CfkObserver<P, const M: usize> {
@@ -126,7 +142,7 @@ where
 }
 
 impl<P, const M: usize> CfkObserver<P, M> {
-    /// Restore the accumulators after [`Position::read_all`].
+    /// Restore the accumulators after [`Position::read_all`](crate::pipeline::stream::Position::read_all).
     pub(super) fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
         [self.energy0, self.energy_error_max, self.charge0, self.charge_error_max] =
             [w.one()?, w.one()?, w.one()?, w.one()?];

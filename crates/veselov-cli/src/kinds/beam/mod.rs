@@ -1,0 +1,43 @@
+//! The geometrically exact beam on SE(3) (`[model] name = "beam"`, seed
+//! 000): seed 000's multisymplectic Lie-group integrator on the library's
+//! beam ([`veselov::models::beam`]), marching in time, or in space on the
+//! paper's time grid and prescribed columns (seed 000 §5).
+//!
+//! [`schema`] holds the scenario's tables and [`setup`] validates them into
+//! the beam; [`run`] marches it with the observer of [`observer`];
+//! [`figures`] draws the centreline, the momentum map and the energy.
+
+pub mod figures;
+pub mod observer;
+pub mod run;
+pub mod schema;
+pub mod setup;
+
+use std::path::Path;
+
+use super::ScenarioKind;
+use crate::error::CliError;
+use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
+use schema::BEAM_MODEL;
+
+/// The beam kind.
+pub struct BeamKind;
+
+impl ScenarioKind for BeamKind {
+    fn models(&self) -> &'static [&'static str] {
+        &[BEAM_MODEL]
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        run::run(path, text, job)
+    }
+
+    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
+        Err(CliError::Setup(format!(
+            "{}: `veselov verify` does not take beam scenarios; the beam's convergence (Timoshenko's \
+             frequencies and deflection) is measured by the test suite (crates/veselov/tests/beam/)",
+            path.display()
+        )))
+    }
+}

@@ -1,0 +1,294 @@
+//! The run of a beam scenario ([`super::setup`]) on the shared pipeline:
+//! seed 000's multisymplectic Lie-group integrator marching in time (level
+//! ℓ = time node j, t = ℓΔt, across the beam's nodes a) or in space (level
+//! ℓ = column a, s = ℓΔs, across the time nodes j), one row of every
+//! output per `every` levels.
+//!
+//! Outputs: `frames.npy` (rows × cross nodes × 12: R row by row, then the
+//! position), `momentum.csv` (level, t or s, then the six components of the
+//! evolution momentum map 𝖩⁺ of the cell level below — 𝖩_𝖫 in time, 𝖩_𝖭 in
+//! space — angular first), `energy.csv` (level, t or s, E_𝖫 = Δs Σ e_𝖫 or
+//! E_𝖭 = Δt Σ e_𝖭), `summary.json` (with the largest change of 𝖩⁺ relative
+//! to the size of its terms), plots of the centreline, the momentum map and
+//! the energy.
+
+use std::path::Path;
+
+use nalgebra::SVector;
+use serde_json::json;
+use veselov::evolution::marcher::{Direction, EndCondition, EvolutionStepper};
+use veselov::field::fibre::RigidMotions;
+use veselov::lie::{CayleyMap, ExpMap, LieGroup, Retraction, SE3};
+use veselov::models::beam::paper::{DS, DT, LAST_TIME_NODE, XI0, prescribed_columns};
+use veselov::models::beam::{BeamDensity, BeamLagrangian, beam_lagrangian, straight};
+use veselov::run::{Outcome, Status, StopWhen};
+
+use super::figures::draw_beam;
+use super::observer::{Beam, BeamObserver, DomainCurrent};
+use super::setup::{BeamSetup, BeamStart};
+use crate::error::CliError;
+use crate::pipeline::finish::{Ending, close_run};
+use crate::pipeline::stream::{CsvStream, NpyStream};
+use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumed, RunJob, Session, open_lattice_run};
+
+/// Run a beam scenario.
+pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+    let setup = BeamSetup::parse(path, text)?;
+    if setup.cayley {
+        march::<CayleyMap>(&setup, job)
+    } else {
+        march::<ExpMap>(&setup, job)
+    }
+}
+
+/// The first two levels: time evolution, the beam at rest (straight, or bent
+/// with curvature κ about E1: g_{a+1} = g_a τ(Δs(κe₁ + E6))); space
+/// evolution, the paper's prescribed columns (or, well posed, column 1 the
+/// rigid transport of column 0 with a 10⁻³ perturbation of its velocity).
+fn initial<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
+    setup: &BeamSetup,
+) -> (Vec<SE3<f64>>, Vec<SE3<f64>>) {
+    let nodes = setup.scenario.model.nodes;
+    match setup.start {
+        BeamStart::Straight => {
+            let g: Vec<_> = (0..nodes).map(|a| straight(setup.ds, a)).collect();
+            (g.clone(), g)
+        }
+        BeamStart::Bent(kappa) => {
+            let step = R::tau(&(SVector::<f64, 6>::from([kappa, 0.0, 0.0, 0.0, 0.0, 1.0]) * setup.ds));
+            let mut g = vec![SE3::identity(); nodes];
+            for a in 0..nodes - 1 {
+                g[a + 1] = g[a].compose(&step);
+            }
+            (g.clone(), g)
+        }
+        BeamStart::Paper => prescribed_columns::<R>(LAST_TIME_NODE + 1),
+        BeamStart::PaperWellPosed => {
+            let last = LAST_TIME_NODE + 1;
+            let (c0, _) = prescribed_columns::<R>(last);
+            let h = SE3::from_translation(nalgebra::Vector3::new(0.0, 0.0, DS));
+            let xi1 = h.inverse().adjoint() * SVector::from(XI0) + SVector::from([1e-3, 0.0, -1e-3, 0.0, 0.0, 0.0]);
+            let step = R::tau(&(xi1 * DT));
+            let mut c1 = vec![h; last + 1];
+            for j in 0..last {
+                c1[j + 1] = c1[j].compose(&step);
+            }
+            (c0, c1)
+        }
+    }
+}
+
+fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
+    setup: &BeamSetup,
+    job: RunJob,
+) -> Result<(), CliError> {
+    let s = &setup.scenario;
+    if let Some(reason) = &setup.unstable {
+        eprintln!("warning: {reason}; running because [method] allow_unstable = true");
+    }
+    if let Some(requested) = setup.dt_requested
+        && (requested - setup.dt).abs() > 1e-12 * requested
+        && !job.quiet
+    {
+        eprintln!(
+            "note: dt = {requested:e} adjusted to {:e} = t_end/{} so that the run ends at t_end",
+            setup.dt,
+            setup.levels + 1
+        );
+    }
+    let (evolution, cross) = start_evolution::<R>(setup)?;
+    let (mut session, resumed, mut obs) = open_observer(setup, &job, cross)?;
+    let dir = session.dir.clone();
+    let x = if setup.space { "s" } else { "t" };
+    let mut state = evolution;
+    let step_length = if setup.space { setup.ds } else { setup.dt };
+    let mut stepper = EvolutionStepper::<RigidMotions, BeamLagrangian<R>, 6>::new(step_length);
+    let (first_step, start) = match &resumed {
+        Some(r) => (r.restore_run(&dir, |w| obs.restore(w), &mut state)?, Ok(())),
+        None => {
+            obs.domain.add_band(&state);
+            (0, obs.record(&state))
+        }
+    };
+    let outcome = session.execute(
+        start,
+        &mut stepper,
+        &mut state,
+        first_step,
+        StopWhen::steps(setup.levels),
+        &mut obs,
+    )?;
+    if !outcome.last_step.is_multiple_of(obs.every)
+        && matches!(outcome.status, Status::Completed)
+        && let Err(e) = obs.record(&state)
+    {
+        obs.io(Err(CliError::Run {
+            error: e,
+            dir: dir.clone(),
+        }));
+    }
+    obs.frames.position()?;
+    obs.energy.position()?;
+    let rows_out = obs.momentum.position()?.rows;
+    let level = state.level();
+    let own = summary(setup, &outcome, level, cross, &obs);
+    let t_final = level as f64 * step_length;
+    let ending = Ending {
+        status: outcome.status,
+        steps: outcome.last_step,
+        t_final,
+        iterations: outcome.iterations,
+    };
+    close_run(
+        &session,
+        ending,
+        own,
+        obs.error.take(),
+        (s.output.plots, || {
+            draw_beam(&dir, cross, rows_out, x, &s.output.plot_format)
+        }),
+        || {
+            format!(
+                "beam, {} evolution: {} levels to {x} = {t_final}, max change of the momentum map {:.1e} of its terms",
+                if setup.space { "space" } else { "time" },
+                level,
+                obs.drift,
+            )
+        },
+    )
+}
+
+/// The evolution of the scenario's beam from its first two levels, with
+/// the ends clamped or free, and the number of nodes across a level.
+fn start_evolution<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
+    setup: &BeamSetup,
+) -> Result<(Beam<R>, usize), CliError> {
+    let density = BeamDensity::new(setup.properties)
+        .with_damping(setup.damping)
+        .map_err(|e| setup.key("loads.damping", e.to_string()))?
+        .with_gravity(setup.gravity);
+    let lag = beam_lagrangian::<R>(density, setup.dt, setup.ds).map_err(|e| setup.key("model", e.to_string()))?;
+    let (first, second) = initial::<R>(setup);
+    let end = |clamped: bool, value: SE3<f64>| -> EndCondition<SE3<f64>> {
+        if clamped {
+            EndCondition::Prescribed(Box::new(move |_| value))
+        } else {
+            EndCondition::Natural
+        }
+    };
+    let last = first.len() - 1;
+    let direction = if setup.space { Direction::Space } else { Direction::Time };
+    let evolution = Beam::<R>::new(
+        direction,
+        lag,
+        &first,
+        &second,
+        end(setup.clamped[0], first[0]),
+        end(setup.clamped[1], first[last]),
+        setup.options,
+    )
+    .map_err(|e| setup.key("initial", e.to_string()))?;
+    let cross = last + 1;
+    Ok((evolution, cross))
+}
+
+/// The session of the run (planned from the rows and their size), the
+/// checkpoint it resumes from, if any, and the observer writing the rows
+/// of `cross` nodes.
+fn open_observer<'a>(
+    setup: &'a BeamSetup,
+    job: &RunJob,
+    cross: usize,
+) -> Result<(Session, Option<Resumed<3>>, BeamObserver<'a>), CliError> {
+    let s = &setup.scenario;
+    let rows = setup.levels / setup.every + 2;
+    let plan = Plan {
+        steps: setup.levels as f64,
+        steps_key: "time.t_end",
+        bytes: rows as f64 * (cross as f64 * 12.0 * 8.0 + 11.0 * CSV_BYTES_PER_VALUE),
+        bytes_key: "output.every",
+        unit: "levels",
+        step: Some(setup.dt),
+        t_end: None,
+    };
+    let (session, resumed) = open_lattice_run::<3>(
+        &setup.path,
+        job,
+        s.output.dir.clone(),
+        &plan,
+        s.output.checkpoint_every,
+        "beam",
+    )?;
+    let dir = session.dir.clone();
+    let at = Resumed::positions(&resumed);
+    let x = if setup.space { "s" } else { "t" };
+    let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    let obs = BeamObserver {
+        setup,
+        every: setup.every,
+        frames: NpyStream::create(&dir.join("frames.npy"), &[cross, 12], rows, at[0])?,
+        momentum: CsvStream::create(
+            &dir.join("momentum.csv"),
+            &names(&[
+                "level",
+                x,
+                "J_wx",
+                "J_wy",
+                "J_wz",
+                "J_vx",
+                "J_vy",
+                "J_vz",
+                "Jdomain_wx",
+                "Jdomain_wy",
+                "Jdomain_wz",
+                "Jdomain_vx",
+                "Jdomain_vy",
+                "Jdomain_vz",
+            ]),
+            at[1],
+        )?,
+        energy: CsvStream::create(&dir.join("energy.csv"), &names(&["level", x, "energy"]), at[2])?,
+        first: [0.0; 6],
+        drift: 0.0,
+        started: false,
+        domain: DomainCurrent::default(),
+        energy_range: [f64::NAN; 2],
+        row: Vec::with_capacity(cross * 12),
+        error: None,
+    };
+    Ok((session, resumed, obs))
+}
+
+/// The kind's own keys of `summary.json`: the run ended at `level`, with
+/// `cross` nodes across a level.
+fn summary(
+    setup: &BeamSetup,
+    outcome: &Outcome,
+    level: usize,
+    cross: usize,
+    obs: &BeamObserver<'_>,
+) -> serde_json::Value {
+    let s = &setup.scenario;
+    json!({
+        "scenario": setup.path.display().to_string(),
+        "model": s.model.name,
+        "evolution": if setup.space { "space" } else { "time" },
+        "retraction": if setup.cayley { "cayley" } else { "exp" },
+        "nodes": s.model.nodes,
+        "cross_nodes": cross,
+        "ds": setup.ds,
+        "dt": setup.dt,
+        "dt_requested": setup.dt_requested,
+        "courant": setup.courant,
+        "levels": level,
+        "node_solves": outcome.last_step * cross as u64,
+        "newton_iterations_per_node": outcome.iterations as f64 / (outcome.last_step.max(1) * cross as u64) as f64,
+        "ends": if setup.space { json!(["natural", "natural"]) } else {
+            json!(setup.clamped.map(|c| if c { "clamped" } else { "free" }))
+        },
+        "momentum_map_drift": obs.drift,
+        "domain_current_max": obs.domain.worst,
+        "energy_min": obs.energy_range[0],
+        "energy_max": obs.energy_range[1],
+    })
+}

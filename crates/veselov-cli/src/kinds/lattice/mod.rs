@@ -1,0 +1,68 @@
+//! Lattice field scenarios: sine-Gordon, the linear wave equation and φ⁴
+//! Klein–Gordon on a 1+1 spacetime lattice, with the schemes of seed 002 §5.
+//!
+//! ```toml
+//! [model]
+//! name = "sine-gordon"     # sine-gordon | wave | klein-gordon-phi4
+//! params = { m2 = 1.0, lambda = 1.0 }   # klein-gordon-phi4: N = −½m²φ² − ¼λφ⁴
+//! [lattice]
+//! nodes = 255
+//! length = 40.0
+//! boundary = "periodic"    # periodic | winding (jump = 2π by default)
+//! courant = 0.125          # or: dt = 0.0196…
+//! [method]
+//! scheme = "triangle"      # triangle | triangle-explicit | rectangle | symmetric-rectangle | vu-quoc-li | guo
+//! [initial]
+//! kind = "kink-antikink"   # kink-antikink | kink | breather | dalembert
+//! [time]
+//! t_end = 200.0
+//! [output]
+//! dir = "out/sg"
+//! snapshot_every = 100
+//! ```
+//!
+//! [`schema`] reads and validates the file; [`run`] builds the lattice, the
+//! cell rule and the initial levels and marches them, on the fast path (the
+//! scheme's own solver, periodic lattices) or the generic one (a cell
+//! Lagrangian), with the observer of [`observer`]; [`figures`] draws the
+//! energy error, the final waveform and the space–time heat map.
+
+pub mod figures;
+pub mod observer;
+pub mod run;
+pub mod schema;
+
+use std::path::Path;
+
+use super::ScenarioKind;
+use crate::error::CliError;
+use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
+use schema::FIELD_MODELS;
+
+/// The 1+1 lattice-field kind.
+pub struct LatticeKind;
+
+impl ScenarioKind for LatticeKind {
+    fn models(&self) -> &'static [&'static str] {
+        FIELD_MODELS
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        run::run(path, text, job)
+    }
+
+    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
+        Err(no_verify(path))
+    }
+}
+
+/// Why `veselov verify` takes no lattice-field scenario (of the 1+1 or the
+/// CFK lattice) from the file `path`.
+pub(crate) fn no_verify(path: &Path) -> CliError {
+    CliError::Setup(format!(
+        "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
+         is measured by the test suite (crates/veselov/tests/field/)",
+        path.display()
+    ))
+}

@@ -1,0 +1,47 @@
+//! The Cosserat rod (`[model] name = "cosserat-rod"`, seed 003 §6): the
+//! rod's discrete Lagrangian on the leapfrog CFK lattice (Prop. 6.5, with
+//! the split vertex step, or Q_sym), marched by the core's Cauchy
+//! integrator of seed 003 §4 on the library's rod ([`veselov::models::rod`]).
+//!
+//! [`schema`] holds the scenario's tables (with [`motion`], the expressions
+//! of a centreline and of driven ends) and [`setup`] validates them into the
+//! rod, its lattice, ends and loads, from the initial [`shape`]; [`run`]
+//! marches it with the observer of [`observer`]; [`figures`] draws the
+//! centreline, the momenta and the energy.
+
+pub mod figures;
+pub mod motion;
+pub mod observer;
+pub mod run;
+pub mod schema;
+pub mod setup;
+pub mod shape;
+
+use std::path::Path;
+
+use super::ScenarioKind;
+use crate::error::CliError;
+use crate::pipeline::RunJob;
+use crate::verify::VerifyJob;
+use schema::ROD_MODEL;
+
+/// The Cosserat-rod kind.
+pub struct RodKind;
+
+impl ScenarioKind for RodKind {
+    fn models(&self) -> &'static [&'static str] {
+        &[ROD_MODEL]
+    }
+
+    fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
+        run::run(path, text, job)
+    }
+
+    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
+        Err(CliError::Setup(format!(
+            "{}: `veselov verify` does not take rod scenarios; the rod's convergence (Timoshenko's \
+             cantilever deflection at second order) is measured by the test suite (crates/veselov/tests/rod/rod_ends.rs)",
+            path.display()
+        )))
+    }
+}
