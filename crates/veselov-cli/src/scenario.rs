@@ -154,7 +154,7 @@ pub(crate) const FORMER_KEY_NAMES: &[(&str, &str)] = &[
 ];
 
 /// Parse scenario text of any schema, attributing errors to `file`. A key
-/// given under both its name and its former name ([`FORMER_KEY_NAMES`]) is
+/// given under both its name and its former name (`FORMER_KEY_NAMES`) is
 /// reported as such (the parser alone says only "duplicate field").
 pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Result<T, CliError> {
     toml::from_str(text).map_err(|e| {
