@@ -122,9 +122,49 @@ fn job(out: &str, force: bool, interrupt: &Arc<AtomicBool>) -> RunJob {
     }
 }
 
-/// Run the scenarios `texts` (attributed to `label`) into the directories
-/// `outs`, on `workers` threads (default: all cores), in input order.
-/// `progress(done, total)` is called on the calling thread as members end.
+/// Run scenarios into output directories, in parallel, as `veselov run` does.
+///
+/// Member ``i`` runs the scenario ``texts[i]`` into the directory ``outs[i]``
+/// through the command's library, with the GIL released. The calling thread
+/// polls Python's signal handlers meanwhile: Ctrl-C interrupts every member
+/// still running. The package's ``veselov.run`` and ``veselov.ensemble`` call
+/// this and read the directories back.
+///
+/// Parameters
+/// ----------
+/// label : str
+///     The name the scenarios' messages are attributed to (their file's
+///     path, or ``"<string>"``).
+/// texts : list of str
+///     The scenarios, as TOML text.
+/// outs : list of str
+///     The output directory of each scenario, ``len(texts)`` of them.
+/// force : bool, optional
+///     Run in non-empty directories, first removing an earlier run's
+///     outputs (``--force``). Default ``False``.
+/// workers : int, optional
+///     The number of threads, at least 1; default: all cores.
+/// progress : callable, optional
+///     Called as ``progress(done, total)`` (two ``int``) on the calling
+///     thread as members end, and once at the end.
+///
+/// Returns
+/// -------
+/// list of tuple of (str, str, str or None)
+///     ``(outcome, message, key)`` per member, in input order. ``outcome``
+///     is ``"ok"``; ``"error"`` (the integration failed; partial outputs
+///     written); ``"interrupted"``; ``"scenario"`` (an invalid scenario,
+///     with ``key`` the dotted key at fault when known); or ``"failure"``
+///     (output directory, I/O). ``message`` is the error text (``""`` for
+///     ``"ok"``).
+///
+/// Raises
+/// ------
+/// ValueError
+///     If ``texts`` and ``outs`` differ in length, or ``workers`` is 0.
+/// Exception
+///     Whatever ``progress`` or a Python signal handler other than
+///     Ctrl-C's raised (the members still running are interrupted first).
 #[pyfunction]
 #[pyo3(signature = (label, texts, outs, force=false, workers=None, progress=None))]
 fn run_many(
@@ -174,8 +214,33 @@ fn run_many(
     })
 }
 
-/// `veselov verify`: the convergence study of the scenario `text` at the
-/// steps `dts`, written to `out`.
+/// Convergence study of a scenario's method into a directory, as `veselov verify` does.
+///
+/// Writes ``convergence.csv`` (columns ``dt, steps, error``, one row per
+/// step), ``convergence.svg`` and ``summary.json`` into ``out``; the
+/// package's ``veselov.verify`` reads them back. The GIL is released while
+/// the study runs. Ctrl-C does not stop it.
+///
+/// Parameters
+/// ----------
+/// label : str
+///     The name the scenario's messages are attributed to.
+/// text : str
+///     The scenario, as TOML text.
+/// dts : list of float
+///     The steps of the study (``--dt``).
+/// out : str
+///     The output directory.
+/// force : bool, optional
+///     Write into a non-empty ``out``. Default ``False``.
+///
+/// Returns
+/// -------
+/// tuple of (str, str, str or None)
+///     ``(outcome, message, key)`` as ``run_many`` gives them for one
+///     member: ``"ok"``, ``"error"``, ``"scenario"`` (with ``key``, which
+///     is ``"--dt"`` for a bad step) or ``"failure"`` (a field, beam or rod
+///     scenario; output directory, I/O).
 #[pyfunction]
 #[pyo3(signature = (label, text, dts, out, force=false))]
 fn verify(py: Python<'_>, label: &str, text: &str, dts: Vec<f64>, out: &str, force: bool) -> PyResult<Ended> {
@@ -192,7 +257,25 @@ fn verify(py: Python<'_>, label: &str, text: &str, dts: Vec<f64>, out: &str, for
     })
 }
 
-/// The scenario `text` with the keys of the TOML document `overrides` replaced.
+/// A scenario with the keys of a TOML document of overrides replaced.
+///
+/// A table in ``overrides`` replaces a table key by key (so
+/// ``initial = { q = [1.0] }`` keeps ``initial.p``); any other value
+/// replaces the key. Numbers are read and written exactly.
+///
+/// Parameters
+/// ----------
+/// text : str
+///     The scenario, as TOML text.
+/// overrides : str
+///     The keys to replace, as a TOML document (``veselov.toml_text`` writes
+///     one from a dict).
+///
+/// Returns
+/// -------
+/// tuple of (str, str, None)
+///     ``("ok", merged TOML text, None)``, or ``("scenario", message, None)``
+///     when either document is not valid TOML.
 #[pyfunction]
 fn merge(text: &str, overrides: &str) -> PyResult<Ended> {
     Ok(match scenario::merge(text, overrides) {
@@ -213,7 +296,17 @@ type ModelRow = (
     &'static str,
 );
 
-/// The command's model catalogue.
+/// The command's catalogue of built-in models, as `veselov models` lists them first.
+///
+/// Returns
+/// -------
+/// list of tuple
+///     One ``(name, summary, coordinates, params, default_initial,
+///     symmetries, reference)`` per model: ``name``, ``summary``,
+///     ``default_initial`` and ``reference`` are ``str``; ``coordinates``
+///     and ``symmetries`` are ``list of str``; ``params`` is a ``list`` of
+///     ``(name, default, doc)`` tuples of ``(str, float, str)``. The
+///     package's ``veselov.models`` turns them into dicts.
 #[pyfunction]
 fn models() -> Vec<ModelRow> {
     catalog::MODELS
@@ -232,8 +325,13 @@ fn models() -> Vec<ModelRow> {
         .collect()
 }
 
-/// The structural models (the beam, the rod), with their own tables of
-/// keys: `(name, summary, keys, examples)`.
+/// The structural models (the beam, the rod), as `veselov models` lists them last.
+///
+/// Returns
+/// -------
+/// list of tuple of (str, str, str, str)
+///     One ``(name, summary, keys, examples)`` per model: the scenario keys
+///     it takes as one line of text, and a glob of its example scenarios.
 #[pyfunction]
 fn structures() -> Vec<(&'static str, &'static str, &'static str, &'static str)> {
     catalog::STRUCTURES
@@ -242,7 +340,14 @@ fn structures() -> Vec<(&'static str, &'static str, &'static str, &'static str)>
         .collect()
 }
 
-/// The command's method catalogue: `(name, keys, properties)`.
+/// The command's catalogue of methods, as `veselov methods` lists them.
+///
+/// Returns
+/// -------
+/// list of tuple of (str, str, str)
+///     One ``(name, keys, properties)`` per method: its ``method.name``,
+///     the ``[method]`` keys it takes, and its order and conservation
+///     properties, as text.
 #[pyfunction]
 fn methods() -> Vec<(&'static str, &'static str, &'static str)> {
     catalog::METHODS

@@ -5,7 +5,9 @@ The command binary is taken from $VESELOV_BIN, else from
 $CARGO_TARGET_DIR (or target/) /debug/veselov; `.ci/run` sets it.
 """
 
+import inspect
 import os
+import re
 import signal
 import subprocess
 import threading
@@ -15,6 +17,7 @@ import numpy as np
 import pytest
 
 import veselov
+import veselov.dask
 
 ROOT = Path(__file__).resolve().parents[3]
 EXAMPLES = ROOT / "examples"
@@ -228,3 +231,116 @@ def test_overrides_merge_dotted_keys_and_tables():
     status, merged, _ = veselov._native.merge((EXAMPLES / "van_der_pol.toml").read_text(), text)
     assert status == "ok"
     assert 'name = "midpoint"' in merged and "dt = 0.5" in merged and "stages = 3" in merged
+
+
+# Dunder methods that are public through syntax (`r[name]`, `name in r`).
+PROTOCOL = {"__getitem__", "__contains__", "__iter__", "__len__", "__call__"}
+
+
+def sections(doc):
+    """{title: text} of a NumPy-style docstring's sections (a title
+    underlined with as many dashes)."""
+    lines = inspect.cleandoc(doc or "").splitlines()
+    titles = [
+        i
+        for i in range(len(lines) - 1)
+        if lines[i].strip() and re.fullmatch(r"-+", lines[i + 1].strip()) and len(lines[i + 1].strip()) == len(lines[i].strip())
+    ]
+    ends = titles[1:] + [len(lines)]
+    return {lines[i].strip(): "\n".join(lines[i + 2 : end]) for i, end in zip(titles, ends)}
+
+
+def public_api():
+    """(dotted name, object) of every public function, class and method of
+    the package: what `veselov` and `veselov.dask` define under names without
+    a leading underscore (and list in `__all__`), the methods of those
+    classes, and the functions of the native module."""
+    found = []
+    for module in (veselov, veselov.dask):
+        names = set(module.__all__) | {n for n in vars(module) if not n.startswith("_")}
+        for name in sorted(names):
+            obj = getattr(module, name)
+            if not (inspect.isfunction(obj) or inspect.isclass(obj)):
+                continue
+            if name not in module.__all__ and obj.__module__ != module.__name__:
+                continue  # imported for use here, not part of the package
+            found.append((f"{module.__name__}.{name}", obj))
+            if inspect.isclass(obj):
+                for attr, member in vars(obj).items():
+                    if inspect.isfunction(member) and (not attr.startswith("_") or attr in PROTOCOL):
+                        found.append((f"{module.__name__}.{name}.{attr}", member))
+    for name in sorted(dir(veselov._native)):
+        obj = getattr(veselov._native, name)
+        if not name.startswith("_") and callable(obj):
+            found.append((f"veselov._native.{name}", obj))
+    return found
+
+
+def parameters(obj):
+    """The names of the parameters a caller passes (no `self`), or None
+    when Python knows no signature (a class inheriting a builtin's)."""
+    try:
+        signature = inspect.signature(obj)
+    except (TypeError, ValueError):
+        return None
+    return [
+        p.name
+        for p in signature.parameters.values()
+        if p.name != "self" and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)
+    ]
+
+
+def test_every_public_callable_and_class_has_a_numpy_style_docstring():
+    api = dict(public_api())
+    assert {
+        "veselov.run",
+        "veselov.ensemble",
+        "veselov.verify",
+        "veselov.read_dir",
+        "veselov.toml_text",
+        "veselov.models",
+        "veselov.structures",
+        "veselov.methods",
+        "veselov.Result",
+        "veselov.Result.keys",
+        "veselov.Result.__getitem__",
+        "veselov.ScenarioError",
+        "veselov.VeselovError",
+        "veselov.dask.ensemble",
+        "veselov._native.run_many",
+        "veselov._native.verify",
+    } <= set(api)
+    assert set(veselov.__all__) <= {n.split(".")[1] for n in api}
+    problems = []
+    for name, obj in api.items():
+        doc = inspect.getdoc(obj) if not inspect.isclass(obj) else inspect.cleandoc(obj.__doc__ or "")
+        if not doc:
+            problems.append(f"{name}: no docstring")
+            continue
+        lines = doc.splitlines()
+        if len(lines) > 1 and lines[1].strip():
+            problems.append(f"{name}: the summary is not one line followed by a blank line")
+        found = sections(doc)
+        params = parameters(obj)
+        if inspect.isclass(obj):
+            if "__init__" in vars(obj) and "Attributes" not in found:
+                problems.append(f"{name}: a class with its own state and no Attributes section")
+            if params is None or params:
+                if "Parameters" not in found:
+                    problems.append(f"{name}: no Parameters section for its constructor")
+        else:
+            if "Returns" not in found:
+                problems.append(f"{name}: no Returns section")
+            if params and "Parameters" not in found:
+                problems.append(f"{name}: no Parameters section")
+        for p in params or []:
+            if not re.search(rf"^{re.escape(p)} :", found.get("Parameters", ""), re.M):
+                problems.append(f"{name}: parameter `{p}` not documented")
+    assert not problems, "\n".join(problems)
+
+
+def test_docstrings_state_the_arrays_dtype_and_shape():
+    for obj in (veselov.Result, veselov.Result.__getitem__, veselov.run, veselov.read_dir, veselov.verify):
+        doc = inspect.getdoc(obj)
+        assert "float64" in doc and "shape" in doc, obj
+    assert "help(veselov.run)" in veselov.__doc__
