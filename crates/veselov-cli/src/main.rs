@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 use veselov_cli::error::CliError;
 use veselov_cli::pipeline::RunJob;
 use veselov_cli::route::{run_scenario, verify_scenario};
-use veselov_cli::{catalog, redraw, verify};
+use veselov_cli::{catalog, keys, redraw, verify};
 
 /// Structure-preserving variational integrators.
 #[derive(Parser)]
@@ -52,6 +52,16 @@ enum Command {
     Methods,
     /// The expression language of custom models: names, operators, functions, limits.
     Expressions,
+    /// Every scenario key of a kind (or of every kind), as Markdown: type, default, unit, meaning.
+    Keys {
+        /// mechanics, rigid, lattice, cfk, beam or rod (all kinds if omitted).
+        kind: Option<String>,
+    },
+    /// Print a commented scenario of a kind with every key and its default.
+    New {
+        /// mechanics, rigid, lattice, cfk, beam or rod.
+        kind: String,
+    },
     /// Convergence study of the scenario's method.
     Verify {
         /// The scenario (TOML).
@@ -109,6 +119,34 @@ fn list_methods() {
     veselov_cli::say!("iteration with a Newton fallback; other systems use Newton with the exact Jacobian.");
 }
 
+/// The kind named `name`, or an error listing the kinds.
+fn kind_named(name: &str) -> Result<&'static dyn veselov_cli::kinds::ScenarioKind, CliError> {
+    keys::kind_named(name).ok_or_else(|| {
+        CliError::Setup(format!(
+            "unknown kind `{name}`, expected one of: {}",
+            keys::kind_names().join(", ")
+        ))
+    })
+}
+
+fn print_keys(kind: Option<&str>) -> Result<(), CliError> {
+    match kind {
+        Some(name) => veselov_cli::say!("{}", keys::markdown(kind_named(name)?).trim_end()),
+        None => {
+            for k in veselov_cli::route::KINDS {
+                veselov_cli::say!("{}\n", keys::markdown(*k).trim_end());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn print_template(kind: &str) -> Result<(), CliError> {
+    let text = keys::template(kind_named(kind)?).map_err(|e| CliError::Setup(e.to_string()))?;
+    veselov_cli::say!("{}", text.trim_end());
+    Ok(())
+}
+
 fn plot_dir(dir: &std::path::Path, format: &str) -> Result<(), CliError> {
     let written = redraw::redraw(dir, format)?;
     if written.is_empty() {
@@ -154,6 +192,8 @@ fn main() -> ExitCode {
             list_methods();
             Ok(())
         }
+        Command::Keys { kind } => print_keys(kind.as_deref()),
+        Command::New { kind } => print_template(&kind),
         Command::Expressions => {
             let text = catalog::expressions_reference();
             veselov_cli::say!("{}", text.strip_suffix('\n').unwrap_or(&text));
