@@ -21,6 +21,10 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scenario file and write trajectory.csv, summary.json and plots.
+    ///
+    /// The keys of a scenario file are documented by `veselov keys KIND`
+    /// (KIND: mechanics, rigid, lattice, cfk, beam, rod); `veselov new KIND`
+    /// prints a commented scenario with every key.
     Run {
         /// The scenario (TOML).
         scenario: PathBuf,
@@ -48,7 +52,7 @@ enum Command {
     },
     /// List the built-in models with their parameters and defaults.
     Models,
-    /// List the methods with their keys, orders and properties.
+    /// List the methods of every kind with their keys, orders and properties.
     Methods,
     /// The expression language of custom models: names, operators, functions, limits.
     Expressions,
@@ -117,6 +121,15 @@ fn list_methods() {
     }
     veselov_cli::say!("\nSeparable built-in models (harmonic, pendulum, kepler, henon-heiles) use fixed-point stage");
     veselov_cli::say!("iteration with a Newton fallback; other systems use Newton with the exact Jacobian.");
+    for kind in veselov_cli::route::KINDS.iter().filter(|k| k.name() != "mechanics") {
+        veselov_cli::say!(
+            "\n{} ([method]; all keys: `veselov keys {}`)",
+            kind.title(),
+            kind.name()
+        );
+        veselov_cli::say!("{}", keys::method_summary(*kind).trim_end());
+    }
+    veselov_cli::say!("\nMechanics keys: `veselov keys mechanics`.");
 }
 
 /// The kind named `name`, or an error listing the kinds.

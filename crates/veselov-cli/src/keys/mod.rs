@@ -7,7 +7,7 @@
 pub mod render;
 pub mod schema;
 
-pub use render::{key_paths, markdown, template, undocumented};
+pub use render::{key_paths, markdown, method_summary, template, undocumented};
 pub use schema::{KeyDoc, TableDoc, tables};
 
 use crate::kinds::ScenarioKind;

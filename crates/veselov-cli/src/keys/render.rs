@@ -175,3 +175,22 @@ pub fn template(kind: &dyn ScenarioKind) -> Result<String, toml::de::Error> {
     }
     Ok(out)
 }
+
+/// The `[method]` table of `kind` in a few lines (`veselov methods`): each
+/// key with the names it takes, its default and its meaning.
+pub fn method_summary(kind: &dyn ScenarioKind) -> String {
+    let mut out = String::new();
+    for table in tables(&kind.schema()).iter().filter(|t| t.name == "method") {
+        for k in &table.keys {
+            let mut line = format!("    {}", k.key);
+            if !k.allowed.is_empty() {
+                let _ = write!(line, " = {}", k.allowed.join(" | "));
+            }
+            if let Some(d) = &k.default {
+                let _ = write!(line, " (default {d})");
+            }
+            let _ = writeln!(out, "{line}\n        {}", k.meaning);
+        }
+    }
+    out
+}
