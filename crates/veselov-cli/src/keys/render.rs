@@ -67,7 +67,7 @@ pub fn markdown(kind: &dyn ScenarioKind) -> String {
         }
         out.push('\n');
     }
-    out
+    format!("{}\n", out.trim_end())
 }
 
 /// The keys of `kind` without a meaning, as `table.key`.
