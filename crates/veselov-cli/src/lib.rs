@@ -10,6 +10,7 @@ pub mod error;
 pub mod figures;
 pub mod gif_frames;
 pub mod heatmap;
+pub mod keys;
 pub mod kinds;
 pub mod output;
 pub mod pipeline;

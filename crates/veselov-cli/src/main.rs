@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 use veselov_cli::error::CliError;
 use veselov_cli::pipeline::RunJob;
 use veselov_cli::route::{run_scenario, verify_scenario};
-use veselov_cli::{catalog, redraw, verify};
+use veselov_cli::{catalog, keys, redraw, verify};
 
 /// Structure-preserving variational integrators.
 #[derive(Parser)]
@@ -21,6 +21,10 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scenario file and write trajectory.csv, summary.json and plots.
+    ///
+    /// The keys of a scenario file are documented by `veselov keys KIND`
+    /// (KIND: mechanics, rigid, lattice, cfk, beam, rod); `veselov new KIND`
+    /// prints a commented scenario with every key.
     Run {
         /// The scenario (TOML).
         scenario: PathBuf,
@@ -48,10 +52,20 @@ enum Command {
     },
     /// List the built-in models with their parameters and defaults.
     Models,
-    /// List the methods with their keys, orders and properties.
+    /// List the methods of every kind with their keys, orders and properties.
     Methods,
     /// The expression language of custom models: names, operators, functions, limits.
     Expressions,
+    /// Every scenario key of a kind (or of every kind), as Markdown: type, default, unit, meaning.
+    Keys {
+        /// mechanics, rigid, lattice, cfk, beam or rod (all kinds if omitted).
+        kind: Option<String>,
+    },
+    /// Print a commented scenario of a kind with every key and its default.
+    New {
+        /// mechanics, rigid, lattice, cfk, beam or rod.
+        kind: String,
+    },
     /// Convergence study of the scenario's method.
     Verify {
         /// The scenario (TOML).
@@ -107,6 +121,43 @@ fn list_methods() {
     }
     veselov_cli::say!("\nSeparable built-in models (harmonic, pendulum, kepler, henon-heiles) use fixed-point stage");
     veselov_cli::say!("iteration with a Newton fallback; other systems use Newton with the exact Jacobian.");
+    for kind in veselov_cli::route::KINDS.iter().filter(|k| k.name() != "mechanics") {
+        veselov_cli::say!(
+            "\n{} ([method]; all keys: `veselov keys {}`)",
+            kind.title(),
+            kind.name()
+        );
+        veselov_cli::say!("{}", keys::method_summary(*kind).trim_end());
+    }
+    veselov_cli::say!("\nMechanics keys: `veselov keys mechanics`.");
+}
+
+/// The kind named `name`, or an error listing the kinds.
+fn kind_named(name: &str) -> Result<&'static dyn veselov_cli::kinds::ScenarioKind, CliError> {
+    keys::kind_named(name).ok_or_else(|| {
+        CliError::Setup(format!(
+            "unknown kind `{name}`, expected one of: {}",
+            keys::kind_names().join(", ")
+        ))
+    })
+}
+
+fn print_keys(kind: Option<&str>) -> Result<(), CliError> {
+    match kind {
+        Some(name) => veselov_cli::say!("{}", keys::markdown(kind_named(name)?).trim_end()),
+        None => {
+            for k in veselov_cli::route::KINDS {
+                veselov_cli::say!("{}\n", keys::markdown(*k).trim_end());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn print_template(kind: &str) -> Result<(), CliError> {
+    let text = keys::template(kind_named(kind)?).map_err(|e| CliError::Setup(e.to_string()))?;
+    veselov_cli::say!("{}", text.trim_end());
+    Ok(())
 }
 
 fn plot_dir(dir: &std::path::Path, format: &str) -> Result<(), CliError> {
@@ -154,6 +205,8 @@ fn main() -> ExitCode {
             list_methods();
             Ok(())
         }
+        Command::Keys { kind } => print_keys(kind.as_deref()),
+        Command::New { kind } => print_template(&kind),
         Command::Expressions => {
             let text = catalog::expressions_reference();
             veselov_cli::say!("{}", text.strip_suffix('\n').unwrap_or(&text));

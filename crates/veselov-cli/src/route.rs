@@ -96,7 +96,20 @@ pub fn run_text(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
 }
 
 fn run_kind(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
-    kind(path, text)?.run(path, text, job)
+    let kind = kind(path, text)?;
+    kind.run(path, text, job).map_err(|e| point_to_keys(e, kind))
+}
+
+/// A parse error about an unknown or missing key, with where the kind's
+/// keys are documented (`veselov keys KIND`).
+fn point_to_keys(error: CliError, kind: &dyn ScenarioKind) -> CliError {
+    match error {
+        CliError::Parse { file, message } if message.contains("unknown field") || message.contains("missing field") => {
+            let message = format!("{message}\n(the keys of this kind: `veselov keys {}`)", kind.name());
+            CliError::Parse { file, message }
+        }
+        other => other,
+    }
 }
 
 /// Convergence study of the scenario file at `path` (`veselov verify`).
@@ -106,7 +119,8 @@ pub fn verify_scenario(path: &Path, job: VerifyJob) -> Result<(), CliError> {
 
 /// Convergence study of the scenario `text` attributed to `path`.
 pub fn verify_text(path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
-    kind(path, text)?.verify(path, text, job)
+    let kind = kind(path, text)?;
+    kind.verify(path, text, job).map_err(|e| point_to_keys(e, kind))
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use serde::Deserialize;
 use crate::error::CliError;
 
 /// `[time]`: exactly one of `t_end` and `steps`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSpec {
     /// Final time (a fixed-step run takes `round((t_end − t0)/dt)` steps of
@@ -27,7 +27,7 @@ pub struct TimeSpec {
 }
 
 /// `[output]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Output directory (default `out/<scenario file stem>`; `--out` overrides).
@@ -409,7 +409,7 @@ pub fn key_at(text: &str, message: &str) -> Option<String> {
 
 /// `[output]` of the beam and rod kinds: rows every `every` steps (levels of
 /// the beam, time steps of the rod).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RowsOutputSpec {
     /// Output directory (default `out/<scenario stem>`; `--out` overrides).

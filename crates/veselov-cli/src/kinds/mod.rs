@@ -17,7 +17,21 @@ use crate::verify::VerifyJob;
 
 /// A kind of scenario: the `[model] name`s it runs, and its `veselov run`
 /// and `veselov verify`.
-pub trait ScenarioKind {
+pub trait ScenarioKind: Sync {
+    /// The kind's name in `veselov keys KIND` and `veselov new KIND`.
+    fn name(&self) -> &'static str;
+
+    /// The kind in a few words, the title of its key reference.
+    fn title(&self) -> &'static str;
+
+    /// The JSON schema of the kind's scenario file, derived from the structs
+    /// its parser reads (see [`crate::keys`]).
+    fn schema(&self) -> serde_json::Value;
+
+    /// The shipped example `veselov new KIND` starts from: its file name in
+    /// `examples/` and its text.
+    fn example(&self) -> (&'static str, &'static str);
+
     /// The `[model] name`s of the kind.
     fn models(&self) -> &'static [&'static str];
 

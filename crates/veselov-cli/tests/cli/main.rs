@@ -10,6 +10,7 @@ mod common;
 mod custom;
 mod examples;
 mod inputs;
+mod keys;
 mod lattice;
 mod listings;
 mod mechanics;

@@ -25,6 +25,25 @@ use schema::BEAM_MODEL;
 pub struct BeamKind;
 
 impl ScenarioKind for BeamKind {
+    fn name(&self) -> &'static str {
+        "beam"
+    }
+
+    fn title(&self) -> &'static str {
+        "Geometrically exact beam scenarios"
+    }
+
+    fn schema(&self) -> serde_json::Value {
+        crate::keys::schema::schema_of::<schema::BeamScenario>()
+    }
+
+    fn example(&self) -> (&'static str, &'static str) {
+        (
+            "beam_cantilever.toml",
+            include_str!("../../../../../examples/beam_cantilever.toml"),
+        )
+    }
+
     fn models(&self) -> &'static [&'static str] {
         &[BEAM_MODEL]
     }

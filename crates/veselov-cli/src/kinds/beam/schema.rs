@@ -47,7 +47,7 @@ use crate::scenario::RowsOutputSpec;
 /// The model name of the beam kind.
 pub const BEAM_MODEL: &str = "beam";
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamScenario {
     pub model: BeamModelSpec,
@@ -65,7 +65,7 @@ pub(crate) struct BeamScenario {
     pub output: RowsOutputSpec,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamModelSpec {
     pub name: String,
@@ -84,7 +84,7 @@ pub(crate) struct BeamModelSpec {
     pub shear_coefficient: Option<f64>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamMethodSpec {
     pub evolution: Option<String>,
@@ -95,28 +95,28 @@ pub(crate) struct BeamMethodSpec {
     pub allow_unstable: bool,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamEndsSpec {
     pub start: Option<String>,
     pub end: Option<String>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamLoadsSpec {
     pub gravity: Option<[f64; 3]>,
     pub damping: Option<[f64; 6]>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamInitialSpec {
     pub shape: Option<String>,
     pub curvature: Option<f64>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamTimeSpec {
     pub t_end: Option<f64>,

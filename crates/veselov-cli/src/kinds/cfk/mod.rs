@@ -66,6 +66,25 @@ pub fn is_cfk(table: &toml::Table) -> bool {
 pub struct CfkKind;
 
 impl ScenarioKind for CfkKind {
+    fn name(&self) -> &'static str {
+        "cfk"
+    }
+
+    fn title(&self) -> &'static str {
+        "Field scenarios on a CFK lattice (2+1 dimensions)"
+    }
+
+    fn schema(&self) -> serde_json::Value {
+        crate::keys::schema::schema_of::<schema::CfkScenario>()
+    }
+
+    fn example(&self) -> (&'static str, &'static str) {
+        (
+            "sine_gordon_2d.toml",
+            include_str!("../../../../../examples/sine_gordon_2d.toml"),
+        )
+    }
+
     fn models(&self) -> &'static [&'static str] {
         FIELD_MODELS
     }

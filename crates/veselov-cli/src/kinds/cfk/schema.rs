@@ -12,7 +12,7 @@ use crate::error::CliError;
 use crate::kinds::lattice::schema::{FieldModelSpec, FieldTimeSpec};
 use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, positive_value};
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkScenario {
     pub(super) model: FieldModelSpec,
@@ -25,7 +25,7 @@ pub(super) struct CfkScenario {
     pub(super) output: CfkOutputSpec,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkLatticeSpec {
     /// `cfk`.
@@ -40,7 +40,7 @@ pub(super) struct CfkLatticeSpec {
     pub(super) courant: Option<f64>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkMethodSpec {
     /// `midpoint` (the only rule on this lattice kind).
@@ -51,7 +51,7 @@ pub(super) struct CfkMethodSpec {
     pub(super) max_iterations: Option<usize>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkInitialSpec {
     /// `pulse | standing-wave | plane-wave`.
@@ -63,7 +63,7 @@ pub(super) struct CfkInitialSpec {
     pub(super) mode: Option<Vec<i32>>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkOutputSpec {
     pub(super) dir: Option<PathBuf>,

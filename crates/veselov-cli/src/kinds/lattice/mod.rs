@@ -44,6 +44,25 @@ use schema::FIELD_MODELS;
 pub struct LatticeKind;
 
 impl ScenarioKind for LatticeKind {
+    fn name(&self) -> &'static str {
+        "lattice"
+    }
+
+    fn title(&self) -> &'static str {
+        "Field scenarios on a 1+1 space–time lattice"
+    }
+
+    fn schema(&self) -> serde_json::Value {
+        crate::keys::schema::schema_of::<schema::FieldScenario>()
+    }
+
+    fn example(&self) -> (&'static str, &'static str) {
+        (
+            "sine_gordon.toml",
+            include_str!("../../../../../examples/sine_gordon.toml"),
+        )
+    }
+
     fn models(&self) -> &'static [&'static str] {
         FIELD_MODELS
     }

@@ -16,7 +16,7 @@ use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, po
 pub const FIELD_MODELS: &[&str] = &["sine-gordon", "wave", "klein-gordon-phi4", "klein-gordon-complex"];
 
 /// A lattice-field scenario file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldScenario {
     /// The field equation.
@@ -35,7 +35,7 @@ pub struct FieldScenario {
 }
 
 /// `[model]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldModelSpec {
     /// `sine-gordon | wave | klein-gordon-phi4 | klein-gordon-complex`.
@@ -46,7 +46,7 @@ pub struct FieldModelSpec {
 }
 
 /// `[lattice]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LatticeSpec {
     /// Number of nodes N (dx = length/N on a circle, length/(N − 1) between ends).
@@ -73,7 +73,7 @@ fn periodic() -> String {
 }
 
 /// `[method]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SchemeSpec {
     /// The scheme (`name` is accepted too, the spelling of the mechanics kinds).
@@ -86,7 +86,7 @@ pub struct SchemeSpec {
 }
 
 /// `[initial]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldInitialSpec {
     /// `kink-antikink | kink | breather | dalembert | plane-wave`.
@@ -110,7 +110,7 @@ pub struct FieldInitialSpec {
 }
 
 /// `[time]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldTimeSpec {
     /// Final time (the run stops at the first level with t ≥ t_end).
@@ -118,7 +118,7 @@ pub struct FieldTimeSpec {
 }
 
 /// `[output]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldOutputSpec {
     /// Output directory (default `out/<scenario stem>`; `--out` overrides).

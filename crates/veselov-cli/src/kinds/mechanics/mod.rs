@@ -61,6 +61,25 @@ pub const MECHANICS_MODELS: &[&str] = &[
 pub struct MechanicsKind;
 
 impl ScenarioKind for MechanicsKind {
+    fn name(&self) -> &'static str {
+        "mechanics"
+    }
+
+    fn title(&self) -> &'static str {
+        "Mechanics scenarios (built-in or custom Lagrangians)"
+    }
+
+    fn schema(&self) -> serde_json::Value {
+        crate::keys::schema::schema_of::<schema::Scenario>()
+    }
+
+    fn example(&self) -> (&'static str, &'static str) {
+        (
+            "kepler_custom.toml",
+            include_str!("../../../../../examples/kepler_custom.toml"),
+        )
+    }
+
     fn models(&self) -> &'static [&'static str] {
         MECHANICS_MODELS
     }

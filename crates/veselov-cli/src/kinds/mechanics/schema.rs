@@ -14,7 +14,7 @@ use crate::error::CliError;
 use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, output_dir, parse_toml, step_count, step_length};
 
 /// A whole scenario file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// The system.
@@ -31,7 +31,7 @@ pub struct Scenario {
 }
 
 /// `[model]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelSpec {
     /// Built-in model name, or `"custom"`.
@@ -54,7 +54,7 @@ pub struct ModelSpec {
 }
 
 /// `[method]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MethodSpec {
     /// `midpoint | trapezoid | alpha | galerkin-lobatto | galerkin-gauss`
@@ -89,7 +89,7 @@ impl MethodSpec {
 }
 
 /// `[initial]`: `q` and exactly one of `p` and `v`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSpec {
     /// Positions.

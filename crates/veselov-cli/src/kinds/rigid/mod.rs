@@ -68,6 +68,22 @@ pub trait RigidJob {
 pub struct RigidKind;
 
 impl ScenarioKind for RigidKind {
+    fn name(&self) -> &'static str {
+        "rigid"
+    }
+
+    fn title(&self) -> &'static str {
+        "Rigid-body scenarios on SO(3) and SE(3)"
+    }
+
+    fn schema(&self) -> serde_json::Value {
+        crate::keys::schema::schema_of::<schema::RigidScenario>()
+    }
+
+    fn example(&self) -> (&'static str, &'static str) {
+        ("heavy_top.toml", include_str!("../../../../../examples/heavy_top.toml"))
+    }
+
     fn models(&self) -> &'static [&'static str] {
         RIGID_MODELS
     }

@@ -12,7 +12,7 @@ use crate::error::CliError;
 use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, parse_toml};
 
 /// A rigid-body scenario file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidScenario {
     /// The body.
@@ -29,7 +29,7 @@ pub struct RigidScenario {
 }
 
 /// `[model]` of a rigid-body scenario.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidModelSpec {
     /// `rigid-body | heavy-top | rigid-body-se3`.
@@ -45,7 +45,7 @@ pub struct RigidModelSpec {
 }
 
 /// `[method]` of a rigid-body scenario.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidMethodSpec {
     /// `cayley` (default) or `exp`.
@@ -60,7 +60,7 @@ fn cayley() -> String {
 }
 
 /// `[initial]` of a rigid-body scenario.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidInitialSpec {
     /// Attitude as a rotation vector (axis × angle, radians).

@@ -29,6 +29,25 @@ use schema::ROD_MODEL;
 pub struct RodKind;
 
 impl ScenarioKind for RodKind {
+    fn name(&self) -> &'static str {
+        "rod"
+    }
+
+    fn title(&self) -> &'static str {
+        "Cosserat rod scenarios"
+    }
+
+    fn schema(&self) -> serde_json::Value {
+        crate::keys::schema::schema_of::<schema::RodScenario>()
+    }
+
+    fn example(&self) -> (&'static str, &'static str) {
+        (
+            "rod_cantilever_centred.toml",
+            include_str!("../../../../../examples/rod_cantilever_centred.toml"),
+        )
+    }
+
     fn models(&self) -> &'static [&'static str] {
         &[ROD_MODEL]
     }

@@ -33,7 +33,7 @@ use crate::error::CliError;
 use crate::scenario::key_error;
 
 /// `[ends.start_motion]` or `[ends.end_motion]`.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct MotionSpec {
     /// `Δr(t)`, three expressions (m).

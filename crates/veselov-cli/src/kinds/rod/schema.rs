@@ -55,7 +55,7 @@ use crate::scenario::{RowsOutputSpec, key_error, positive_value};
 /// The model name of the rod kind.
 pub const ROD_MODEL: &str = "cosserat-rod";
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodScenario {
     pub model: RodModelSpec,
@@ -72,7 +72,7 @@ pub(crate) struct RodScenario {
     pub output: RowsOutputSpec,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodModelSpec {
     pub name: String,
@@ -121,6 +121,19 @@ impl<'de> Deserialize<'de> for Along {
     }
 }
 
+/// A number, or an expression in the material coordinate s.
+impl schemars::JsonSchema for Along {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Along".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "anyOf": [{ "type": "number" }, { "type": "string" }],
+            "x-type": "float, or an expression in s (string)"
+        })
+    }
+}
+
 impl Along {
     /// The values at the material points `points`, each positive and
     /// finite, or an error naming `key` (and the point).
@@ -149,7 +162,7 @@ impl Along {
     }
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct EndsSpec {
     pub start: Option<String>,
@@ -158,7 +171,7 @@ pub(crate) struct EndsSpec {
     pub end_motion: Option<MotionSpec>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct LoadsSpec {
     pub gravity: Option<[f64; 3]>,
@@ -169,7 +182,7 @@ pub(crate) struct LoadsSpec {
     pub ramp: Option<f64>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodInitialSpec {
     pub shape: Option<String>,
@@ -181,7 +194,7 @@ pub(crate) struct RodInitialSpec {
     pub position: Option<[String; 3]>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodTimeSpec {
     pub t_end: f64,
@@ -205,7 +218,7 @@ pub const DEFAULT_STEP_NUMBER: f64 = 0.5;
 /// 0.969).
 pub const LONG_RUN_STEP_NUMBER: f64 = 0.9;
 
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodMethodSpec {
     pub tolerance: Option<f64>,
