@@ -112,6 +112,13 @@ fn point_to_keys(error: CliError, kind: &dyn ScenarioKind) -> CliError {
     }
 }
 
+/// Parse and validate the scenario `text` attributed to `path`, whatever
+/// its kind, without running it.
+pub fn check_text(path: &Path, text: &str) -> Result<(), CliError> {
+    let kind = kind(path, text)?;
+    kind.check(path, text).map_err(|e| point_to_keys(e, kind))
+}
+
 /// Convergence study of the scenario file at `path` (`veselov verify`).
 pub fn verify_scenario(path: &Path, job: VerifyJob) -> Result<(), CliError> {
     verify_text(path, &read(path)?, job)

@@ -48,6 +48,10 @@ pub trait ScenarioKind: Sync {
     /// kind's job and run it into the job's directory.
     fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError>;
 
+    /// Parse and validate the scenario `text` without running it (the checks
+    /// `run` makes before its first step that do not need the model built).
+    fn check(&self, path: &Path, text: &str) -> Result<(), CliError>;
+
     /// `veselov verify`: the convergence study of the scenario `text`, or
     /// the reason the kind takes none.
     fn verify(&self, path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError>;

@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod book;
 mod custom;
 mod examples;
 mod inputs;

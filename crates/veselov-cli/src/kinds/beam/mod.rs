@@ -48,6 +48,10 @@ impl ScenarioKind for BeamKind {
         &[BEAM_MODEL]
     }
 
+    fn check(&self, path: &Path, text: &str) -> Result<(), CliError> {
+        setup::BeamSetup::parse(path, text).map(drop)
+    }
+
     fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         run::run(path, text, job)
     }

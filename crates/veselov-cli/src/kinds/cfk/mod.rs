@@ -93,6 +93,10 @@ impl ScenarioKind for CfkKind {
         self.models().contains(&model) && is_cfk(table)
     }
 
+    fn check(&self, path: &Path, text: &str) -> Result<(), CliError> {
+        schema::Setup::parse(path, text).map(drop)
+    }
+
     fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         run::run(path, text, job)
     }

@@ -67,6 +67,10 @@ impl ScenarioKind for LatticeKind {
         FIELD_MODELS
     }
 
+    fn check(&self, path: &Path, text: &str) -> Result<(), CliError> {
+        schema::LoadedField::parse(path, text).map(drop)
+    }
+
     fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         run::run(path, text, job)
     }

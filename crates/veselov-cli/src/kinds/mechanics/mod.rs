@@ -84,6 +84,10 @@ impl ScenarioKind for MechanicsKind {
         MECHANICS_MODELS
     }
 
+    fn check(&self, path: &Path, text: &str) -> Result<(), CliError> {
+        LoadedScenario::parse(path, text).map(drop)
+    }
+
     fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         LoadedScenario::parse(path, text).and_then(|s| dispatch(&s, job))
     }

@@ -88,6 +88,10 @@ impl ScenarioKind for RigidKind {
         RIGID_MODELS
     }
 
+    fn check(&self, path: &Path, text: &str) -> Result<(), CliError> {
+        LoadedRigid::parse(path, text).map(drop)
+    }
+
     fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         dispatch(path, text, job)
     }

@@ -52,6 +52,10 @@ impl ScenarioKind for RodKind {
         &[ROD_MODEL]
     }
 
+    fn check(&self, path: &Path, text: &str) -> Result<(), CliError> {
+        setup::RodSetup::parse(path, text).map(drop)
+    }
+
     fn run(&self, path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         run::run(path, text, job)
     }
