@@ -40,14 +40,14 @@ pub struct StructureInfo {
 pub const STRUCTURES: &[StructureInfo] = &[
     StructureInfo {
         name: "beam",
-        summary: "geometrically exact beam on SE(3) (seed 000), marched in time or in space",
+        summary: "geometrically exact beam on SE(3) (Demoures–Gay-Balmaz–Ratiu §5), marched in time or in space",
         keys: "[model] length, nodes, radius | width + height, density, young, poisson | shear_modulus, \
                shear_coefficient; [method] evolution, retraction; [ends]; [loads] gravity, damping; [initial] shape",
         examples: "examples/beam_*.toml",
     },
     StructureInfo {
         name: "cosserat-rod",
-        summary: "Cosserat rod on the leapfrog lattice (seed 003 §6): conserved discrete momenta, loads and damping",
+        summary: "Cosserat rod on the leapfrog lattice (Casimiro–Rodrigo §6): conserved discrete momenta, loads and damping",
         keys: "[model] length, nodes, radius | width + height, density, young (numbers or expressions in s), \
                poisson | shear_modulus, shear_coefficient; [ends] free | clamped | driven; [loads] gravity, damping, \
                end_force, end_torque, ramp; [initial] shape = straight | bent | helix | curve; [time] t_end, \
@@ -180,7 +180,7 @@ pub const MODELS: &[ModelInfo] = &[
     },
     ModelInfo {
         name: "damped-oscillator",
-        summary: "damped oscillator, L = ½ m v² − ½ k q², force F = −d v (seed 004, Example 7.2 in one dimension)",
+        summary: "damped oscillator, L = ½ m v² − ½ k q², force F = −d v (Martín de Diego–Sato Martín de Almagro, Example 7.2 in one dimension)",
         coordinates: &["q"],
         params: &[
             Param {
@@ -205,7 +205,7 @@ pub const MODELS: &[ModelInfo] = &[
     },
     ModelInfo {
         name: "van-der-pol",
-        summary: "two coupled van der Pol oscillators (seed 004 §7.1), L = ½|v|² − ½[q₁² + (1+ρ)q₂²] − λ(q₁−q₂)², F = ((ε−q₁²)v₁, (ε−q₂²)v₂)",
+        summary: "two coupled van der Pol oscillators (Martín de Diego–Sato Martín de Almagro §7.1), L = ½|v|² − ½[q₁² + (1+ρ)q₂²] − λ(q₁−q₂)², F = ((ε−q₁²)v₁, (ε−q₂²)v₂)",
         coordinates: &["q1", "q2"],
         params: &[
             Param {
@@ -278,7 +278,7 @@ pub const MODELS: &[ModelInfo] = &[
     },
     ModelInfo {
         name: "sine-gordon",
-        summary: "lattice field (seed 002 §5): φ_tt − φ_xx + sin φ = 0, 𝓛 = ½(φ_t² − φ_x²) + cos φ; keys [lattice], [method] scheme",
+        summary: "lattice field (Marsden–Patrick–Shkoller §5): φ_tt − φ_xx + sin φ = 0, 𝓛 = ½(φ_t² − φ_x²) + cos φ; keys [lattice], [method] scheme",
         coordinates: &[],
         params: &[],
         default_initial: "required: [initial] kind = kink-antikink | kink | breather",
