@@ -12,45 +12,56 @@ use serde::Deserialize;
 
 use crate::error::CliError;
 
-/// `[time]`: exactly one of `t_end` and `steps`.
+/// When the run starts (`t0`) and how long it lasts: exactly one
+/// of `t_end` and `steps`.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSpec {
-    /// Final time (a fixed-step run takes `round((t_end − t0)/dt)` steps of
-    /// `(t_end − t0)/n` and ends exactly at t_end; see [`step_count`]).
+    /// The time at which the run ends (> `t0`), instead of `steps`. A
+    /// fixed-step run takes n = round((t_end − t0)/dt) steps (at least one)
+    /// of (t_end − t0)/n and ends exactly at `t_end` (a note says when that
+    /// changes `dt`); a variable-step run stops at its first step at or
+    /// after `t_end`.
+    #[schemars(extend("unit" = "s"))]
     pub t_end: Option<f64>,
-    /// Number of steps.
+    /// The number of steps to take (≥ 1), instead of `t_end`.
     pub steps: Option<u64>,
-    /// Initial time (default 0).
+    /// The time at which the run starts.
+    #[schemars(extend("unit" = "s"))]
     #[serde(default)]
     pub t0: f64,
 }
 
-/// `[output]`.
+/// Where the run writes its files, which rows and formats, its
+/// plots and its checkpoints.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
-    /// Output directory (default `out/<scenario file stem>`; `--out` overrides).
+    /// The output directory; `--out` overrides it. Default:
+    /// `out/<scenario file stem>`.
     pub dir: Option<PathBuf>,
-    /// Keep every k-th step (default 1).
+    /// Write a row at the start, every `every` steps (≥ 1) and at the end;
+    /// not with `times`.
     #[serde(default = "one")]
     pub every: u64,
-    /// `csv` and/or `npy` (default `["csv"]`).
+    /// The formats of the data tables: a list of `csv` and `npy`.
     #[serde(default = "default_formats")]
     pub formats: Vec<String>,
-    /// Draw plots (default true).
+    /// Draw the plots.
     #[serde(default = "yes")]
     pub plots: bool,
-    /// `svg` (default) or `png`.
+    /// The format of the plots: `svg` or `png`.
+    #[schemars(extend("enum" = ["svg", "png"]))]
     #[serde(default = "default_plot_format")]
     pub plot_format: String,
-    /// Steps between checkpoints (default 0: a checkpoint only where the
-    /// run ends, interrupted or not; `--resume` continues from the last one).
+    /// Steps between checkpoints; 0 writes one only where the run ends,
+    /// finished or interrupted (`--resume` continues from the last one).
     #[serde(default)]
     pub checkpoint_every: u64,
-    /// Times at which to write rows, instead of every `every`-th step (fixed-step
-    /// runs: the step nearest each time, with a note when it is not on the
-    /// grid; the first and last states are always written).
+    /// Times at which to write rows, instead of every `every`-th step
+    /// (fixed-step runs only): the step nearest each time, with a note when
+    /// it is off the grid; the first and last states are always written.
+    #[schemars(extend("unit" = "s"))]
     #[serde(default)]
     pub times: Vec<f64>,
 }
@@ -407,22 +418,27 @@ pub fn key_at(text: &str, message: &str) -> Option<String> {
     })
 }
 
-/// `[output]` of the beam and rod kinds: rows every `every` steps (levels of
-/// the beam, time steps of the rod).
+/// Where the run writes its files, how often it writes a row,
+/// its plots and its checkpoints. Steps are time steps for the rod and
+/// levels for the beam.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RowsOutputSpec {
-    /// Output directory (default `out/<scenario stem>`; `--out` overrides).
+    /// The output directory; `--out` overrides it. Default:
+    /// `out/<scenario file stem>`.
     pub dir: Option<PathBuf>,
-    /// Steps between output rows (default: about 500 rows).
+    /// Steps between output rows (≥ 1). Default: about 500 rows, the
+    /// run's steps divided by 500 and rounded up.
     pub every: Option<u64>,
-    /// Steps between checkpoints (default 0: only where the run ends).
+    /// Steps between checkpoints; 0 writes one only where the run ends,
+    /// finished or interrupted (`--resume` continues from the last one).
     #[serde(default)]
     pub checkpoint_every: u64,
-    /// Draw the plots (default true).
+    /// Draw the plots and the animation of the centreline.
     #[serde(default = "rows_plots")]
     pub plots: bool,
-    /// `svg` (default) or `png`.
+    /// The format of the plots: `svg` or `png`.
+    #[schemars(extend("enum" = ["svg", "png"]))]
     #[serde(default = "rows_format")]
     pub plot_format: String,
 }

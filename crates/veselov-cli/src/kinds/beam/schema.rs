@@ -47,6 +47,8 @@ use crate::scenario::RowsOutputSpec;
 /// The model name of the beam kind.
 pub const BEAM_MODEL: &str = "beam";
 
+/// A geometrically exact beam scenario (`[model] name = "beam"`): each
+/// table is documented on its own struct.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamScenario {
@@ -65,60 +67,147 @@ pub(crate) struct BeamScenario {
     pub output: RowsOutputSpec,
 }
 
+/// The beam's length, its nodes, its cross-section and its
+/// material. The beam lies along E3; its cross-section's axes are E1 and
+/// E2.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamModelSpec {
+    /// The model name.
+    #[schemars(extend("enum" = ["beam"]))]
     pub name: String,
+    /// The beam's length when unstressed.
+    #[schemars(extend("unit" = "m"))]
     pub length: f64,
+    /// The number of nodes along the beam, 3 to 100 000, evenly spaced at
+    /// Δs = length/(nodes − 1); space evolution needs Δs = 0.02 m, that of
+    /// its prescribed columns.
     pub nodes: usize,
+    /// The radius of a disc cross-section (> 0): give either `radius` or
+    /// `width` and `height`.
+    #[schemars(extend("unit" = "m"))]
     pub radius: Option<f64>,
+    /// The side of a rectangular cross-section along E1 (> 0), with
+    /// `height` (instead of `radius`).
+    #[schemars(extend("unit" = "m"))]
     pub width: Option<f64>,
+    /// The side of a rectangular cross-section along E2 (> 0), with
+    /// `width` (instead of `radius`).
+    #[schemars(extend("unit" = "m"))]
     pub height: Option<f64>,
+    /// The mass density of the material (> 0).
+    #[schemars(extend("unit" = "kg/m³"))]
     pub density: f64,
+    /// Young's modulus E (> 0).
+    #[schemars(extend("unit" = "Pa"))]
     pub young: f64,
+    /// Poisson's ratio ν, in (−1, 0.5], giving the shear modulus
+    /// E/(2(1 + ν)); exactly one of `poisson` and `shear_modulus`.
     pub poisson: Option<f64>,
+    /// The shear modulus G (> 0), instead of `poisson`; exactly one of
+    /// `poisson` and `shear_modulus`.
+    #[schemars(extend("unit" = "Pa"))]
     pub shear_modulus: Option<f64>,
-    /// κ; `shear_correction`, its former name, is still read (listed in
-    /// [`FORMER_KEY_NAMES`](crate::scenario::FORMER_KEY_NAMES)).
+    /// The shear coefficient κ of the cross-section (> 0). Default:
+    /// Cowper's for the section and Poisson's ratio, 6(1 + ν)/(7 + 6ν) for a
+    /// disc and 10(1 + ν)/(12 + 11ν) for a rectangle. Its former name
+    /// `shear_correction` is still read (give only one of the two).
     #[serde(alias = "shear_correction")]
     pub shear_coefficient: Option<f64>,
 }
 
+/// The direction of the march, the retraction of the discrete
+/// Lagrangian and the options of the node solves (Newton's method for each
+/// new node).
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamMethodSpec {
+    /// `time` marches level by level in time from the beam's initial state;
+    /// `space` marches column by column along the beam, from the prescribed
+    /// motion of its first two columns on a fixed time grid (§5 of Demoures,
+    /// Gay-Balmaz and Ratiu), to its last node.
+    #[schemars(extend("default" = "time", "enum" = ["time", "space"]))]
     pub evolution: Option<String>,
+    /// The map from the Lie algebra to SE(3) in the discrete Lagrangian:
+    /// `cayley` (the Cayley map) or `exp` (the exponential).
+    #[schemars(extend("default" = "cayley", "enum" = ["cayley", "exp"]))]
     pub retraction: Option<String>,
+    /// The relative tolerance at which each node's Newton solve stops (> 0):
+    /// the residual against the size of the terms summed.
+    #[schemars(extend("default" = 1e-14))]
     pub tolerance: Option<f64>,
+    /// The Newton iterations a node may take (≥ 1) before the run stops
+    /// with a solve error.
+    #[schemars(extend("default" = 30))]
     pub max_iterations: Option<usize>,
+    /// Run a step above the step limit of the marching direction instead of
+    /// refusing it (the waves will grow without bound).
     #[serde(default)]
     pub allow_unstable: bool,
 }
 
+/// How the beam is held at its start (s = 0) and its end
+/// (s = length), in time evolution; space evolution takes free ends and
+/// accepts only `free`.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamEndsSpec {
+    /// The start (s = 0): `free` (zero traction) or `clamped` (held at its
+    /// initial pose).
+    #[schemars(extend("default" = "free", "enum" = ["free", "clamped"]))]
     pub start: Option<String>,
+    /// The end (s = length): `free` (zero traction) or `clamped` (held at
+    /// its initial pose).
+    #[schemars(extend("default" = "free", "enum" = ["free", "clamped"]))]
     pub end: Option<String>,
 }
 
+/// Gravity and viscous damping.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamLoadsSpec {
+    /// The gravitational acceleration (x, y, z), averaged over each cell.
+    #[schemars(extend("unit" = "m/s²", "default" = [0.0, 0.0, 0.0]))]
     pub gravity: Option<[f64; 3]>,
+    /// Six viscous damping coefficients per unit length (each ≥ 0) against
+    /// the body velocity, angular first (about E1, E2, E3, in N·s), then
+    /// linear (along E1, E2, E3, in N·s/m²).
+    #[schemars(extend("default" = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]))]
     pub damping: Option<[f64; 6]>,
 }
 
+/// The first two levels of the march. In time evolution the
+/// beam starts at rest, straight or bent; in space evolution its first two
+/// columns are prescribed.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamInitialSpec {
+    /// Time evolution: `straight` (along E3, the default) or `bent` (an arc
+    /// of `curvature` about E1). Space evolution: `paper` (the columns of §5
+    /// of Demoures, Gay-Balmaz and Ratiu as printed, the default) or
+    /// `paper-well-posed` (its second column the rigid transport of the
+    /// first, slightly perturbed).
+    #[schemars(extend("enum" = ["straight", "bent", "paper", "paper-well-posed"]))]
     pub shape: Option<String>,
+    /// The curvature of the `bent` beam about E1; |curvature|·length must
+    /// stay below π.
+    #[schemars(extend("unit" = "1/m", "default" = 1.0))]
     pub curvature: Option<f64>,
 }
 
+/// How long a time evolution runs and its step. Space evolution
+/// runs on the time grid of its prescribed columns (Δt = 0.04 s, 52 time
+/// nodes) and refuses these keys.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamTimeSpec {
+    /// The time at which the run ends (> 0; needed in time evolution).
+    #[schemars(extend("unit" = "s"))]
     pub t_end: Option<f64>,
+    /// The time step: the run takes round(t_end/dt) steps (at least 2), dt
+    /// adjusted to land on `t_end`; a dt above the step limit is refused
+    /// unless `allow_unstable`. Default: the fewest steps (at least 2) with
+    /// dt at most 0.8 of the step limit.
+    #[schemars(extend("unit" = "s"))]
     pub dt: Option<f64>,
 }

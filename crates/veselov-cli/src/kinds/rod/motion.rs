@@ -32,13 +32,19 @@ use veselov::models::rod::EndCondition;
 use crate::error::CliError;
 use crate::scenario::key_error;
 
-/// `[ends.start_motion]` or `[ends.end_motion]`.
+/// `[ends.start_motion]` or `[ends.end_motion]`: the motion of a driven
+/// end from its initial pose, as expressions in the run's time `t`; give
+/// `displacement`, `rotation` or both, each zero at t = 0.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct MotionSpec {
-    /// `Δr(t)`, three expressions (m).
+    /// The displacement Δr(t) from the initial position: three
+    /// expressions in `t` (x, y, z), zero at t = 0.
+    #[schemars(extend("unit" = "m", "default" = ["0", "0", "0"]))]
     pub displacement: Option<[String; 3]>,
-    /// `θ(t)`, a spatial rotation vector, three expressions (rad).
+    /// The rotation θ(t) applied to the initial frame, a rotation vector in
+    /// the spatial frame: three expressions in `t` (x, y, z), zero at t = 0.
+    #[schemars(extend("unit" = "rad", "default" = ["0", "0", "0"]))]
     pub rotation: Option<[String; 3]>,
 }
 

@@ -55,6 +55,8 @@ use crate::scenario::{RowsOutputSpec, key_error, positive_value};
 /// The model name of the rod kind.
 pub const ROD_MODEL: &str = "cosserat-rod";
 
+/// A Cosserat rod scenario (`[model] name = "cosserat-rod"`): each table
+/// is documented on its own struct.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodScenario {
@@ -72,19 +74,55 @@ pub(crate) struct RodScenario {
     pub output: RowsOutputSpec,
 }
 
+/// The rod's length, its material points, its cross-section and
+/// its material. The cross-section and the material (`radius`, `width`,
+/// `height`, `density`, `young`) may vary along the rod: give an expression
+/// in the material coordinate `s` (0 … length) as a string.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodModelSpec {
+    /// The model name.
+    #[schemars(extend("enum" = ["cosserat-rod"]))]
     pub name: String,
+    /// The rod's length when unstressed; the material coordinate `s` runs
+    /// from 0 (the start) to `length` (the end).
+    #[schemars(extend("unit" = "m"))]
     pub length: f64,
+    /// The number of material points, 3 to 100 000, evenly spaced at
+    /// `length/(nodes − 1)`. Bending needs a spacing small against the
+    /// radius: a run warns when shear locking would leave static bending
+    /// deflections more than 5 % short (none with `shear_frame = "centred"`).
     pub nodes: usize,
+    /// The radius of a circular cross-section: give either `radius` or
+    /// `width` and `height`. A number, or an expression in `s` such as
+    /// `"0.05*(1 - 0.3*s)"`, positive at every material point.
+    #[schemars(extend("unit" = "m"))]
     pub radius: Option<Along>,
+    /// The side of a rectangular cross-section along its first axis, with
+    /// `height` (instead of `radius`). A number, or an expression in `s`.
+    #[schemars(extend("unit" = "m"))]
     pub width: Option<Along>,
+    /// The side of a rectangular cross-section along its second axis, with
+    /// `width` (instead of `radius`). A number, or an expression in `s`.
+    #[schemars(extend("unit" = "m"))]
     pub height: Option<Along>,
+    /// The mass density of the material. A number, or an expression in `s`;
+    /// gravity follows the local mass.
+    #[schemars(extend("unit" = "kg/m³"))]
     pub density: Along,
+    /// Young's modulus E. A number, or an expression in `s`.
+    #[schemars(extend("unit" = "Pa"))]
     pub young: Along,
+    /// Poisson's ratio ν, in (−1, 0.5], giving the shear modulus
+    /// E/(2(1 + ν)); exactly one of `poisson` and `shear_modulus`.
     pub poisson: Option<f64>,
+    /// The shear modulus G (> 0), instead of `poisson`; exactly one of
+    /// `poisson` and `shear_modulus`.
+    #[schemars(extend("unit" = "Pa"))]
     pub shear_modulus: Option<f64>,
+    /// The shear coefficient κ of the cross-section (> 0). Default:
+    /// Cowper's for the section and Poisson's ratio, 6(1 + ν)/(7 + 6ν) for a
+    /// circle and 10(1 + ν)/(12 + 11ν) for a rectangle.
     pub shear_coefficient: Option<f64>,
 }
 
@@ -162,47 +200,118 @@ impl Along {
     }
 }
 
+/// How the rod is held at its start (s = 0) and at its end
+/// (s = length).
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct EndsSpec {
+    /// The start (s = 0): `free`, `clamped` (held at its initial pose) or
+    /// `driven` (moved as `[ends.start_motion]` prescribes).
+    #[schemars(extend("default" = "free", "enum" = ["free", "clamped", "driven"]))]
     pub start: Option<String>,
+    /// The end (s = length): `free`, `clamped` (held at its initial pose) or
+    /// `driven` (moved as `[ends.end_motion]` prescribes). An end force or
+    /// torque needs it free.
+    #[schemars(extend("default" = "free", "enum" = ["free", "clamped", "driven"]))]
     pub end: Option<String>,
+    /// The motion of a driven start (`start = "driven"`, and only then),
+    /// from its initial pose: expressions in the run's time `t`.
     pub start_motion: Option<MotionSpec>,
+    /// The motion of a driven end (`end = "driven"`, and only then), from
+    /// its initial pose: expressions in the run's time `t`.
     pub end_motion: Option<MotionSpec>,
 }
 
+/// Gravity, damping, and a force and torque at the rod's end
+/// (s = length). Damping and the end load need `quadrature = "vertex"`;
+/// gravity works with both quadratures.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct LoadsSpec {
+    /// The gravitational acceleration (x, y, z), acting on the local mass.
+    #[schemars(extend("unit" = "m/s²", "default" = [0.0, 0.0, 0.0]))]
     pub gravity: Option<[f64; 3]>,
+    /// Linear damping c (≥ 0): a force −c ∂ₜr per unit length against the
+    /// centreline's velocity.
+    #[schemars(extend("unit" = "N·s/m²", "default" = 0.0))]
     pub damping: Option<f64>,
+    /// Angular damping c (≥ 0): a torque −c ω per unit length against the
+    /// angular velocity of the cross-sections.
+    #[schemars(extend("unit" = "N·s", "default" = 0.0))]
     pub angular_damping: Option<f64>,
+    /// A force at the last material point, in the spatial frame (x, y, z);
+    /// it needs `[ends] end` free.
+    #[schemars(extend("unit" = "N", "default" = [0.0, 0.0, 0.0]))]
     pub end_force: Option<[f64; 3]>,
+    /// A torque at the last material point, in the spatial frame (x, y, z);
+    /// it needs `[ends] end` free.
+    #[schemars(extend("unit" = "N·m", "default" = [0.0, 0.0, 0.0]))]
     pub end_torque: Option<[f64; 3]>,
+    /// The time over which the end force and torque grow linearly from zero
+    /// to their full value (≥ 0); 0 applies them in full from the start.
+    #[schemars(extend("unit" = "s", "default" = 0.0))]
     pub ramp: Option<f64>,
 }
 
+/// The rod's shape at t = 0 and a rigid motion it starts
+/// with (at rest by default). Its unstressed shape is always straight: a
+/// rod started bent or coiled springs back.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodInitialSpec {
+    /// `straight` (along z from the origin), `bent` (an arc of `curvature`
+    /// in the x–z plane, starting along z), `helix` (about the z axis, with
+    /// `helix_radius` and `helix_pitch`) or `curve` (the centreline
+    /// `position`).
+    #[schemars(extend("default" = "straight", "enum" = ["straight", "bent", "helix", "curve"]))]
     pub shape: Option<String>,
+    /// The curvature of the `bent` arc; |curvature|·length must stay below π.
+    #[schemars(extend("unit" = "1/m", "default" = 1.0))]
     pub curvature: Option<f64>,
+    /// The radius of the `helix` (> 0; needed with `shape = "helix"`).
+    #[schemars(extend("unit" = "m"))]
     pub helix_radius: Option<f64>,
+    /// The rise of the `helix` per turn (0: a flat coil).
+    #[schemars(extend("unit" = "m", "default" = 0.0))]
     pub helix_pitch: Option<f64>,
+    /// The initial velocity of the whole rod's translation (x, y, z).
+    #[schemars(extend("unit" = "m/s", "default" = [0.0, 0.0, 0.0]))]
     pub velocity: Option<[f64; 3]>,
+    /// The initial angular velocity of the whole rod about the origin
+    /// (x, y, z), with `velocity` a rigid motion.
+    #[schemars(extend("unit" = "rad/s", "default" = [0.0, 0.0, 0.0]))]
     pub angular_velocity: Option<[f64; 3]>,
+    /// The initial centreline for `shape = "curve"` (needed there, refused
+    /// otherwise): three expressions x, y, z in the material coordinate
+    /// `s`, finite with a non-zero tangent at every material point; where
+    /// |dr/ds| ≠ 1 the rod starts stretched or compressed.
+    #[schemars(extend("unit" = "m"))]
     pub position: Option<[String; 3]>,
 }
 
+/// How long the run lasts and its time step, given as `dt` or as
+/// a fraction of the stability limit (`step_number`; not both). The step
+/// number √((cΔt/Δs)² + (ωΔt/2)²), c the fastest wave speed and ω the
+/// shear–rotation frequency √(κGA/ρI), must stay at most 1.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodTimeSpec {
+    /// The time at which the run ends (> 0); it starts at 0 and ends at
+    /// `t_end` exactly.
+    #[schemars(extend("unit" = "s"))]
     pub t_end: f64,
+    /// The time step, instead of `step_number`: the run takes
+    /// round(t_end/dt) steps (at least one), dt adjusted to land on `t_end`;
+    /// a dt above the stability limit is refused unless `allow_unstable`.
+    /// Without it the step follows from `step_number`.
+    #[schemars(extend("unit" = "s"))]
     pub dt: Option<f64>,
-    /// Instead of `dt`: the fewest steps whose step number is at most this
-    /// ([`DEFAULT_STEP_NUMBER`] without either). Above 1 it is refused
-    /// unless `allow_unstable`, and warned about above
-    /// [`LONG_RUN_STEP_NUMBER`] (the limit 1 is the linearised march's).
+    /// The step as a fraction of the stability limit, instead of `dt`: the
+    /// run takes the fewest steps whose step number is at most this (0.5
+    /// when neither is given). Above 1 it is refused unless
+    /// `allow_unstable`, and above 0.9 the run warns: the limit 1 is that of
+    /// the linearised march, and close to it a long run can still grow.
+    #[schemars(extend("default" = 0.5))]
     pub step_number: Option<f64>,
 }
 
@@ -218,13 +327,36 @@ pub const DEFAULT_STEP_NUMBER: f64 = 0.5;
 /// 0.969).
 pub const LONG_RUN_STEP_NUMBER: f64 = 0.9;
 
+/// The discretisation of the rod and the options of the
+/// vertex solves (a linear solve for each new position, then Newton's
+/// method for its frame).
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodMethodSpec {
+    /// The relative tolerance at which each vertex's Newton solve stops
+    /// (> 0): the residual against the size of the terms summed.
+    #[schemars(extend("default" = 1e-14))]
     pub tolerance: Option<f64>,
+    /// The Newton iterations a vertex may take (≥ 1) before the run stops
+    /// with a vertex-solve error.
+    #[schemars(extend("default" = 30))]
     pub max_iterations: Option<usize>,
+    /// Run a step above the stability limit instead of refusing it: the
+    /// run warns, the waves grow and the run stops with a vertex-solve
+    /// error, keeping what it computed.
     #[serde(default)]
     pub allow_unstable: bool,
+    /// The quadrature of the discrete Lagrangian: `vertex` (Prop. 6.5 of
+    /// Casimiro and Rodrigo, a split step in closed form) or `symmetric` (the density
+    /// averaged over each cell's three vertices: much slower, and only for a
+    /// uniform rod without damping or end loads).
+    #[schemars(extend("default" = "vertex", "enum" = ["vertex", "symmetric"]))]
     pub quadrature: Option<String>,
+    /// The frame of each cell's shear strain: `vertex` (the base vertex's, as
+    /// in Prop. 6.5: it locks in bending, so it needs material points closer
+    /// than the radius) or `centred` (halfway to the neighbouring material
+    /// point: no locking, about 11 % more per step; only with
+    /// `quadrature = "vertex"`).
+    #[schemars(extend("default" = "vertex", "enum" = ["vertex", "centred"]))]
     pub shear_frame: Option<String>,
 }
