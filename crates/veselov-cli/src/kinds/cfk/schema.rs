@@ -12,70 +12,120 @@ use crate::error::CliError;
 use crate::kinds::lattice::schema::{FieldModelSpec, FieldTimeSpec};
 use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, positive_value};
 
+/// A field scenario on the CFK simplicial lattice in 2+1 dimensions: the
+/// field equation, the lattice, the rule and its solves, the initial field,
+/// the end time and the outputs, in units where the wave speed is 1.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkScenario {
+    /// The field equation, as on the 1+1 lattice: `sine-gordon`, `wave`,
+    /// `klein-gordon-phi4` or the two-component `klein-gordon-complex`, with its
+    /// parameters.
     pub(super) model: FieldModelSpec,
+    /// The CFK lattice (`kind = "cfk"`, which makes the scenario of this kind):
+    /// a grid of nodes periodic in both space directions, its spacing and the
+    /// time step (`dt` or `courant`).
     pub(super) lattice: CfkLatticeSpec,
+    /// The quadrature rule and the solves at each vertex; the table may be left
+    /// out.
     #[serde(default)]
     pub(super) method: CfkMethodSpec,
+    /// The initial field: a kind of data and its keys.
     pub(super) initial: CfkInitialSpec,
+    /// When the run stops.
     pub(super) time: FieldTimeSpec,
+    /// What the run writes (`energy.csv`, `momentum.csv`, `snapshots.npy`,
+    /// `summary.json`, the figures) and where.
     #[serde(default)]
     pub(super) output: CfkOutputSpec,
 }
 
+/// The CFK lattice: periodic nodes in 2 space dimensions, their spacing and
+/// the time step.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkLatticeSpec {
-    /// `cfk`.
+    /// The lattice kind, `cfk`: it selects this kind of scenario (a
+    /// `[lattice]` without `kind` is the 1+1 lattice).
+    #[schemars(extend("enum" = ["cfk"]))]
     pub(super) kind: String,
-    /// Space dimension (2).
+    /// Number of space dimensions: only 2 runs.
+    #[schemars(extend("x-type" = "integer"))]
     pub(super) space_dimension: usize,
-    /// Nodes per space axis.
+    /// Nodes per space axis [nx, ny], each 3 to 4096, with nx·ny at most
+    /// 2²⁰ = 1048576; the lattice is periodic in both directions.
+    #[schemars(extend("x-type" = "array of 2 integers"))]
     pub(super) nodes: Vec<usize>,
-    /// Δx.
+    /// The space step Δx (> 0): the periodic domain is nx·Δx by ny·Δx.
     pub(super) spacing: f64,
+    /// Time step Δt (> 0), at most 0.4·Δx (the measured stability limit of the
+    /// march); give either `dt` or `courant`.
     pub(super) dt: Option<f64>,
+    /// Courant number Δt/Δx (> 0), at most 0.4 (the measured stability limit of
+    /// the march), from which the time step is computed; give either `dt` or
+    /// `courant`.
     pub(super) courant: Option<f64>,
 }
 
+/// The quadrature rule on the simplices and the Newton solve at each vertex.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkMethodSpec {
-    /// `midpoint` (the only rule on this lattice kind).
+    /// The quadrature rule on each simplex: `midpoint`, at its barycentre (the
+    /// only rule on this lattice kind).
+    #[schemars(extend("enum" = ["midpoint"], "default" = "midpoint"))]
     pub(super) rule: Option<String>,
-    /// Relative tolerance of the vertex solves (default 1e-14).
+    /// Relative tolerance (> 0) of the Newton solve at each vertex.
+    #[schemars(extend("default" = 1e-14))]
     pub(super) tolerance: Option<f64>,
-    /// Newton iterations per vertex (default 30).
+    /// Newton iterations per vertex after which the solve fails.
+    #[schemars(extend("default" = 30, "x-type" = "integer ≥ 1"))]
     pub(super) max_iterations: Option<usize>,
 }
 
+/// The initial field: a kind of data and its keys.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkInitialSpec {
-    /// `pulse | standing-wave | plane-wave`.
+    /// The data: `pulse` (a Gaussian at rest, centred in the domain) or
+    /// `standing-wave` for the real fields; `plane-wave` (the exact travelling
+    /// wave), the data of `klein-gordon-complex`.
+    #[schemars(extend("enum" = ["pulse", "standing-wave", "plane-wave"]))]
     pub(super) kind: String,
+    /// Amplitude of the pulse or the wave.
+    #[schemars(extend("default" = 1.0))]
     pub(super) amplitude: Option<f64>,
-    /// Pulse: Gaussian width (default a tenth of the shorter side).
+    /// `pulse`: the Gaussian's width σ, in exp(−r²/2σ²) (> 0; default a tenth
+    /// of the shorter side of the domain).
     pub(super) width: Option<f64>,
-    /// Standing and plane waves: mode numbers [mx, my] (default [1, 1]).
+    /// `standing-wave` and `plane-wave`: the mode numbers [mx, my], whole waves
+    /// across the domain along x and y.
+    #[schemars(extend("default" = [1, 1], "x-type" = "array of 2 integers"))]
     pub(super) mode: Option<Vec<i32>>,
 }
 
+/// What a CFK run writes and where.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CfkOutputSpec {
+    /// Directory the outputs go to (default `out/<scenario file stem>`); the
+    /// option `--out` overrides it.
     pub(super) dir: Option<PathBuf>,
-    /// Time steps Δt between snapshots (default 10; 0: first and last only).
+    /// Time steps Δt between the snapshots of the field in `snapshots.npy`
+    /// (0: only the last); the last time step is always stored.
     #[serde(default = "ten")]
     pub(super) snapshot_every: usize,
-    /// Time steps Δt between checkpoints (default 0: only where the run ends).
+    /// Time steps Δt between checkpoints (0: a checkpoint only where the run
+    /// ends, interrupted or not); `veselov run --resume` continues from the
+    /// last one.
     #[serde(default)]
     pub(super) checkpoint_every: u64,
+    /// Draw the figures: the energy error and heat maps of a few snapshots.
     #[serde(default = "yes")]
     pub(super) plots: bool,
+    /// File format of the energy plot (the heat maps are always PNG).
     #[serde(default = "svg")]
+    #[schemars(extend("enum" = ["svg", "png"]))]
     pub(super) plot_format: String,
 }
 

@@ -15,56 +15,83 @@ use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, po
 /// The lattice-field model names.
 pub const FIELD_MODELS: &[&str] = &["sine-gordon", "wave", "klein-gordon-phi4", "klein-gordon-complex"];
 
-/// A lattice-field scenario file.
+/// A field scenario on a 1+1 space–time lattice: the field equation, the
+/// lattice, the scheme, the initial field, the end time and the outputs, in
+/// units where the wave speed is 1.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldScenario {
-    /// The field equation.
+    /// The field equation: `sine-gordon`, `wave`, `klein-gordon-phi4` or the
+    /// two-component `klein-gordon-complex`, with its parameters.
     pub model: FieldModelSpec,
-    /// The lattice.
+    /// The space–time lattice: its nodes, length and boundary, and the time
+    /// step (`dt` or `courant`). Quantities are in units where the wave speed
+    /// is 1.
     pub lattice: LatticeSpec,
-    /// The scheme.
+    /// The scheme that marches the lattice level by level, and the solves of
+    /// each level.
     pub method: SchemeSpec,
-    /// Initial data.
+    /// The initial field (the first two levels): a kind of data and its keys.
     pub initial: FieldInitialSpec,
-    /// Horizon.
+    /// When the run stops.
     pub time: FieldTimeSpec,
-    /// Outputs.
+    /// What the run writes (`energy.csv`, `snapshots.npy`, `summary.json`, the
+    /// figures) and where.
     #[serde(default)]
     pub output: FieldOutputSpec,
 }
 
-/// `[model]`.
+/// The field equation and its parameters.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldModelSpec {
-    /// `sine-gordon | wave | klein-gordon-phi4 | klein-gordon-complex`.
+    /// The field: `sine-gordon` (□φ + sin φ = 0), `wave` (□φ = 0),
+    /// `klein-gordon-phi4` (□φ + m²φ + λφ³ = 0) or `klein-gordon-complex` (φ
+    /// with two components, □φ + (m² + λ|φ|²)φ = 0), where □φ = φ_tt − ∇²φ
+    /// (φ_tt − φ_xx on the 1+1 lattice).
+    #[schemars(extend("enum" = ["sine-gordon", "wave", "klein-gordon-phi4", "klein-gordon-complex"]))]
     pub name: String,
-    /// `m2`, `lambda` (φ⁴ and complex Klein–Gordon).
+    /// Parameters of `klein-gordon-phi4` and `klein-gordon-complex`: `m2` (m²,
+    /// default 1) and `lambda` (λ, default 1), e.g. `{ m2 = 1.0, lambda = 0.5 }`;
+    /// the other models take none.
     #[serde(default)]
     pub params: BTreeMap<String, f64>,
 }
 
-/// `[lattice]`.
+/// The space–time lattice: nodes, length, boundary and time step.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LatticeSpec {
-    /// Number of nodes N (dx = length/N on a circle, length/(N − 1) between ends).
+    /// Number of nodes N, at least 3. The space step is dx = length/N on a
+    /// `periodic` or `winding` lattice, length/(N − 1) between the end nodes of
+    /// a `dirichlet` or `free` one.
+    #[schemars(extend("x-type" = "integer ≥ 3"))]
     pub nodes: usize,
-    /// Circumference (periodic, winding) or distance between the end nodes.
+    /// Length of space (> 0): the circumference of a `periodic` or `winding`
+    /// lattice, the distance between the end nodes of a `dirichlet` or `free`
+    /// one.
     pub length: f64,
-    /// `periodic` (default), `winding`, `dirichlet` or `free`.
+    /// The boundary: `periodic`; `winding`, periodic up to a jump `jump` of the
+    /// field across the seam (a kink on a circle); `dirichlet`, the end values
+    /// held fixed (`left`, `right`); or `free`. Dirichlet and free boundaries
+    /// run only the schemes `triangle`, `rectangle` and `symmetric-rectangle`.
     #[serde(default = "periodic")]
+    #[schemars(extend("enum" = ["periodic", "winding", "dirichlet", "free"]))]
     pub boundary: String,
-    /// Winding boundary: the jump across the seam (default 2π).
+    /// `winding` boundary only: the jump of the field across the seam (2π: one
+    /// kink).
+    #[schemars(extend("default" = std::f64::consts::TAU))]
     pub jump: Option<f64>,
-    /// Dirichlet: the value at the first node (default: its initial value).
+    /// `dirichlet` boundary only: the value held at the first node (default:
+    /// its initial value).
     pub left: Option<f64>,
-    /// Dirichlet: the value at the last node (default: its initial value).
+    /// `dirichlet` boundary only: the value held at the last node (default: its
+    /// initial value).
     pub right: Option<f64>,
-    /// Time step.
+    /// Time step (> 0); give either `dt` or `courant`.
     pub dt: Option<f64>,
-    /// Courant number dt/dx (alternative to `dt`).
+    /// Courant number dt/dx (> 0), from which the time step is computed; give
+    /// either `dt` or `courant`.
     pub courant: Option<f64>,
 }
 
@@ -72,76 +99,110 @@ fn periodic() -> String {
     "periodic".into()
 }
 
-/// `[method]`.
+/// The scheme and the solves of each new level.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SchemeSpec {
-    /// The scheme (`name` is accepted too, the spelling of the mechanics kinds).
+    /// The scheme (Marsden–Patrick–Shkoller §5): the multisymplectic `triangle`
+    /// (5.8), `triangle-explicit`, `rectangle` (5.10) and `symmetric-rectangle`
+    /// (5.12; use an odd number of nodes), or the energy-conserving `vu-quoc-li`
+    /// (5.14) and `guo` (5.15). Dirichlet and free boundaries and the complex
+    /// field take only `triangle`, `rectangle` and `symmetric-rectangle`.
+    /// `name` is accepted too, the spelling of the mechanics kinds.
     #[serde(alias = "name")]
+    #[schemars(extend("enum" = [
+        "triangle", "triangle-explicit", "rectangle", "symmetric-rectangle", "vu-quoc-li", "guo"
+    ]))]
     pub scheme: String,
-    /// Relative tolerance of the level solves (default 1e-13).
+    /// Relative tolerance (> 0) of the solve of each new level.
+    #[schemars(extend("default" = 1e-13))]
     pub tolerance: Option<f64>,
-    /// Minimum iterations per level (default 1; the paper used 3 for Guo).
+    /// Fewest iterations of each level's solve (the paper used 3 for `guo`);
+    /// read on periodic and winding lattices of a real field, not by the
+    /// Newton solves of the other boundaries and of the complex field.
+    #[schemars(extend("default" = 1))]
     pub min_iterations: Option<usize>,
 }
 
-/// `[initial]`.
+/// The initial field: a kind of data and the keys of that kind (a key of
+/// another kind is refused).
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldInitialSpec {
-    /// `kink-antikink | kink | breather | dalembert | plane-wave`.
+    /// The data: `kink-antikink` (the periodic pair of the paper's §5.2),
+    /// `kink` or `breather` (sine-Gordon solutions), `dalembert` (travelling
+    /// waves of the wave equation), all for the real fields; or `plane-wave`
+    /// (the exact travelling wave), the data of `klein-gordon-complex`.
+    #[schemars(extend("enum" = ["kink-antikink", "kink", "breather", "dalembert", "plane-wave"]))]
     pub kind: String,
-    /// Kink–antikink: κ = 1 − epsilon (default 1e-6).
+    /// `kink-antikink`: the elliptic modulus of the pair is κ = 1 − epsilon
+    /// (> 0).
+    #[schemars(extend("default" = 1e-6))]
     pub epsilon: Option<f64>,
-    /// Kink–antikink: the paper's first-order second level (default true).
+    /// `kink-antikink`: build the second level as the paper did, to first order
+    /// (`false`: from the exact travelling solitons).
+    #[schemars(extend("default" = true))]
     pub paper_start: Option<bool>,
-    /// Kink, breather: centre (default length/4 for the kink, length/2 for the breather).
+    /// `kink` and `breather`: the centre (default length/4 for the kink,
+    /// length/2 for the breather).
     pub x0: Option<f64>,
-    /// Kink: speed |c| < 1 (default 0.5).
+    /// `kink`: its speed, |c| < 1.
+    #[schemars(extend("default" = 0.5))]
     pub speed: Option<f64>,
-    /// Breather: frequency 0 < ω < 1 (default 0.5).
+    /// `breather`: its frequency, 0 < ω < 1.
+    #[schemars(extend("default" = 0.5))]
     pub omega: Option<f64>,
-    /// d'Alembert and plane wave: amplitude (default 1).
+    /// `dalembert` and `plane-wave`: the amplitude.
+    #[schemars(extend("default" = 1.0))]
     pub amplitude: Option<f64>,
-    /// d'Alembert (≥ 1) and plane wave (any integer): mode number (default 1).
+    /// `dalembert` (≥ 1) and `plane-wave` (any integer; its sign is the
+    /// direction of travel): the mode number, waves per length of the lattice.
+    #[schemars(extend("default" = 1))]
     pub mode: Option<i32>,
-    /// d'Alembert: uniform drift velocity (default 0).
+    /// `dalembert`: a uniform drift velocity added to the field.
+    #[schemars(extend("default" = 0.0))]
     pub drift: Option<f64>,
 }
 
-/// `[time]`.
+/// When a lattice run stops.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldTimeSpec {
-    /// Final time (the run stops at the first level with t ≥ t_end).
+    /// Final time (> 0): the run ends at the first whole time step at or after
+    /// `t_end`, with a note when that is later than `t_end`.
     pub t_end: f64,
 }
 
-/// `[output]`.
+/// What a lattice run writes and where.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FieldOutputSpec {
-    /// Output directory (default `out/<scenario stem>`; `--out` overrides).
+    /// Directory the outputs go to (default `out/<scenario file stem>`); the
+    /// option `--out` overrides it.
     pub dir: Option<PathBuf>,
-    /// Levels between stored snapshots (default 100; 0: only the first and last).
+    /// Levels between the snapshots of the field in `snapshots.npy` (0: only
+    /// the first and the last level).
     #[serde(default = "hundred")]
     pub snapshot_every: usize,
-    /// Levels between rows of `energy.csv` (default 1: every level).
+    /// Levels between rows of `energy.csv`; the last level is always written.
     #[serde(default = "one")]
+    #[schemars(extend("x-type" = "integer ≥ 1"))]
     pub energy_every: usize,
-    /// Block length (levels) of `energy_blocks.csv`: min/mean/max of E − E₀
-    /// per block (default 0: none).
+    /// Levels per block of `energy_blocks.csv`, which holds the minimum, mean
+    /// and maximum of E − E₀ over each block (0: no such file).
     #[serde(default)]
     pub energy_block: usize,
-    /// Levels between checkpoints (default 0: a checkpoint only where the
-    /// run ends, interrupted or not; `--resume` continues from the last one).
+    /// Levels between checkpoints (0: a checkpoint only where the run ends,
+    /// interrupted or not); `veselov run --resume` continues from the last one.
     #[serde(default)]
     pub checkpoint_every: u64,
-    /// Draw plots (default true).
+    /// Draw the figures: the energy error, the final waveform and the
+    /// space–time heat map.
     #[serde(default = "yes")]
     pub plots: bool,
-    /// `svg` (default) or `png`.
+    /// File format of the line plots (the heat map is always PNG).
     #[serde(default = "svg")]
+    #[schemars(extend("enum" = ["svg", "png"]))]
     pub plot_format: String,
 }
 

@@ -13,64 +13,116 @@ use serde::Deserialize;
 use crate::error::CliError;
 use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, output_dir, parse_toml, step_count, step_length};
 
-/// A whole scenario file.
+/// A mechanics scenario: a built-in model or a Lagrangian given as
+/// expressions, the method and its step, the time span, the initial state and
+/// the outputs.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// The system.
+    /// The system: a built-in model (`veselov models` lists them with their
+    /// parameters, coordinates and default initial states) or `custom`, a
+    /// Lagrangian written as an expression.
     pub model: ModelSpec,
-    /// The integrator.
+    /// The integrator and its time step: a fixed-step variational method or a
+    /// variable-step symplectic-energy-momentum one (`sem-…`); `veselov
+    /// methods` lists them with their orders.
     pub method: MethodSpec,
-    /// Horizon.
+    /// When the run starts and ends: give either `t_end` or `steps`.
     pub time: TimeSpec,
-    /// Initial data; optional for built-in models (each has a documented default).
+    /// The initial state at `t0`: `q` and exactly one of `p` and `v`. Optional
+    /// for the built-in models, which have a default state (`veselov models`);
+    /// required for `custom`.
     pub initial: Option<InitialSpec>,
-    /// Outputs.
+    /// What the run writes (`trajectory.csv`, `summary.json`, the plots) and
+    /// where.
     #[serde(default)]
     pub output: OutputSpec,
 }
 
-/// `[model]`.
+/// The system: a built-in model with its parameters, or a custom Lagrangian
+/// with its coordinates, constants, forces and symmetries.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModelSpec {
-    /// Built-in model name, or `"custom"`.
+    /// The model: a built-in name, or `custom` with `coordinates` and
+    /// `lagrangian`; the keys `coordinates`, `lagrangian`, `force`,
+    /// `symmetries` and `constants` are for `custom` only.
+    #[schemars(extend("enum" = [
+        "harmonic", "pendulum", "kepler", "henon-heiles", "double-pendulum",
+        "damped-oscillator", "van-der-pol", "damped-kepler", "custom"
+    ]))]
     pub name: String,
-    /// Model parameters (built-in models; defaults listed by `veselov models`).
+    /// Parameters of a built-in model by name, e.g. `{ mass = 1.0, omega = 2.0 }`:
+    /// each model takes its own (`veselov models` lists them with their
+    /// defaults), and one left out takes its default. Not for `custom`, which
+    /// takes `constants`.
     #[serde(default)]
     pub params: BTreeMap<String, f64>,
-    /// Custom systems: coordinate names.
+    /// Custom models: the names of the coordinates, 1 to 64 (letters, digits and
+    /// `_`, not starting with a digit, and not `t`); the expressions use them and
+    /// their velocities `<name>_dot`. With more than 6 coordinates only the
+    /// fixed-step methods without `force` run, and `veselov verify` is refused.
     pub coordinates: Option<Vec<String>>,
-    /// Custom systems: the Lagrangian expression.
+    /// Custom models: the Lagrangian L as an expression in the coordinates,
+    /// their velocities `<name>_dot`, the time `t` and the `constants`
+    /// (`veselov expressions` documents the language). Required for `custom`.
     pub lagrangian: Option<String>,
-    /// Custom systems: a generalised force, one expression per coordinate.
+    /// Custom models: a generalised force, one expression per coordinate (it may
+    /// use the velocities and `t`), applied through the Lagrange–d'Alembert
+    /// principle; the run then reports the work of the forces. The variable-step
+    /// `sem-…` methods refuse a forced model.
     pub force: Option<Vec<String>>,
-    /// Custom systems: symmetry generators `ξ_Q(q)`, one expression per coordinate.
+    /// Custom models: named symmetries, each a generator ξ(q) given as one
+    /// expression per coordinate, e.g. `{ angular = ["-y", "x"] }`; the Noether
+    /// momentum of each is written in the column `J_<name>`. Each is checked to
+    /// leave the Lagrangian invariant before the run.
     #[serde(default)]
+    #[schemars(extend("x-type" = "table of arrays of strings"))]
     pub symmetries: BTreeMap<String, Vec<String>>,
-    /// Custom systems: named constants usable in the expressions.
+    /// Custom models: named numbers the expressions may use, e.g. `{ k = 1.0 }`
+    /// (a declared name takes precedence over the built-in `pi` and `e`).
     #[serde(default)]
     pub constants: BTreeMap<String, f64>,
 }
 
-/// `[method]`.
+/// The integrator: its name, its step and the keys some methods take.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MethodSpec {
-    /// `midpoint | trapezoid | alpha | galerkin-lobatto | galerkin-gauss`
-    /// (`scheme` is accepted too, the spelling of the lattice kinds).
+    /// The method (`veselov methods` lists them with their orders): the `sem-…`
+    /// methods take variable steps, the others fixed ones. `scheme` is accepted
+    /// too, the spelling of the lattice kinds.
     #[serde(alias = "scheme")]
+    #[schemars(extend("enum" = [
+        "midpoint", "trapezoid", "alpha", "galerkin-lobatto", "galerkin-gauss",
+        "sem-midpoint", "sem-averaged", "sem-trapezoid", "sem-leftpoint"
+    ]))]
     pub name: String,
-    /// Stages of the Galerkin methods.
+    /// Stages s of `galerkin-lobatto` (2 to 10, default 3; order 2s − 2) and
+    /// `galerkin-gauss` (1 to 10, default 2; order 2s), or the Gauss nodes of
+    /// the potential average of `sem-averaged` (1 to 10, default 2); the other
+    /// methods take none.
     pub stages: Option<usize>,
-    /// α of the α-rule.
+    /// The α in [0, 1] of the `alpha` method, which evaluates the Lagrangian at
+    /// (1 − α)q₀ + αq₁ (order 2 at α = ½, else 1); required by `alpha`, refused
+    /// by the other methods.
     pub alpha: Option<f64>,
-    /// Time step.
+    /// Time step (> 0). With `t_end` (and no `steps`) a fixed-step run adjusts
+    /// it to (t_end − t0)/n, n = round((t_end − t0)/dt), so that it ends exactly
+    /// at `t_end`; for the `sem-…` methods it is the first step, and the later
+    /// ones follow from the discrete energy.
+    #[schemars(extend("unit" = "s"))]
     pub dt: f64,
-    /// Newton iterations: relative update at which they stop (default 4ε);
-    /// the fixed-point sweeps of separable models always go to round-off.
+    /// Relative update at which each step's Newton iteration stops, between
+    /// ε ≈ 2.2e-16 and 1e-3 (default 4ε). It governs the fixed-step methods on
+    /// non-separable models and the Newton fallback of separable ones, whose
+    /// fixed-point sweeps always go to round-off; the `sem-…` methods do not
+    /// read it.
+    #[schemars(extend("default" = 4.0 * f64::EPSILON))]
     pub newton_tolerance: Option<f64>,
-    /// Newton iterations per step before the step fails (default 50).
+    /// Newton iterations per step (1 to 10000) after which the step fails;
+    /// like `newton_tolerance`, not read by the `sem-…` methods.
+    #[schemars(extend("default" = 50, "x-type" = "integer ≥ 1"))]
     pub newton_max_iterations: Option<usize>,
 }
 
@@ -88,15 +140,18 @@ impl MethodSpec {
     }
 }
 
-/// `[initial]`: `q` and exactly one of `p` and `v`.
+/// The initial state at `t0`: the coordinates `q` and exactly one of the
+/// momenta `p` and the velocities `v`.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSpec {
-    /// Positions.
+    /// Initial coordinates, one value per coordinate, in the order of the
+    /// model's coordinates (`veselov models`) or of `coordinates`.
     pub q: Vec<f64>,
-    /// Momenta.
+    /// Initial momenta p = ∂L/∂v, one per coordinate; give either `p` or `v`.
     pub p: Option<Vec<f64>>,
-    /// Velocities.
+    /// Initial velocities, one per coordinate, turned into momenta through the
+    /// Lagrangian; give either `p` or `v`.
     pub v: Option<Vec<f64>>,
 }
 

@@ -11,47 +11,76 @@ use veselov::lie::{SO3, so3};
 use crate::error::CliError;
 use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, parse_toml};
 
-/// A rigid-body scenario file.
+/// A rigid-body scenario: the body, the Lie-group integrator and its step,
+/// the time span, the initial attitude and motion, and the outputs.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidScenario {
-    /// The body.
+    /// The body: the free rigid body (`rigid-body`) or the heavy top
+    /// (`heavy-top`) on SO(3), or the free-flying body on SE(3)
+    /// (`rigid-body-se3`), with its inertia and, where the model has them, its
+    /// mass, centre of mass and gravity.
     pub model: RigidModelSpec,
-    /// The integrator.
+    /// The Lie-group variational integrator (trapezoidal, order 2, symplectic):
+    /// its retraction and time step.
     pub method: RigidMethodSpec,
-    /// Horizon.
+    /// When the run starts and ends: give either `t_end` or `steps`.
     pub time: TimeSpec,
-    /// Initial data (each model has a documented default).
+    /// The initial attitude and motion (and position on SE(3)); every key left
+    /// out takes the model's default (`veselov models`), and the whole table
+    /// may be left out.
     pub initial: Option<RigidInitialSpec>,
-    /// Outputs.
+    /// What the run writes (`trajectory.csv`, `summary.json`, the plots) and
+    /// where.
     #[serde(default)]
     pub output: OutputSpec,
 }
 
-/// `[model]` of a rigid-body scenario.
+/// The body: its model, inertia and, for the heavy top and the SE(3) body,
+/// mass, centre of mass and gravity.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidModelSpec {
-    /// `rigid-body | heavy-top | rigid-body-se3`.
+    /// The model: `rigid-body` (free, on SO(3)), `heavy-top` (a top with a
+    /// fixed pivot under gravity, on SO(3)) or `rigid-body-se3` (rotating and
+    /// translating in free flight).
+    #[schemars(extend("enum" = ["rigid-body", "heavy-top", "rigid-body-se3"]))]
     pub name: String,
-    /// Principal moments (3 values) or the full tensor (9 values, row by row).
+    /// Inertia tensor in the body frame (about the pivot for the heavy top): the
+    /// 3 principal moments, or the 9 entries of the full tensor row by row.
+    /// Default [1, 2, 3] for `rigid-body` and `rigid-body-se3`, [1, 1, 0.5] for
+    /// `heavy-top`.
+    #[schemars(extend("unit" = "kg·m²", "x-type" = "array of 3 or 9 floats"))]
     pub inertia: Option<Vec<f64>>,
-    /// Mass.
+    /// Mass of the body (`heavy-top` and `rigid-body-se3`; refused by
+    /// `rigid-body`).
+    #[schemars(extend("unit" = "kg", "default" = 1.0))]
     pub mass: Option<f64>,
-    /// Heavy top: centre of mass in the body frame, measured from the pivot.
+    /// `heavy-top` only: the centre of mass in the body frame, measured from
+    /// the pivot.
+    #[schemars(extend("unit" = "m", "default" = [0.0, 0.0, 1.0], "x-type" = "array of 3 floats"))]
     pub centre_of_mass: Option<Vec<f64>>,
-    /// Heavy top: gravitational acceleration (along −z).
+    /// `heavy-top` only: the gravitational acceleration, acting along −z.
+    #[schemars(extend("unit" = "m/s²", "default" = 9.81))]
     pub gravity: Option<f64>,
 }
 
-/// `[method]` of a rigid-body scenario.
+/// The Lie-group integrator: the retraction that advances the attitude, and
+/// the time step.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidMethodSpec {
-    /// `cayley` (default) or `exp`.
+    /// The map from the Lie algebra to the group that advances the attitude:
+    /// `cayley` (the Cayley map, rational and cheap) or `exp` (the exponential,
+    /// along the group's geodesics); both are of order 2 and conserve the same
+    /// momenta.
     #[serde(default = "cayley")]
+    #[schemars(extend("enum" = ["cayley", "exp"]))]
     pub retraction: String,
-    /// Time step.
+    /// Time step (> 0). With `t_end` (and no `steps`) it is adjusted to
+    /// (t_end − t0)/n, n = round((t_end − t0)/dt), so that the run ends exactly
+    /// at `t_end`.
+    #[schemars(extend("unit" = "s"))]
     pub dt: f64,
 }
 
@@ -59,23 +88,40 @@ fn cayley() -> String {
     "cayley".into()
 }
 
-/// `[initial]` of a rigid-body scenario.
+/// The initial attitude (a rotation vector or a quaternion), angular motion
+/// (an angular velocity or momentum, body frame) and, on SE(3), position and
+/// linear motion; each key left out takes the model's default.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigidInitialSpec {
-    /// Attitude as a rotation vector (axis × angle, radians).
+    /// Initial attitude as a rotation vector, the axis times the angle; give
+    /// either this or `quaternion`. Default: the identity, except [0.3, 0, 0]
+    /// for `heavy-top`.
+    #[schemars(extend("unit" = "rad", "x-type" = "array of 3 floats"))]
     pub rotation_vector: Option<Vec<f64>>,
-    /// Attitude as a quaternion [w, x, y, z] (normalised on input).
+    /// Initial attitude as a quaternion [w, x, y, z] (Hamilton convention; it
+    /// need not be normalised); give either this or `rotation_vector`.
+    #[schemars(extend("x-type" = "array of 4 floats"))]
     pub quaternion: Option<Vec<f64>>,
-    /// Body angular velocity Ω.
+    /// Initial angular velocity Ω in the body frame; give either this or
+    /// `angular_momentum`. Default [0.05, 1, 0.05] (near the unstable middle
+    /// axis) for `rigid-body` and `rigid-body-se3`, [0, 0, 20] for `heavy-top`.
+    #[schemars(extend("unit" = "rad/s", "x-type" = "array of 3 floats"))]
     pub angular_velocity: Option<Vec<f64>>,
-    /// Body angular momentum Π = 𝕀Ω.
+    /// Initial angular momentum Π = 𝕀Ω in the body frame; give either this or
+    /// `angular_velocity`.
+    #[schemars(extend("unit" = "kg·m²/s", "x-type" = "array of 3 floats"))]
     pub angular_momentum: Option<Vec<f64>>,
-    /// SE(3): position of the centre of mass.
+    /// `rigid-body-se3` only: the initial position of the centre of mass.
+    #[schemars(extend("unit" = "m", "default" = [0.0, 0.0, 0.0], "x-type" = "array of 3 floats"))]
     pub position: Option<Vec<f64>>,
-    /// SE(3): body-frame velocity of the centre of mass.
+    /// `rigid-body-se3` only: the initial velocity of the centre of mass in the
+    /// body frame; give either this or `linear_momentum`.
+    #[schemars(extend("unit" = "m/s", "default" = [1.0, 0.0, 0.0], "x-type" = "array of 3 floats"))]
     pub velocity: Option<Vec<f64>>,
-    /// SE(3): body-frame linear momentum m v.
+    /// `rigid-body-se3` only: the initial linear momentum m v in the body frame;
+    /// give either this or `velocity`.
+    #[schemars(extend("unit" = "kg·m/s", "x-type" = "array of 3 floats"))]
     pub linear_momentum: Option<Vec<f64>>,
 }
 
