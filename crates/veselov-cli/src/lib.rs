@@ -21,4 +21,5 @@ pub mod route;
 pub mod scenario;
 #[cfg(test)]
 mod test_scratch;
+pub mod verdict;
 pub mod verify;

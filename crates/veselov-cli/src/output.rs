@@ -224,6 +224,35 @@ pub fn push_number(out: &mut String, x: f64) {
     };
 }
 
+/// `x` in the shortest form that reads back to the same `f64`, as every
+/// message echoes a number: positional for 10⁻⁴ ≤ |x| < 10⁶ and zero
+/// (`0.125`, `314.159`), with an exponent otherwise (`1e308`, `3e14`,
+/// `1e-300`), never hundreds of digits.
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || !x.is_finite() || (1e-4..1e6).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// `x` rounded to three significant digits, positional for
+/// 10⁻⁴ ≤ |x| < 10⁶ and with an exponent otherwise: the form of a measured
+/// or suggested value (`148 %`, `dt ≤ 0.00233`, `2e11 %`, `dt ≤ 1.5e-7`).
+pub fn approx(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return number(x);
+    }
+    // Through the exponent form, which rounds to three digits exactly.
+    let r: f64 = format!("{x:.2e}").parse().unwrap_or(x);
+    if (1e-4..1e6).contains(&r.abs()) {
+        number(r)
+    } else {
+        format!("{r:e}")
+    }
+}
+
 /// Whether [`say`] has reported a write error (it reports one).
 static STDOUT_FAILED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 

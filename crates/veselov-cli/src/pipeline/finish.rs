@@ -13,6 +13,7 @@ use crate::error::CliError;
 use crate::figures;
 use crate::output::write_json;
 use crate::scenario::{OutputSpec, TimeSpec, output_dir};
+use crate::verdict::{Verdict, Warning};
 
 /// Run a fixed-step table run from `x0` (state 0) to state `steps`, or,
 /// resuming, from the checkpoint: `x` and `stepper` restored from its words,
@@ -114,7 +115,9 @@ pub fn finish<S: Clone>(
         status = Status::Failed(e);
     }
     let dir = &session.dir;
-    write_json(&dir.join("summary.json"), &summary(&table, &status))?;
+    let mut value = summary(&table, &status);
+    let warnings = super::summary::add_warnings(&mut value, &session.verdict);
+    write_json(&dir.join("summary.json"), &value)?;
     if let Some(e) = io_error {
         return Err(e);
     }
@@ -127,11 +130,14 @@ pub fn finish<S: Clone>(
     if !session.quiet {
         crate::say!("{}; outputs in {}", report(&table), dir.display());
     }
+    session.verdict.show_new(&warnings);
     conclude(status, dir)
 }
 
 /// Writes `dir/summary.json`: the common keys of a run that ended with
-/// `status` after `steps` steps at `t_final`, then the kind's own keys.
+/// `status` after `steps` steps at `t_final`, then the kind's own keys, then
+/// the warnings of `verdict`, which it returns.
+#[allow(clippy::too_many_arguments)]
 pub fn write_summary(
     dir: &Path,
     status: &Status,
@@ -140,9 +146,12 @@ pub fn write_summary(
     wall_seconds: f64,
     iterations: u64,
     own: serde_json::Value,
-) -> Result<(), CliError> {
-    let value = super::summary::common(status, steps, t_final, wall_seconds, iterations, own);
-    write_json(&dir.join("summary.json"), &value)
+    verdict: &Verdict,
+) -> Result<Vec<Warning>, CliError> {
+    let mut value = super::summary::common(status, steps, t_final, wall_seconds, iterations, own);
+    let warnings = super::summary::add_warnings(&mut value, verdict);
+    write_json(&dir.join("summary.json"), &value)?;
+    Ok(warnings)
 }
 
 /// How a lattice run ended, for [`close_run`]: its status, the steps (or
@@ -172,7 +181,7 @@ pub fn close_run(
     report: impl FnOnce() -> String,
 ) -> Result<(), CliError> {
     let dir = &session.dir;
-    write_summary(
+    let warnings = write_summary(
         dir,
         &ending.status,
         ending.steps,
@@ -180,6 +189,7 @@ pub fn close_run(
         session.wall_seconds(),
         ending.iterations,
         own,
+        &session.verdict,
     )?;
     if let Some(e) = observer_error {
         return Err(e);
@@ -190,6 +200,7 @@ pub fn close_run(
     if !session.quiet {
         crate::say!("{}; outputs in {}", report(), dir.display());
     }
+    session.verdict.show_new(&warnings);
     conclude(ending.status, dir)
 }
 

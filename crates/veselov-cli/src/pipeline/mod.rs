@@ -174,6 +174,8 @@ pub struct Session {
     /// [`Plan::t_end`], recorded in checkpoints.
     t_end: Option<f64>,
     progress: Progress,
+    /// Warnings met so far and the check of the summary at the end.
+    pub verdict: crate::verdict::Verdict,
 }
 
 /// Steps between two looks at the clock for time-based checkpoints.
@@ -256,6 +258,7 @@ impl Session {
                 },
                 job.quiet,
             ),
+            verdict: crate::verdict::Verdict::default(),
         })
     }
 
@@ -473,21 +476,22 @@ impl<const K: usize> Resumed<K> {
 /// outputs go to the command line's `--out`, else `[output] dir`
 /// (`output_dir`), else beside the scenario, checkpointed every
 /// `checkpoint_every` steps of its stepper, with its `K` output files'
-/// positions when it resumes.
+/// positions when it resumes, judged by `verdict` at its end.
 pub fn open_lattice_run<const K: usize>(
     file: &std::path::Path,
     job: &RunJob,
-    output_dir: Option<PathBuf>,
-    plan: &Plan,
+    (output_dir, plan): (Option<PathBuf>, &Plan),
     checkpoint_every: u64,
     kind: &str,
+    verdict: crate::verdict::Verdict,
 ) -> Result<(Session, Option<Resumed<K>>), CliError> {
     let spec = crate::scenario::OutputSpec {
         dir: output_dir,
         ..Default::default()
     };
     let dir = crate::scenario::output_dir(file, &spec, job.out.as_deref());
-    let session = Session::open(file, job, dir, plan, Some(checkpoint_every), kind)?;
+    let mut session = Session::open(file, job, dir, plan, Some(checkpoint_every), kind)?;
+    session.verdict = verdict;
     let resumed = match &session.resumed {
         Some(saved) => {
             let files = stream::Position::read_all(&mut Words::new(&saved.observer))

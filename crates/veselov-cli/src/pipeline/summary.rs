@@ -4,7 +4,9 @@
 //! Common keys: `status` (`"ok"`, `"error"` or `"interrupted"`), `steps`
 //! (steps or levels taken), `t_final`, `wall_seconds`, `iterations_mean`
 //! (nonlinear iterations per step) and `failure` (`null`, or `kind`, `step`,
-//! `time`, `message`).
+//! `time`, `message`), then `warnings` (a list of `{code, message}`, empty
+//! when none: [`crate::verdict`]) and, for runs whose energy is checked,
+//! `checks`.
 
 use serde_json::{Map, Value, json};
 use veselov::run::Status;
@@ -71,6 +73,16 @@ pub fn common(status: &Status, steps: u64, t_final: f64, wall_seconds: f64, iter
         }
     }
     Value::Object(map)
+}
+
+/// Adds `warnings` (a list of `{code, message}`, empty when none) and the
+/// `checks` of `verdict` to a run's `summary`; returns the warnings.
+pub fn add_warnings(summary: &mut Value, verdict: &crate::verdict::Verdict) -> Vec<crate::verdict::Warning> {
+    let warnings = verdict.judge(summary);
+    if let Value::Object(map) = summary {
+        map.insert("warnings".into(), json!(warnings));
+    }
+    warnings
 }
 
 /// The largest energy error relative to the initial energy, |E − E₀|/|E₀|

@@ -30,6 +30,7 @@ use crate::error::CliError;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumed, RunJob, Session, open_lattice_run};
+use crate::verdict::{Conserved, ENERGY_ERROR_FIELDS, EnergyCheck, StepAdvice, Verdict};
 
 /// Run a beam scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
@@ -83,9 +84,6 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     job: RunJob,
 ) -> Result<(), CliError> {
     let s = &setup.scenario;
-    if let Some(reason) = &setup.unstable {
-        eprintln!("warning: {reason}; running because [method] allow_unstable = true");
-    }
     if let Some(requested) = setup.dt_requested
         && (requested - setup.dt).abs() > 1e-12 * requested
         && !job.quiet
@@ -211,13 +209,33 @@ fn open_observer<'a>(
         step: Some(setup.dt),
         t_end: None,
     };
+    let mut verdict = Verdict::default();
+    if let Some(reason) = &setup.unstable {
+        verdict.warn(
+            "beyond_stability_limit",
+            format!("{reason}; running because [method] allow_unstable = true"),
+        );
+    }
+    // A time evolution without damping conserves the energy; a space
+    // evolution marches in s, where the energy is no invariant.
+    let limit = s.checks.energy_limit(&setup.path, ENERGY_ERROR_FIELDS)?;
+    verdict.energy = (!setup.space && setup.damping.iter().all(|d| *d == 0.0)).then_some(EnergyCheck {
+        conserved: Conserved::EnergyRange,
+        limit,
+        advice: StepAdvice {
+            key: "time.dt",
+            value: setup.dt,
+            order: 2,
+            also: "more `model.nodes` if the space step dominates the error",
+        },
+    });
     let (session, resumed) = open_lattice_run::<3>(
         &setup.path,
         job,
-        s.output.dir.clone(),
-        &plan,
+        (s.output.dir.clone(), &plan),
         s.output.checkpoint_every,
         "beam",
+        verdict,
     )?;
     let dir = session.dir.clone();
     let at = Resumed::positions(&resumed);

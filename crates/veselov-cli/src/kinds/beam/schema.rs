@@ -65,6 +65,9 @@ pub(crate) struct BeamScenario {
     pub time: BeamTimeSpec,
     #[serde(default)]
     pub output: RowsOutputSpec,
+    /// The thresholds beyond which the run's summary carries a warning.
+    #[serde(default)]
+    pub checks: crate::verdict::ChecksSpec,
 }
 
 /// The beam's length, its nodes, its cross-section and its

@@ -24,6 +24,7 @@ use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumed, RunJob, Session, open_lattice_run};
 use crate::scenario::{finite_value, positive_value};
+use crate::verdict::{Conserved, ENERGY_ERROR_FIELDS, EnergyCheck, StepAdvice, Verdict};
 
 /// Run a CFK-lattice field scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
@@ -257,13 +258,35 @@ fn open_session<const M: usize>(setup: &Setup, job: &RunJob) -> Result<(Session,
         step: Some(setup.dt),
         t_end: None,
     };
+    let also = "more `lattice.nodes` (and a smaller `lattice.spacing`) if the space step dominates the error";
+    let verdict = Verdict {
+        warnings: Vec::new(),
+        energy: Some(EnergyCheck {
+            conserved: Conserved::Energy,
+            limit: s.checks.energy_limit(&setup.path, ENERGY_ERROR_FIELDS)?,
+            advice: match s.lattice.courant {
+                Some(c) => StepAdvice {
+                    key: "lattice.courant",
+                    value: c,
+                    order: 2,
+                    also,
+                },
+                None => StepAdvice {
+                    key: "lattice.dt",
+                    value: setup.dt,
+                    order: 2,
+                    also,
+                },
+            },
+        }),
+    };
     let (session, resumed) = open_lattice_run::<4>(
         &setup.path,
         job,
-        s.output.dir.clone(),
-        &plan,
+        (s.output.dir.clone(), &plan),
         s.output.checkpoint_every.saturating_mul(3),
         "cfk-field",
+        verdict,
     )?;
     Ok((session, resumed, snapshots))
 }

@@ -38,6 +38,9 @@ pub(super) struct CfkScenario {
     /// `summary.json`, the figures) and where.
     #[serde(default)]
     pub(super) output: CfkOutputSpec,
+    /// The thresholds beyond which the run's summary carries a warning.
+    #[serde(default)]
+    pub(super) checks: crate::verdict::ChecksSpec,
 }
 
 /// The CFK lattice: periodic nodes in 2 space dimensions, their spacing and
@@ -221,6 +224,23 @@ impl Setup {
             return Err(key(
                 "lattice",
                 format!("Δt/Δx = {ratio:.3} exceeds the stability limit {MAX_COURANT} of the CFK march"),
+            ));
+        }
+        let t_end = scenario.time.t_end;
+        if t_end > 0.0 && dt > t_end {
+            let step_key = if l.courant.is_some() {
+                "lattice.courant"
+            } else {
+                "lattice.dt"
+            };
+            return Err(key(
+                step_key,
+                format!(
+                    "the time step dt = {} is longer than the run (time.t_end = {}): not one step would land \
+                     inside it",
+                    crate::output::number(dt),
+                    crate::output::number(t_end)
+                ),
             ));
         }
         let m = &scenario.method;

@@ -18,6 +18,7 @@ use super::schema::{FieldInitial, FieldModel, FieldScenario, LoadedField};
 use crate::error::CliError;
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, RunJob, Session};
 use crate::scenario::output_dir;
+use crate::verdict::{Conserved, ENERGY_ERROR_FIELDS, EnergyCheck, StepAdvice};
 
 /// Run a lattice-field scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
@@ -161,14 +162,49 @@ fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f6
         step: Some(lattice.dt()),
         t_end: None,
     };
-    Session::open(
+    let limit = loaded.scenario.checks.energy_limit(&loaded.path, ENERGY_ERROR_FIELDS)?;
+    let mut session = Session::open(
         &loaded.path,
         job,
         output_dir(&loaded.path, &output_spec(&loaded.scenario), job.out.as_deref()),
         &plan,
         Some(o.checkpoint_every),
         "lattice-field",
-    )
+    )?;
+    let l = &loaded.scenario.lattice;
+    let ratio = l.courant.unwrap_or(lattice.dt() / lattice.dx());
+    if let Some(limit) = loaded.stability_limit()
+        && ratio > limit * (1.0 + 4.0 * f64::EPSILON)
+    {
+        session.verdict.warn(
+            "beyond_stability_limit",
+            format!(
+                "the Courant number dt/dx = {} exceeds the stability limit {limit} of the `{}` scheme; running \
+                 because [method] allow_unstable = true",
+                crate::output::number(ratio),
+                loaded.scenario.method.scheme
+            ),
+        );
+    }
+    session.verdict.energy = Some(EnergyCheck {
+        conserved: Conserved::Energy,
+        limit,
+        advice: match l.courant {
+            Some(c) => StepAdvice {
+                key: "lattice.courant",
+                value: c,
+                order: 2,
+                also: "more `lattice.nodes` if the space step dominates the error",
+            },
+            None => StepAdvice {
+                key: "lattice.dt",
+                value: lattice.dt(),
+                order: 2,
+                also: "more `lattice.nodes` if the space step dominates the error",
+            },
+        },
+    });
+    Ok(session)
 }
 
 /// The `[output]` keys `output_dir` understands.

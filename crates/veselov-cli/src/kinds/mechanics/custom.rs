@@ -55,6 +55,12 @@ fn symbols(scenario: &LoadedScenario, coordinates: &[String], with_velocities: b
     Ok(table)
 }
 
+/// `[a, b, …]` with each number as [`crate::output::number`] writes it.
+fn numbers(x: &[f64]) -> String {
+    let items: Vec<String> = x.iter().map(|v| crate::output::number(*v)).collect();
+    format!("[{}]", items.join(", "))
+}
+
 /// One expression per coordinate (`sources`, the key `key`), over the
 /// coordinates and, `with_velocities`, their velocities and `t`; errors name
 /// `key` or `key[i]`.
@@ -89,6 +95,18 @@ fn components(
 #[derive(Debug, Clone)]
 pub struct CustomLagrangian<const N: usize> {
     expr: Expr,
+}
+
+/// Whether a custom scenario's Lagrangian depends on `t` explicitly (its
+/// energy is then not conserved); `false` for built-in models and for a
+/// Lagrangian that does not parse (the run refuses it elsewhere).
+pub fn depends_on_time(scenario: &LoadedScenario) -> bool {
+    let model = &scenario.scenario.model;
+    if model.name != "custom" {
+        return false;
+    }
+    let coordinates = model.coordinates.as_deref().unwrap_or_default();
+    parse_lagrangian(scenario, coordinates).is_ok_and(|e| e.used_variables().iter().any(|v| v == "t"))
 }
 
 /// `[model] lagrangian`, parsed over `coordinates`, their velocities and `t`.
@@ -236,17 +254,55 @@ impl DynCustomSymmetry {
         generator: &[String],
         coordinates: &[String],
     ) -> Result<Self, CliError> {
-        let components = components(
-            scenario,
-            &format!("model.symmetries.{name}"),
-            generator,
-            coordinates,
-            false,
-        )?;
-        Ok(Self {
+        let key = format!("model.symmetries.{name}");
+        let components = components(scenario, &key, generator, coordinates, false)?;
+        let symmetry = Self {
             name: name.to_string(),
             components,
-        })
+        };
+        symmetry.check_finite(scenario, &key, coordinates.len())?;
+        Ok(symmetry)
+    }
+
+    /// Refuse a generator that is not finite at the initial state, or at
+    /// none of the states the invariance check samples: its momentum could
+    /// not be computed (`1/0`, `sqrt(-1)`), and the run would fail at its
+    /// first step instead.
+    fn check_finite(&self, scenario: &LoadedScenario, key: &str, n: usize) -> Result<(), CliError> {
+        let at = |q: &[f64]| {
+            let mut xi = vec![0.0; n];
+            self.generator(q, &mut xi);
+            xi
+        };
+        let finite = |xi: &[f64]| xi.iter().all(|x| x.is_finite());
+        if let Some(init) = &scenario.scenario.initial
+            && init.q.len() == n
+        {
+            let xi = at(&init.q);
+            if !finite(&xi) {
+                return Err(scenario.key_error(
+                    key,
+                    format!(
+                        "the generator is not finite at the initial state q = {}: ξ = {}",
+                        numbers(&init.q),
+                        numbers(&xi)
+                    ),
+                ));
+            }
+        }
+        let samples = super::systems::invariance_samples(n);
+        if samples.iter().all(|(_, q, _)| !finite(&at(q))) {
+            let q = samples.first().map(|s| s.1.clone()).unwrap_or_default();
+            return Err(scenario.key_error(
+                key,
+                format!(
+                    "the generator is not finite at any state of the invariance check (at q = {}: ξ = {})",
+                    numbers(&q),
+                    numbers(&at(&q))
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// `ξ_Q(q)` into `out`.

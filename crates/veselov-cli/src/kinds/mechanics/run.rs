@@ -20,6 +20,7 @@ use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, RowFn, TableObserver};
 use crate::pipeline::{RunJob, summary};
 use crate::scenario::{note_step_length, planned_steps};
+use crate::verdict::{Conserved, ENERGY_ERROR_MECHANICS, EnergyCheck, StepAdvice};
 
 /// The scenario's method, with errors naming the key.
 pub fn resolve_choice(scenario: &LoadedScenario) -> Result<Choice, CliError> {
@@ -178,6 +179,33 @@ pub fn run_fixed<const N: usize>(
     run_fixed_table(run, &mut stepper, x0)
 }
 
+/// The end-of-run energy check of a mechanics or rigid-body run, with the
+/// threshold of `[checks]`, unless its energy is not conserved (a
+/// Lagrangian depending on `t`): the energy balance when `forced`, else the
+/// energy; `advice` says which step to lower.
+pub fn energy_check(
+    scenario: &LoadedScenario,
+    forced: bool,
+    advice: StepAdvice,
+) -> Result<Option<EnergyCheck>, CliError> {
+    let limit = scenario
+        .scenario
+        .checks
+        .energy_limit(&scenario.path, ENERGY_ERROR_MECHANICS)?;
+    if super::custom::depends_on_time(scenario) {
+        return Ok(None);
+    }
+    Ok(Some(EnergyCheck {
+        conserved: if forced {
+            Conserved::EnergyBalance
+        } else {
+            Conserved::Energy
+        },
+        limit,
+        advice,
+    }))
+}
+
 /// A fixed-step mechanics run once its integrator is built, for systems of
 /// fixed or run-time dimension: what it reports besides the states.
 pub struct FixedRun<'a, S> {
@@ -231,6 +259,16 @@ where
     // Checked before the session opens its output directory.
     let out = &scenario.scenario.output;
     let at_steps = out.steps_at_times(&scenario.path, t0, dt, steps, job.quiet)?;
+    let energy_check = energy_check(
+        scenario,
+        forced,
+        StepAdvice {
+            key: "method.dt",
+            value: dt,
+            order: scheme.order() as u32,
+            also: "",
+        },
+    )?;
     let (mut session, positions, words) = open_table_session(
         job,
         &scenario.path,
@@ -256,6 +294,7 @@ where
     if forced {
         table.balance = Some((1 + 2 * dimension, columns - 1, 0.0));
     }
+    session.verdict.energy = energy_check;
     let mut x = x0;
     let outcome = start_or_resume(&mut session, stepper, &mut x, &mut table, &words, steps)?;
     let Totals {

@@ -37,6 +37,9 @@ pub struct Scenario {
     /// where.
     #[serde(default)]
     pub output: OutputSpec,
+    /// The thresholds beyond which the run's summary carries a warning.
+    #[serde(default)]
+    pub checks: crate::verdict::ChecksSpec,
 }
 
 /// The system: a built-in model with its parameters, or a custom Lagrangian

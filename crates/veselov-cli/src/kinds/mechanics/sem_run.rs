@@ -17,6 +17,7 @@ use crate::pipeline::finish::{Totals, finish, open_table_session, totals};
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, TableObserver, Tracker};
 use crate::pipeline::{RunJob, Session, restore, summary, words_error};
+use crate::verdict::StepAdvice;
 
 /// The system's variable-step integrator factory, or (for a forced model,
 /// which no energy-conserving step can integrate) an error naming the key.
@@ -67,8 +68,19 @@ pub fn run_variable<const N: usize>(
             "a variable-step run does not know its step times in advance; use `every`",
         ));
     }
+    let energy_check = super::run::energy_check(
+        scenario,
+        system.forced,
+        StepAdvice {
+            key: "method.dt",
+            value: dt,
+            order: if rule == SemRule::LeftPoint { 1 } else { 2 },
+            also: "`dt` is the first step, which sets the discrete energy the steps keep",
+        },
+    )?;
     let system = &system;
     let (mut session, mut table, words) = open_variable(job, scenario, system, planned)?;
+    session.verdict.energy = energy_check;
     let out = &s.output;
     let started = session.resumed.is_none().then(|| map.start(x0.t, x0.q, x0.p, dt));
     let mut stepper = SemStepper::new(map.as_mut(), None);

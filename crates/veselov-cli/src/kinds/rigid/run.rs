@@ -16,6 +16,7 @@ use crate::pipeline::stream::TableSink;
 use crate::pipeline::summary;
 use crate::pipeline::table::{Acc, TableObserver};
 use crate::scenario::{note_step_length, planned_steps, step_count, step_length};
+use crate::verdict::{Conserved, ENERGY_ERROR_MECHANICS, EnergyCheck, StepAdvice};
 
 impl RigidJob for RunJob {
     fn go<G, L, const N: usize>(
@@ -142,6 +143,10 @@ where
     // Checked before the session opens its output directory.
     let at_steps = s.output.steps_at_times(&loaded.path, x0.t, dt, steps, job.quiet)?;
     let header = header_of::<N>(conserved);
+    let limit = loaded
+        .scenario
+        .checks
+        .energy_limit(&loaded.path, ENERGY_ERROR_MECHANICS)?;
     let (mut session, positions, words) = open_table_session(
         &job,
         &loaded.path,
@@ -170,6 +175,16 @@ where
         table.track(name, Acc::Dev);
     }
     table.track("orthogonality_defect", Acc::Max);
+    session.verdict.energy = Some(EnergyCheck {
+        conserved: Conserved::Energy,
+        limit,
+        advice: StepAdvice {
+            key: "method.dt",
+            value: dt,
+            order: 2,
+            also: "",
+        },
+    });
     let mut stepper = GroupStepper::new(&mut map, x0.t);
     let mut x = x0;
     let outcome = start_or_resume(&mut session, &mut stepper, &mut x, &mut table, &words, steps)?;

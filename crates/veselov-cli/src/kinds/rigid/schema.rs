@@ -9,6 +9,7 @@ use serde::Deserialize;
 use veselov::lie::{SO3, so3};
 
 use crate::error::CliError;
+use crate::output::number;
 use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, parse_toml};
 
 /// A rigid-body scenario: the body, the Lie-group integrator and its step,
@@ -34,6 +35,9 @@ pub struct RigidScenario {
     /// where.
     #[serde(default)]
     pub output: OutputSpec,
+    /// The thresholds beyond which the run's summary carries a warning.
+    #[serde(default)]
+    pub checks: crate::verdict::ChecksSpec,
 }
 
 /// The body: its model, inertia and, for the heavy top and the SE(3) body,
@@ -181,16 +185,50 @@ impl LoadedRigid {
                         format!("expected a finite number, got {}", v[i]),
                     ));
                 }
-                match v.len() {
-                    3 => Ok(Matrix3::from_diagonal(&Vector3::new(v[0], v[1], v[2]))),
-                    9 => Ok(Matrix3::from_row_slice(v)),
-                    n => Err(self.key_error(
-                        "model.inertia",
-                        format!("expected 3 principal moments or 9 tensor entries, got {n} numbers"),
-                    )),
-                }
+                let inertia = match v.len() {
+                    3 => Matrix3::from_diagonal(&Vector3::new(v[0], v[1], v[2])),
+                    9 => Matrix3::from_row_slice(v),
+                    n => {
+                        return Err(self.key_error(
+                            "model.inertia",
+                            format!("expected 3 principal moments or 9 tensor entries, got {n} numbers"),
+                        ));
+                    }
+                };
+                self.check_principal_moments(&inertia)?;
+                Ok(inertia)
             }
         }
+    }
+
+    /// Refuse an inertia no rigid body has: the principal moments of a body
+    /// satisfy the triangle inequality I₁ + I₂ ≥ I₃ (each moment is a sum of
+    /// two of the three second moments ∫x², ∫y², ∫z² ≥ 0), with equality
+    /// for a flat body. A round-off of 1e-12 of the largest moment is
+    /// allowed. Symmetry and positive definiteness are the library's checks.
+    fn check_principal_moments(&self, inertia: &Matrix3<f64>) -> Result<(), CliError> {
+        let symmetric = (inertia - inertia.transpose()).amax() <= 1e-12 * inertia.amax();
+        if !symmetric {
+            return Ok(());
+        }
+        let mut m: Vec<f64> = inertia.symmetric_eigenvalues().iter().copied().collect();
+        m.sort_by(f64::total_cmp);
+        if m[0] > 0.0 && m[0] + m[1] < m[2] * (1.0 - 1e-12) {
+            return Err(self.key_error(
+                "model.inertia",
+                format!(
+                    "principal moments {}, {} and {} violate the triangle inequality I₁ + I₂ ≥ I₃ that every \
+                     rigid body satisfies ({} + {} < {})",
+                    number(m[0]),
+                    number(m[1]),
+                    number(m[2]),
+                    number(m[0]),
+                    number(m[1]),
+                    number(m[2])
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The initial attitude: `rotation_vector` or `quaternion` (default: the identity).

@@ -38,9 +38,11 @@ use super::observer::{Cell, FIRST_CUT, Rod, RodObserver, run_time};
 use super::schema::LONG_RUN_STEP_NUMBER;
 use super::setup::{RodSetup, shear_frame_name, step_number_text};
 use crate::error::CliError;
+use crate::output::{approx, number};
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumed, RunJob, Session, open_lattice_run};
+use crate::verdict::{Conserved, ENERGY_ERROR_FIELDS, EnergyCheck, StepAdvice, Verdict};
 
 /// The rod with Q_sym (`[method] quadrature = "symmetric"`): the core's
 /// generic discretisation of the same density, marched by the 6-D Newton.
@@ -50,47 +52,85 @@ type SymmetricCell = VertexRule<PositionRotation, CosseratDensity<Weight>, CfkNo
 /// locking (`models::rod::resolution`), above which a run warns: 5 %.
 const BENDING_ERROR_WARNING: f64 = 0.05;
 
+/// The warnings of a rod's setup, shown now (`--quiet` or not: each is a
+/// run expected to blow up or to lose accuracy silently), and the energy
+/// check at its end when the rod is conservative (no damping, end load or
+/// driven end).
+fn verdict_of(setup: &RodSetup) -> Result<Verdict, CliError> {
+    let lattice = &setup.lattice;
+    let mut verdict = Verdict::default();
+    if setup.courant > 1.0 {
+        verdict.warn(
+            "beyond_stability_limit",
+            format!(
+                "dt = {} exceeds the stability limit {} (step number {}); running because [method] \
+                 allow_unstable = true",
+                number(setup.dt),
+                number(setup.dt_limit),
+                step_number_text(setup.courant)
+            ),
+        );
+    }
+    // Stable by the linear limit, but close to it a long run can still grow
+    // (README, "the step limit").
+    if setup.courant > LONG_RUN_STEP_NUMBER && setup.courant <= 1.0 {
+        verdict.warn(
+            "near_stability_limit",
+            format!(
+                "step number {} is above {}: close to the stability limit, and sooner for large motions, a \
+                 long run can still grow (the tumbling rod example failed after 3,405 steps at 0.95); lower \
+                 dt or step_number for long runs",
+                step_number_text(setup.courant),
+                LONG_RUN_STEP_NUMBER
+            ),
+        );
+    }
+    let (locking, nodes_advised) = (setup.locking, setup.nodes_for_bending);
+    let bending = BendingError::at(locking);
+    if setup.shear_frame == ShearFrame::Vertex && bending.deflection_deficit() > BENDING_ERROR_WARNING {
+        verdict.warn(
+            "shear_locking",
+            format!(
+                "bending is coarsely resolved: with material points {} apart the lattice's shear locking \
+                 number κGA·δ²/EI is {locking:.3}, so the rod bends as if about {:.0} % stiffer (static \
+                 bending deflections about {:.0} % short, bending frequencies about {:.0} % high); nodes = \
+                 {nodes_advised} or more bring it to about 1 %, or [method] shear_frame = \"centred\" removes \
+                 the locking",
+                approx(lattice.spacing()),
+                100.0 * bending.stiffening,
+                100.0 * bending.deflection_deficit(),
+                100.0 * bending.frequency_excess()
+            ),
+        );
+    }
+    let driven = |e: &EndCondition| matches!(e, EndCondition::Driven(_));
+    let conservative = setup.loads.is_none() && !driven(&setup.ends.start) && !driven(&setup.ends.end);
+    let limit = setup.scenario.checks.energy_limit(&setup.path, ENERGY_ERROR_FIELDS)?;
+    verdict.energy = conservative.then_some(EnergyCheck {
+        conserved: Conserved::EnergyRange,
+        limit,
+        advice: match setup.scenario.time.dt {
+            Some(_) => StepAdvice {
+                key: "time.dt",
+                value: setup.dt,
+                order: 2,
+                also: "more `model.nodes` if the space step dominates the error",
+            },
+            None => StepAdvice {
+                key: "time.step_number",
+                value: setup.courant,
+                order: 2,
+                also: "more `model.nodes` if the space step dominates the error",
+            },
+        },
+    });
+    Ok(verdict)
+}
+
 /// Run a rod scenario.
 pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     let setup = RodSetup::parse(path, text)?;
     let lattice = &setup.lattice;
-    // Always shown, --quiet or not: the run is expected to blow up.
-    if setup.courant > 1.0 {
-        eprintln!(
-            "warning: dt = {:e} exceeds the stability limit {:e} (step number {}); running because \
-             [method] allow_unstable = true",
-            setup.dt,
-            setup.dt_limit,
-            step_number_text(setup.courant)
-        );
-    }
-    // Stable by the linear limit, but close to it a long run can still grow
-    // (README, "the step limit"); always shown, as the warning above.
-    if setup.courant > LONG_RUN_STEP_NUMBER && setup.courant <= 1.0 {
-        eprintln!(
-            "warning: step number {} is above {}: close to the stability limit, and sooner for \
-             large motions, a long run can still grow (the tumbling rod example failed after 3,405 \
-             steps at 0.95); lower dt or step_number for long runs",
-            step_number_text(setup.courant),
-            LONG_RUN_STEP_NUMBER
-        );
-    }
-    // A silent loss of accuracy otherwise: always shown, as the warnings above.
-    let (locking, nodes_advised) = (setup.locking, setup.nodes_for_bending);
-    let bending = BendingError::at(locking);
-    if setup.shear_frame == ShearFrame::Vertex && bending.deflection_deficit() > BENDING_ERROR_WARNING {
-        eprintln!(
-            "warning: bending is coarsely resolved: with material points {:e} apart the lattice's shear \
-             locking number κGA·δ²/EI is {locking:.3}, so the rod bends as if about {:.0} % stiffer \
-             (static bending deflections about {:.0} % short, bending frequencies about {:.0} % high); \
-             nodes = {nodes_advised} or more bring it to about 1 %, or [method] shear_frame = \"centred\" \
-             removes the locking",
-            lattice.spacing(),
-            100.0 * bending.stiffening,
-            100.0 * bending.deflection_deficit(),
-            100.0 * bending.frequency_excess()
-        );
-    }
     if let Some(requested) = setup.dt_requested
         && (requested - setup.dt).abs() > 1e-12 * requested
         && !job.quiet
@@ -247,13 +287,14 @@ fn open_observer<'a>(
         step: Some(setup.dt),
         t_end: None,
     };
+    let verdict = verdict_of(setup)?;
     let (session, resumed) = open_lattice_run::<4>(
         &setup.path,
         job,
-        s.output.dir.clone(),
-        &plan,
+        (s.output.dir.clone(), &plan),
         s.output.checkpoint_every.saturating_mul(2),
         "cosserat-rod",
+        verdict,
     )?;
     let dir = session.dir.clone();
     let at = Resumed::positions(&resumed);

@@ -72,6 +72,9 @@ pub(crate) struct RodScenario {
     pub method: RodMethodSpec,
     #[serde(default)]
     pub output: RowsOutputSpec,
+    /// The thresholds beyond which the run's summary carries a warning.
+    #[serde(default)]
+    pub checks: crate::verdict::ChecksSpec,
 }
 
 /// The rod's length, its material points, its cross-section and
