@@ -251,6 +251,7 @@ fn verify(py: Python<'_>, label: &str, text: &str, dts: Vec<f64>, out: &str, for
         out: Some(PathBuf::from(out)),
         force,
         quiet: true,
+        interrupt: None,
     };
     attended(py, &interrupt, &done, 1, None, || {
         ended(text, verify_text(Path::new(label), text, job))
