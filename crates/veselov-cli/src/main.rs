@@ -225,6 +225,7 @@ fn main() -> ExitCode {
                 out,
                 force,
                 quiet,
+                interrupt: None,
             },
         ),
         Command::Plot { dir, format } => plot_dir(&dir, &format),

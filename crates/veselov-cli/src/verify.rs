@@ -4,6 +4,8 @@
 //! [`crate::kinds::rigid::verify`]), each with its own reference.
 
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use serde_json::json;
 use veselov::diagnostics::{fit_order_auto, local_rates};
@@ -23,6 +25,10 @@ pub struct VerifyJob {
     pub force: bool,
     /// `--quiet`.
     pub quiet: bool,
+    /// A cancellation flag set by the caller (a library embedding the
+    /// command): once set, the study stops before its next run, without
+    /// writing its outputs.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// The most steps one `--dt` may ask for (a guard against `--dt 1e-300`).
@@ -81,13 +87,16 @@ pub struct Study {
     pub t_end: f64,
     /// Size of the reference state (sets the round-off floor of the fit).
     pub scale: f64,
+    /// [`VerifyJob::interrupt`]: checked before each run of the study.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 impl Study {
     /// For each `dt` (with `n` steps) measure `error(n, dt)` (an `Err` inside is a
     /// failed run, reported and recorded as NaN), print the table and the
     /// fitted order, and write `convergence.csv`, `summary.json` and
-    /// `convergence.svg` into `dir`.
+    /// `convergence.svg` into `dir`. An [`interrupt`](Study::interrupt) set
+    /// before a run ends the study there with an error, writing nothing.
     pub fn run(
         &self,
         dir: &std::path::Path,
@@ -107,6 +116,11 @@ impl Study {
         }
         let mut previous: Option<(f64, f64)> = None;
         for (&dt, &n) in dts.iter().zip(steps) {
+            if self.interrupt.as_ref().is_some_and(|flag| flag.load(Ordering::Relaxed)) {
+                return Err(CliError::Setup(format!(
+                    "convergence study interrupted before its run with dt = {dt:e}"
+                )));
+            }
             let err = match error(n, dt)? {
                 Ok(e) => e,
                 Err(e) => {

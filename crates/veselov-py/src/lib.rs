@@ -7,7 +7,9 @@
 //! as `veselov run`. The Python layer reads those files back into NumPy
 //! arrays. While integrating the GIL is released; the calling thread
 //! polls Python's signal handlers and turns Ctrl-C into the run's
-//! interruption flag ([`veselov_cli::pipeline::RunJob::interrupt`]).
+//! interruption flag ([`veselov_cli::pipeline::RunJob::interrupt`],
+//! [`veselov_cli::verify::VerifyJob::interrupt`]). Messages are worded
+//! for Python: the command line's options become the package's arguments.
 
 mod scenario;
 
@@ -37,7 +39,7 @@ fn ended(text: &str, result: Result<(), CliError>) -> Ended {
         Ok(()) => ("ok", None),
         Err(CliError::Run { .. }) => ("error", None),
         Err(CliError::Interrupted { .. }) => ("interrupted", None),
-        Err(CliError::Key { key, .. }) => ("scenario", Some(key.clone())),
+        Err(CliError::Key { key, .. }) => ("scenario", Some(python_key(key).to_string())),
         Err(CliError::Parse { .. }) => ("scenario", None),
         Err(_) => ("failure", None),
     };
@@ -45,16 +47,53 @@ fn ended(text: &str, result: Result<(), CliError>) -> Ended {
         (Err(CliError::Parse { message, .. }), None) => key_at(text, message),
         (_, key) => key,
     };
-    let message = result.err().map(|e| e.to_string()).unwrap_or_default();
+    let message = result.err().map(|e| python_message(&e)).unwrap_or_default();
     (outcome.to_string(), message, key)
+}
+
+/// The name a caller from Python gives what the command line calls `key`:
+/// the step list of `veselov verify` (`--dt`) is the argument `dt`.
+fn python_key(key: &str) -> &str {
+    if key == "--dt" { "dt" } else { key }
+}
+
+/// The message of `error` for a caller from Python: the command line's
+/// options become the package's arguments (`out=`, `force=True`,
+/// `force_large=True`, `dt`, `veselov.resume`). A failed or interrupted run
+/// names no directory: the package says where its files are, if they are
+/// kept.
+fn python_message(error: &CliError) -> String {
+    match error {
+        CliError::OutputNotEmpty { dir } => format!(
+            "output directory {} is not empty; choose another with out= or pass force=True to overwrite \
+             (the outputs of an earlier run there are removed first, other files kept)",
+            dir.display()
+        ),
+        CliError::Run { error, .. } => format!("run failed: {error}"),
+        CliError::Interrupted { .. } => "run interrupted; outputs valid up to the last row".to_string(),
+        CliError::Key { file, key, message } => {
+            format!("{}: `{}`: {}", file.display(), python_key(key), python_options(message))
+        }
+        other => python_options(&other.to_string()),
+    }
+}
+
+/// `text` with the command line's options that a message may suggest
+/// replaced by the package's arguments.
+fn python_options(text: &str) -> String {
+    text.replace("pass --force-large", "pass force_large=True")
+        .replace("(--resume needs", "(veselov.resume needs")
 }
 
 /// Run `work` on a scoped thread with the GIL released; meanwhile poll
 /// Python's signal handlers every 50 ms (a `KeyboardInterrupt` sets
 /// `interrupt`, other exceptions from handlers set it too and are raised
 /// once the work has ended) and report `done` to `progress(done, total)`.
+/// A `KeyboardInterrupt` is raised once the work has ended when
+/// `raise_interrupt`, else only turned into `interrupt`.
 fn attended<T: Send>(
     py: Python<'_>,
+    raise_interrupt: bool,
     interrupt: &AtomicBool,
     done: &AtomicUsize,
     total: usize,
@@ -85,7 +124,7 @@ fn attended<T: Send>(
                         p.call1((done.load(Ordering::Relaxed), total))?;
                     }
                     return match pending {
-                        Some(e) if !e.is_instance_of::<PyKeyboardInterrupt>(py) => Err(e),
+                        Some(e) if raise_interrupt || !e.is_instance_of::<PyKeyboardInterrupt>(py) => Err(e),
                         _ => Ok(value),
                     };
                 }
@@ -112,11 +151,23 @@ fn attended<T: Send>(
     })
 }
 
-fn job(out: &str, force: bool, interrupt: &Arc<AtomicBool>) -> RunJob {
+/// How `run_many` runs each member: into its directory, or resuming the
+/// run in it; with `force` and `force_large` as the command line's options.
+#[derive(Clone, Copy)]
+struct Options {
+    force: bool,
+    force_large: bool,
+    resume: bool,
+}
+
+fn job(out: &str, options: Options, interrupt: &Arc<AtomicBool>) -> RunJob {
+    let out = PathBuf::from(out);
     RunJob {
-        out: Some(PathBuf::from(out)),
+        resume: options.resume.then(|| out.clone()),
+        out: Some(out),
         quiet: true,
-        force,
+        force: options.force,
+        force_large: options.force_large,
         interrupt: Some(interrupt.clone()),
         ..RunJob::default()
     }
@@ -125,10 +176,11 @@ fn job(out: &str, force: bool, interrupt: &Arc<AtomicBool>) -> RunJob {
 /// Run scenarios into output directories, in parallel, as `veselov run` does.
 ///
 /// Member ``i`` runs the scenario ``texts[i]`` into the directory ``outs[i]``
+/// (or, with ``resume``, continues the run in it from its checkpoint)
 /// through the command's library, with the GIL released. The calling thread
 /// polls Python's signal handlers meanwhile: Ctrl-C interrupts every member
-/// still running. The package's ``veselov.run`` and ``veselov.ensemble`` call
-/// this and read the directories back.
+/// still running. The package's ``veselov.run``, ``veselov.ensemble`` and
+/// ``veselov.resume`` call this and read the directories back.
 ///
 /// Parameters
 /// ----------
@@ -147,6 +199,12 @@ fn job(out: &str, force: bool, interrupt: &Arc<AtomicBool>) -> RunJob {
 /// progress : callable, optional
 ///     Called as ``progress(done, total)`` (two ``int``) on the calling
 ///     thread as members end, and once at the end.
+/// resume : bool, optional
+///     Continue the run in each directory from its ``checkpoint.json``
+///     (``--resume``), with its scenario. Default ``False``.
+/// force_large : bool, optional
+///     Run beyond the preflight limits (``--force-large``). Default
+///     ``False``.
 ///
 /// Returns
 /// -------
@@ -156,7 +214,8 @@ fn job(out: &str, force: bool, interrupt: &Arc<AtomicBool>) -> RunJob {
 ///     written); ``"interrupted"``; ``"scenario"`` (an invalid scenario,
 ///     with ``key`` the dotted key at fault when known); or ``"failure"``
 ///     (output directory, I/O). ``message`` is the error text (``""`` for
-///     ``"ok"``).
+///     ``"ok"``), worded for Python (``out=``, ``force=True``); that of an
+///     ``"error"`` or ``"interrupted"`` run names no directory.
 ///
 /// Raises
 /// ------
@@ -166,7 +225,8 @@ fn job(out: &str, force: bool, interrupt: &Arc<AtomicBool>) -> RunJob {
 ///     Whatever ``progress`` or a Python signal handler other than
 ///     Ctrl-C's raised (the members still running are interrupted first).
 #[pyfunction]
-#[pyo3(signature = (label, texts, outs, force=false, workers=None, progress=None))]
+#[pyo3(signature = (label, texts, outs, force=false, workers=None, progress=None, resume=false, force_large=false))]
+#[allow(clippy::too_many_arguments)]
 fn run_many(
     py: Python<'_>,
     label: &str,
@@ -175,6 +235,8 @@ fn run_many(
     force: bool,
     workers: Option<usize>,
     progress: Option<Bound<'_, PyAny>>,
+    resume: bool,
+    force_large: bool,
 ) -> PyResult<Vec<Ended>> {
     if texts.len() != outs.len() {
         return Err(PyValueError::new_err("texts and outs differ in length"));
@@ -183,10 +245,15 @@ fn run_many(
         return Err(PyValueError::new_err("workers: expected at least 1"));
     }
     let path = Path::new(label);
+    let options = Options {
+        force,
+        force_large,
+        resume,
+    };
     let interrupt = Arc::new(AtomicBool::new(false));
     let done = AtomicUsize::new(0);
     let one = |(text, out): (&String, &String)| {
-        let r = ended(text, run_text(path, text, job(out, force, &interrupt)));
+        let r = ended(text, run_text(path, text, job(out, options, &interrupt)));
         done.fetch_add(1, Ordering::Relaxed);
         r
     };
@@ -199,7 +266,7 @@ fn run_many(
         ),
         _ => None,
     };
-    attended(py, &interrupt, &done, texts.len(), progress.as_ref(), || {
+    attended(py, false, &interrupt, &done, texts.len(), progress.as_ref(), || {
         let members = || -> Vec<Ended> {
             if texts.len() == 1 {
                 texts.iter().zip(&outs).map(one).collect()
@@ -219,7 +286,9 @@ fn run_many(
 /// Writes ``convergence.csv`` (columns ``dt, steps, error``, one row per
 /// step), ``convergence.svg`` and ``summary.json`` into ``out``; the
 /// package's ``veselov.verify`` reads them back. The GIL is released while
-/// the study runs. Ctrl-C does not stop it.
+/// the study runs. Ctrl-C stops it before its next run (the run in
+/// progress is finished first), writing no outputs, and the
+/// ``KeyboardInterrupt`` is raised.
 ///
 /// Parameters
 /// ----------
@@ -239,20 +308,29 @@ fn run_many(
 /// tuple of (str, str, str or None)
 ///     ``(outcome, message, key)`` as ``run_many`` gives them for one
 ///     member: ``"ok"``, ``"error"``, ``"scenario"`` (with ``key``, which
-///     is ``"--dt"`` for a bad step) or ``"failure"`` (a field, beam or rod
+///     is ``"dt"`` for a bad step) or ``"failure"`` (a field, beam or rod
 ///     scenario; output directory, I/O).
+///
+/// Raises
+/// ------
+/// KeyboardInterrupt
+///     On Ctrl-C, once the study has stopped.
+/// Exception
+///     Whatever another Python signal handler raised (the study is
+///     stopped first, in the same way).
 #[pyfunction]
 #[pyo3(signature = (label, text, dts, out, force=false))]
 fn verify(py: Python<'_>, label: &str, text: &str, dts: Vec<f64>, out: &str, force: bool) -> PyResult<Ended> {
-    let interrupt = AtomicBool::new(false);
+    let interrupt = Arc::new(AtomicBool::new(false));
     let done = AtomicUsize::new(0);
     let job = VerifyJob {
         dts,
         out: Some(PathBuf::from(out)),
         force,
         quiet: true,
+        interrupt: Some(interrupt.clone()),
     };
-    attended(py, &interrupt, &done, 1, None, || {
+    attended(py, true, &interrupt, &done, 1, None, || {
         ended(text, verify_text(Path::new(label), text, job))
     })
 }

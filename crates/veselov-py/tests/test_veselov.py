@@ -5,10 +5,13 @@ The command binary is taken from $VESELOV_BIN, else from
 $CARGO_TARGET_DIR (or target/) /debug/veselov; `.ci/run` sets it.
 """
 
+import collections.abc
+import contextlib
 import inspect
 import os
 import re
 import signal
+import shutil
 import subprocess
 import threading
 from pathlib import Path
@@ -307,6 +310,9 @@ def test_every_public_callable_and_class_has_a_numpy_style_docstring():
         "veselov.ScenarioError",
         "veselov.VeselovError",
         "veselov.dask.ensemble",
+        "veselov.resume",
+        "veselov.Result.__iter__",
+        "veselov.Result.__len__",
         "veselov._native.run_many",
         "veselov._native.verify",
     } <= set(api)
@@ -344,3 +350,272 @@ def test_docstrings_state_the_arrays_dtype_and_shape():
         doc = inspect.getdoc(obj)
         assert "float64" in doc and "shape" in doc, obj
     assert "help(veselov.run)" in veselov.__doc__
+
+
+@contextlib.contextmanager
+def sigint_after(seconds):
+    """Deliver SIGINT to this process after `seconds`, with Python's own
+    Ctrl-C handler installed and the signal unblocked (whatever earlier
+    tests' libraries left), as a user pressing Ctrl-C would."""
+    handler = signal.signal(signal.SIGINT, signal.default_int_handler)
+    blocked = signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
+    timer = threading.Timer(seconds, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, handler)
+        signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+
+
+def harmonic(**keys):
+    """A harmonic oscillator run by the midpoint rule: about 1e7 steps, a
+    second or two, with the default keys."""
+    scenario = {
+        "model": {"name": "harmonic"},
+        "method": {"name": "midpoint", "dt": 0.001},
+        "time": {"t_end": 10000.0},
+        "initial": {"q": [1.0], "p": [0.0]},
+        "output": {"every": 100000},
+    }
+    text = veselov._native.merge(veselov.toml_text(scenario), veselov.toml_text(keys))[1]
+    return text
+
+
+def test_a_str_naming_an_existing_file_is_a_path_even_with_an_equals_sign(tmp_path, monkeypatch):
+    sweep = tmp_path / "sweep" / "lr=0.1"
+    sweep.mkdir(parents=True)
+    (sweep / "scenario.toml").write_text(shortened("kepler.toml", tmp_path, **{"time.t_end": 1.0}).read_text())
+    monkeypatch.chdir(tmp_path)
+    r = veselov.run("sweep/lr=0.1/scenario.toml")
+    assert r.status == "ok"
+    assert r.summary["scenario"] == "sweep/lr=0.1/scenario.toml"
+    r = veselov.run(str(sweep / "scenario.toml"))
+    assert r.status == "ok"
+    # A missing file named like one is reported as missing, not parsed as TOML.
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.run("sweep/lr=0.2/scenario.toml")
+    assert "sweep/lr=0.2/scenario.toml" in str(e.value) and "No such file" in str(e.value)
+    # TOML text stays TOML text.
+    text = 'model = { name = "harmonic" }\nmethod = { name = "midpoint", dt = 0.1 }\ntime = { t_end = 1.0 }'
+    assert veselov.run(text).status == "ok"
+    # One line with `=` naming no file is TOML text: the scenario's own error.
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.run('model = { name = "harmonic" }')
+    assert "No such file" not in str(e.value) and "method" in str(e.value)
+
+
+def test_errors_name_the_arguments_of_python_not_the_command_line(tmp_path):
+    out = tmp_path / "run"
+    veselov.run(EXAMPLES / "harmonic.toml", out=out)
+    with pytest.raises(veselov.VeselovError) as e:
+        veselov.run(EXAMPLES / "harmonic.toml", out=out)
+    message = str(e.value)
+    assert "out=" in message and "force=True" in message and "--" not in message
+    assert veselov.run(EXAMPLES / "harmonic.toml", out=out, force=True).status == "ok"
+
+    veselov.ensemble(EXAMPLES / "harmonic.toml", [{}, {}], out=tmp_path / "members")
+    with pytest.raises(veselov.VeselovError) as e:
+        veselov.ensemble(EXAMPLES / "harmonic.toml", [{}, {}], out=tmp_path / "members")
+    assert "force=True" in str(e.value) and "--" not in str(e.value) and e.value.member == 0
+    again = veselov.ensemble(EXAMPLES / "harmonic.toml", [{}, {}], out=tmp_path / "members", force=True)
+    assert [r.status for r in again] == ["ok", "ok"]
+
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.verify(EXAMPLES / "harmonic.toml", [0.1, -0.05])
+    assert e.value.key == "dt" and "--" not in str(e.value) and "`dt`" in str(e.value)
+
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.run({"model": {"name": "harmonic"}, "method": {"name": "midpoint", "dt": 1e-12}, "time": {"t_end": 1e6}})
+    assert "force_large=True" in str(e.value) and "--" not in str(e.value)
+
+    # A run failing in a temporary directory does not point at it.
+    failing = {
+        "model": {"name": "custom", "coordinates": ["x"], "lagrangian": "0.5*x_dot^2 + 0.25*x^4"},
+        "method": {"name": "midpoint", "dt": 0.01},
+        "time": {"t_end": 5.0},
+        "initial": {"q": [1.0], "p": [1.0]},
+    }
+    r = veselov.run(failing)
+    assert r.status == "error" and r.message.startswith("run failed:")
+    assert r.dir is None and "veselov-" not in r.message and "written to" not in r.message
+    kept = veselov.run(failing, out=tmp_path / "failing")
+    assert str(tmp_path / "failing") in kept.message and kept.dir == tmp_path / "failing"
+
+
+def test_an_interrupted_run_keeps_its_checkpoint_and_resumes_bit_for_bit(tmp_path):
+    text = harmonic()
+    with sigint_after(0.3):
+        r = veselov.run(text)
+    assert r.status == "interrupted"
+    # The temporary directory is kept, with its checkpoint, and named.
+    assert r.dir is not None and (r.dir / "checkpoint.json").is_file()
+    assert f"veselov.resume({str(r.dir)!r})" in r.message
+    assert "--" not in r.message
+    try:
+        done = veselov.resume(r.dir)
+        assert done.status == "ok" and done.dir == r.dir
+        whole = veselov.run(text)
+        assert whole.dir is None
+        assert list(done) == list(whole)
+        for name in whole:
+            assert same_bits(done[name], whole[name]), name
+    finally:
+        shutil.rmtree(r.dir.parent, ignore_errors=True)
+
+    # With out=, the message names the directory and how to continue.
+    with sigint_after(0.3):
+        r = veselov.run(text, out=tmp_path / "run")
+    assert r.status == "interrupted" and r.dir == tmp_path / "run"
+    assert f"veselov.resume({str(tmp_path / 'run')!r})" in r.message
+
+
+def test_resume_extends_a_finished_run_from_its_recorded_scenario(tmp_path):
+    short = veselov.run(harmonic(**{"time.t_end": 10.0}), out=tmp_path / "run")
+    assert short.status == "ok"
+    longer = veselov.resume(tmp_path / "run", overrides={"time.t_end": 20.0})
+    alone = veselov.run(harmonic(**{"time.t_end": 20.0}))
+    assert longer.status == "ok" and longer["t"][-1] == 20.0
+    for name in alone:
+        assert same_bits(longer[name], alone[name]), name
+    # A key that may not change is refused, naming it.
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.resume(tmp_path / "run", overrides={"method.dt": 0.002, "time.t_end": 30.0})
+    assert e.value.key == "method.dt"
+    # Nothing to resume from.
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(veselov.VeselovError) as e:
+        veselov.resume(tmp_path / "empty")
+    assert "scenario=" in str(e.value)
+    with pytest.raises(veselov.VeselovError) as e:
+        veselov.resume(tmp_path / "empty", scenario=harmonic())
+    assert "checkpoint" in str(e.value) and "--" not in str(e.value)
+
+
+def test_resume_a_run_of_the_command_line(tmp_path):
+    exe = command()
+    if not exe.exists():
+        pytest.skip(f"no command binary at {exe} (set VESELOV_BIN)")
+    path = tmp_path / "harmonic.toml"
+    path.write_text(harmonic(**{"time.t_end": 10.0}))
+    subprocess.run([str(exe), "run", str(path), "--out", str(tmp_path / "cmd"), "--quiet"], check=True)
+    path.write_text(harmonic(**{"time.t_end": 20.0}))
+    r = veselov.resume(tmp_path / "cmd")
+    assert r.status == "ok" and r["t"][-1] == 20.0
+
+
+def test_result_is_a_mapping_of_its_arrays():
+    kepler = veselov.run(EXAMPLES / "kepler.toml")
+    rod = veselov.run(EXAMPLES / "rod_timoshenko.toml")
+    field = veselov.run(EXAMPLES / "wave.toml")
+    for r in (kepler, rod, field):
+        assert isinstance(r, collections.abc.Mapping)
+        names = list(r)
+        assert len(r) == len(names) == len(set(names)) > 0
+        assert list(r.keys()) == names
+        assert all(isinstance(v, np.ndarray) and v.dtype == np.float64 for v in r.values())
+        assert dict(r.items()).keys() == set(names)
+        assert all(name in r for name in names)
+        assert r.get("no such output") is None and r.get("no such output", 7) == 7
+        assert 3 not in r and r.get(3) is None
+        assert r.status == "ok" and r.summary["status"] == "ok"
+        for stem, table in r.tables.items():
+            for column, values in table.items():
+                assert r[f"{stem}.{column}"] is values
+                assert any(r[name] is values for name in names), (stem, column)
+    assert "energy" in rod and rod["energy"] is rod.tables["energy"]["energy"]
+    assert "P_x" in rod and "energy.t" in rod and "t" not in rod
+    assert rod["rotation_matrices"].shape == rod.arrays["frames"].shape[:2] + (3, 3)
+    assert same_bits(rod["rotation_matrices"].reshape(rod.arrays["frames"].shape), rod.arrays["frames"])
+    assert "energy" in field and "snapshots" in field
+    with pytest.raises(KeyError):
+        rod["t"]
+
+
+def test_rigid_body_rotations_as_matrices(tmp_path):
+    r = veselov.run(shortened("rigid_body.toml", tmp_path, **{"time.t_end": 2.0}))
+    rotations = r["rotation_matrices"]
+    n = len(r["t"])
+    assert rotations.shape == (n, 3, 3) and rotations.dtype == np.float64 and rotations.flags.c_contiguous
+    for i in range(3):
+        for j in range(3):
+            assert same_bits(rotations[:, i, j], r[f"R{i}{j}"])
+    assert np.allclose(rotations @ rotations.transpose(0, 2, 1), np.eye(3), atol=1e-10)
+    assert "rotation_matrices" in list(r)
+    npy_only = veselov.run(shortened("rigid_body.toml", tmp_path, **{"time.t_end": 2.0, "output.formats": ["npy"]}))
+    assert same_bits(npy_only["rotation_matrices"], rotations)
+
+
+def test_ensemble_keeps_the_results_of_the_members_that_ran():
+    base = EXAMPLES / "harmonic.toml"
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.ensemble(base, [{}, {"method.dt": 0.0}, {"initial.q": [0.5]}])
+    assert e.value.member == 1 and e.value.key == "method.dt" and "member 1" in str(e.value)
+    results = e.value.results
+    assert len(results) == 3 and results[1] is e.value
+    assert results[0].status == results[2].status == "ok"
+    assert results[2]["q"][0] == 0.5
+
+    kept = veselov.ensemble(base, [{}, {"method.dt": 0.0}, {"initial.q": None}, {"initial.q": [0.5]}], on_error="keep")
+    assert isinstance(kept[0], veselov.Result) and isinstance(kept[3], veselov.Result)
+    assert isinstance(kept[1], veselov.ScenarioError) and kept[1].member == 1 and kept[1].key == "method.dt"
+    assert isinstance(kept[2], veselov.ScenarioError) and kept[2].member == 2 and "override 2" in str(kept[2])
+    assert same_bits(kept[3]["q"], results[2]["q"])
+    with pytest.raises(ValueError):
+        veselov.ensemble(base, [{}], on_error="ignore")
+
+
+def test_dask_errors_name_the_member_in_the_whole_ensemble_and_its_file():
+    distributed = pytest.importorskip("distributed")
+    members = [{"time.steps": 100}] * 5
+    members[3] = {"method.dt": -1.0}
+    path = EXAMPLES / "harmonic.toml"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            with pytest.raises(veselov.ScenarioError) as e:
+                veselov.dask.ensemble(client, path, members, batch=2)
+            kept = veselov.dask.ensemble(client, path, members, batch=2, on_error="keep")
+    assert e.value.member == 3 and "member 3" in str(e.value) and str(path) in str(e.value)
+    assert e.value.key == "method.dt"
+    assert [type(r).__name__ for r in e.value.results] == ["Result"] * 3 + ["ScenarioError", "Result"]
+    assert isinstance(kept[3], veselov.ScenarioError) and kept[3].member == 3 and str(path) in str(kept[3])
+    local = veselov.ensemble(path, members, on_error="keep")
+    for a, b in zip(local, kept):
+        if isinstance(a, veselov.Result):
+            assert same_bits(a["q"], b["q"])
+        else:
+            assert str(a) == str(b) and a.member == b.member
+
+
+def test_verify_takes_one_step_or_many():
+    one = veselov.verify(EXAMPLES / "harmonic.toml", 0.1)
+    assert one["dt"].shape == (1,)
+    many = veselov.verify(EXAMPLES / "harmonic.toml", np.array([0.1, 0.05]))
+    assert same_bits(many["dt"][:1], one["dt"])
+    assert veselov.verify(EXAMPLES / "harmonic.toml", (0.1, 0.05))["dt"].shape == (2,)
+    for bad in ("0.1", None, [0.1, "0.05"], [True]):
+        with pytest.raises(TypeError) as e:
+            veselov.verify(EXAMPLES / "harmonic.toml", bad)
+        assert "dt: expected a number or a sequence of numbers" in str(e.value)
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.verify(EXAMPLES / "harmonic.toml", [])
+    assert e.value.key == "dt"
+
+
+def test_ctrl_c_stops_verify_and_is_raised(tmp_path):
+    steps = list(np.linspace(0.0012, 0.001, 40))  # ~0.2 s each
+    out = tmp_path / "study"
+    with sigint_after(0.3):
+        with pytest.raises(KeyboardInterrupt):
+            veselov.verify(harmonic(), steps, out=out)
+    assert not (out / "convergence.csv").exists()  # stopped before the end
+
+
+def test_read_dir_reads_a_convergence_study(tmp_path):
+    study = veselov.verify(EXAMPLES / "harmonic.toml", [0.1, 0.05], out=tmp_path / "study")
+    read = veselov.read_dir(tmp_path / "study")
+    assert read.status == study.status == "ok"
+    assert read.summary["order_claimed"] == study.summary["order_claimed"]
+    for name in study:
+        assert same_bits(read[name], study[name])

@@ -2,23 +2,27 @@
 
 Dask is optional: this module does not import it; the caller creates the
 ``dask.distributed.Client`` and passes it to :func:`ensemble`. Each task
-runs one batch of members in-process on a worker through
-:func:`veselov.ensemble` (on that worker's threads), and the results are
-gathered in input order, equal to those of a local ensemble.
-``help(veselov.dask.ensemble)`` shows its parameters.
+runs one batch of members in-process on a worker through the package's
+ensemble runner (on that worker's threads), and the results are gathered
+in input order, equal to those of a local :func:`veselov.ensemble`. A
+member that cannot run is reported with its index in the whole ensemble
+and its scenario file, as locally. ``help(veselov.dask.ensemble)`` shows
+its parameters.
 """
 
 from __future__ import annotations
 
 from typing import Any, Mapping, Optional, Sequence
 
-from . import Scenario, _scenario_text, ensemble as _local_ensemble
+from . import Scenario, _check_on_error, _ensemble, _scenario_text, _settle
 
 __all__ = ["ensemble"]
 
 
-def _batch(text: str, overrides: list, workers: Optional[int]) -> list:
-    return _local_ensemble(text, overrides, workers=workers)
+def _batch(label: str, text: str, overrides: list, workers: Optional[int], first: int, force_large: bool) -> list:
+    # Members that cannot run come back as their errors, so that a batch
+    # returns every member's outcome; the client applies `on_error`.
+    return _ensemble(label, text, overrides, workers, on_error="keep", force_large=force_large, first=first)
 
 
 def ensemble(
@@ -27,14 +31,19 @@ def ensemble(
     overrides: Sequence[Mapping[str, Any]],
     batch: int = 64,
     workers_per_task: Optional[int] = 1,
+    on_error: str = "raise",
+    force_large: bool = False,
 ) -> list:
     """Run a scenario once per set of overrides on a Dask cluster.
 
     The scenario is read on the client and sent to the workers as TOML
-    text (so the workers need the ``veselov`` package, not the scenario
-    file). The members are cut into batches of ``batch``; each batch is
-    one task, run on its worker by :func:`veselov.ensemble`. The results
-    equal those of ``veselov.ensemble(scenario, overrides)``, bit for bit.
+    text, with its file name for messages (so the workers need the
+    ``veselov`` package, not the scenario file). The members are cut into
+    batches of ``batch``; each batch is one task, run on its worker as
+    :func:`veselov.ensemble` runs members. The results equal those of
+    ``veselov.ensemble(scenario, overrides)``, bit for bit, and so do the
+    errors: a member that cannot run is named by its index in the whole
+    ensemble (``member <i>:``, ``e.member``), with the scenario's path.
 
     Parameters
     ----------
@@ -51,24 +60,37 @@ def ensemble(
         Threads each task uses on its worker; ``None`` for all the worker
         machine's cores. Default 1: Dask's own worker threads give the
         parallelism.
+    on_error : {"raise", "keep"}, optional
+        As for :func:`veselov.ensemble`, applied once every batch has
+        ended: ``"raise"`` (default) raises the error of the first member
+        that could not run, with ``e.results`` holding every member's
+        outcome (a :class:`veselov.Result` or the member's error);
+        ``"keep"`` returns the errors in place of those members' results.
+    force_large : bool, optional
+        Run beyond the preflight limits, as :func:`veselov.run`. Default
+        ``False``.
 
     Returns
     -------
     list of Result
         ``len(overrides)`` results in the order of ``overrides``, each as
         :func:`veselov.run` returns it (``float64`` arrays in their files'
-        shapes; see :class:`veselov.Result`), ``dir`` ``None``.
+        shapes; see :class:`veselov.Result`), ``dir`` ``None``. With
+        ``on_error="keep"``, a member that could not run is its
+        :class:`veselov.ScenarioError` or :class:`veselov.VeselovError`.
 
     Raises
     ------
     ValueError
-        If ``batch`` is less than 1.
+        If ``batch`` is less than 1, or ``on_error`` is neither ``"raise"``
+        nor ``"keep"``.
     veselov.ScenarioError
-        If the scenario is invalid or cannot be read (on the client), or a
-        member's overrides make it invalid (raised on the worker, re-raised
-        by ``client.gather``; ``member <i>`` then counts within the batch).
+        If the scenario is invalid or cannot be read (on the client); or,
+        with ``on_error="raise"``, a member's overrides cannot be merged or
+        make it invalid (``e.member``, ``e.key``, ``e.results``).
     veselov.VeselovError
-        If a member cannot run or write its files.
+        With ``on_error="raise"``, if a member cannot run or write its
+        files (``e.member``, ``e.results``).
     TypeError
         If ``scenario`` is none of a path, a ``str`` or a mapping.
 
@@ -89,11 +111,21 @@ def ensemble(
     """
     if batch < 1:
         raise ValueError(f"batch: expected at least 1, got {batch}")
-    _, text = _scenario_text(scenario)
+    _check_on_error(on_error)
+    label, text = _scenario_text(scenario)
     members = [dict(o) for o in overrides]
-    batches = [members[i : i + batch] for i in range(0, len(members), batch)]
-    futures = client.map(_batch, [text] * len(batches), batches, [workers_per_task] * len(batches), pure=False)
+    starts = list(range(0, len(members), batch))
+    futures = client.map(
+        _batch,
+        [label] * len(starts),
+        [text] * len(starts),
+        [members[i : i + batch] for i in starts],
+        [workers_per_task] * len(starts),
+        starts,
+        [force_large] * len(starts),
+        pure=False,
+    )
     results = []
     for part in client.gather(futures):
         results.extend(part)
-    return results
+    return _settle(results, on_error)

@@ -91,6 +91,7 @@ impl Job for VerifyJob {
             reference: source,
             t_end,
             scale: reference.q.amax().max(reference.p.amax()).max(1.0),
+            interrupt: self.interrupt.clone(),
         };
         let options = scenario.scenario.method.newton_options();
         let error = |x: &PhaseState<N>| (x.q - reference.q).amax().max((x.p - reference.p).amax());

@@ -53,6 +53,7 @@ impl RigidJob for VerifyJob {
             reference: format!("RK4 on the Euler–Poincaré equations, {n_ref} steps"),
             t_end,
             scale: reference.mu.amax().max(1.0),
+            interrupt: self.interrupt.clone(),
         };
         let error = |x: &GroupState<G, N>| {
             let dr = (G::rotation(&x.g) - G::rotation(&reference.g)).amax();
