@@ -237,6 +237,12 @@ pub fn number(x: f64) -> String {
     }
 }
 
+/// `n` and the noun `one` or its plural `many`: `1 step`, `2 steps`,
+/// `1 time step`, `0 levels`.
+pub fn count(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 /// `x` rounded to three significant digits, positional for
 /// 10⁻⁴ ≤ |x| < 10⁶ and with an exponent otherwise: the form of a measured
 /// or suggested value (`148 %`, `dt ≤ 0.00233`, `2e11 %`, `dt ≤ 1.5e-7`).

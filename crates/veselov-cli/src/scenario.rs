@@ -169,7 +169,7 @@ pub(crate) const FORMER_KEY_NAMES: &[(&str, &str)] = &[
 /// reported as such (the parser alone says only "duplicate field").
 pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Result<T, CliError> {
     toml::from_str(text).map_err(|e| {
-        let mut message = clip_lines(&e.to_string(), 200);
+        let mut message = in_user_words(&clip_lines(&e.to_string(), 200));
         for (name, former) in FORMER_KEY_NAMES {
             if message.contains(&format!("duplicate field `{name}`")) {
                 message.push_str(&format!(
@@ -182,6 +182,57 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &Path, text: &str) -> Re
             message,
         }
     })
+}
+
+/// A parser message in the words of a scenario's author: the Rust types it
+/// names become what they mean, and the line `invalid type: string "x",
+/// expected f64` becomes `expected a number, got the string "x"`.
+pub fn in_user_words(message: &str) -> String {
+    const TYPES: &[(&str, &str)] = &[
+        ("expected u64", "expected a whole number ≥ 0"),
+        ("expected usize", "expected a whole number ≥ 0"),
+        ("expected u32", "expected a whole number ≥ 0"),
+        ("expected u16", "expected a whole number ≥ 0"),
+        ("expected u8", "expected a whole number ≥ 0"),
+        ("expected i64", "expected a whole number"),
+        ("expected i32", "expected a whole number"),
+        ("expected f64", "expected a number"),
+        ("expected f32", "expected a number"),
+    ];
+    const FOUND: &[(&str, &str)] = &[
+        ("floating point ", "the number "),
+        ("integer ", "the whole number "),
+        ("string ", "the string "),
+        ("boolean ", "the boolean "),
+        ("sequence", "a list"),
+        ("map", "a table"),
+    ];
+    message
+        .lines()
+        .map(|line| {
+            let mut line = line.to_string();
+            for (rust, words) in TYPES {
+                if let Some(at) = line.find(rust)
+                    && !line[at + rust.len()..].starts_with(|c: char| c.is_ascii_alphanumeric())
+                {
+                    line.replace_range(at..at + rust.len(), words);
+                }
+            }
+            for prefix in ["invalid type: ", "invalid value: "] {
+                if let Some(rest) = line.strip_prefix(prefix)
+                    && let Some((found, expected)) = rest.rsplit_once(", expected ")
+                {
+                    let found = FOUND
+                        .iter()
+                        .find_map(|(k, w)| found.strip_prefix(k).map(|v| format!("{w}{v}")))
+                        .unwrap_or_else(|| found.to_string());
+                    line = format!("expected {expected}, got {found}");
+                }
+            }
+            line
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// `message` with every line cut to `width` characters (then `…`): a parse
@@ -202,7 +253,11 @@ pub fn finite_value(file: &Path, key: &str, v: f64) -> Result<f64, CliError> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(key_error(file, key, format!("expected a finite number, got {v}")))
+        Err(key_error(
+            file,
+            key,
+            format!("expected a finite number, got {}", crate::output::number(v)),
+        ))
     }
 }
 
@@ -224,7 +279,7 @@ pub fn shear_from_keys(
                 Err(key_error(
                     file,
                     "model.poisson",
-                    format!("must lie in (−1, 0.5], got {nu}"),
+                    format!("must lie in (−1, 0.5], got {}", crate::output::number(nu)),
                 ))
             }
         }
@@ -263,7 +318,7 @@ pub fn positive_value(file: &Path, key: &str, v: f64) -> Result<f64, CliError> {
             if v.is_subnormal() {
                 format!("expected a finite number > 0, got the subnormal {v:e}")
             } else {
-                format!("expected a finite number > 0, got {v}")
+                format!("expected a finite number > 0, got {}", crate::output::number(v))
             },
         ))
     }
@@ -276,7 +331,7 @@ pub fn check_time_and_output(file: &Path, time: &TimeSpec, dt: f64, output: &Out
         return Err(key_error(
             file,
             "method.dt",
-            format!("expected a finite number > 0, got {dt}"),
+            format!("expected a finite number > 0, got {}", crate::output::number(dt)),
         ));
     }
     if !time.t0.is_finite() {
@@ -474,5 +529,47 @@ impl RowsOutputSpec {
             Some(k) => Ok(k),
             None => Ok(steps.div_ceil(500).max(1)),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parser_messages_name_no_rust_type() {
+        let cases = [
+            (
+                "invalid value: integer `-1`, expected u64",
+                "expected a whole number ≥ 0, got the whole number `-1`",
+            ),
+            (
+                "invalid type: floating point `2.5`, expected usize",
+                "expected a whole number ≥ 0, got the number `2.5`",
+            ),
+            (
+                "invalid type: string \"x\", expected f64",
+                "expected a number, got the string \"x\"",
+            ),
+            (
+                "invalid type: string \"yes\", expected a boolean",
+                "expected a boolean, got the string \"yes\"",
+            ),
+            (
+                "invalid type: integer `3`, expected a sequence",
+                "expected a sequence, got the whole number `3`",
+            ),
+        ];
+        for (rust, words) in cases {
+            let text = format!("TOML parse error at line 5\n  |\n{rust}");
+            let got = in_user_words(&text);
+            assert!(got.ends_with(words), "{rust} → {got}");
+            assert!(got.starts_with("TOML parse error at line 5\n  |\n"), "{got}");
+        }
+        // A key named like a type is left alone.
+        assert_eq!(
+            in_user_words("unknown field `u64x`, expected u64x"),
+            "unknown field `u64x`, expected u64x"
+        );
     }
 }

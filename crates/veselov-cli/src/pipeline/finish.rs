@@ -127,7 +127,8 @@ pub fn finish<S: Clone>(
         let data = table_for_plots(dir, "trajectory", &table.header, rows)?;
         figures::draw_all(dir, &data, &out.plot_format)?;
     }
-    if !session.quiet {
+    // A failed run's error line says what happened; no success-style line before it.
+    if !session.quiet && !matches!(status, Status::Failed(_)) {
         crate::say!("{}; outputs in {}", report(&table), dir.display());
     }
     session.verdict.show_new(&warnings);
@@ -197,7 +198,7 @@ pub fn close_run(
     if plots {
         draw()?;
     }
-    if !session.quiet {
+    if !session.quiet && !matches!(ending.status, Status::Failed(_)) {
         crate::say!("{}; outputs in {}", report(), dir.display());
     }
     session.verdict.show_new(&warnings);

@@ -234,8 +234,9 @@ impl Session {
             });
         }
         if !job.quiet {
+            let unit = if plan.steps == 1.0 { "step" } else { "steps" };
             eprintln!(
-                "preflight: {:.0} steps, about {} of output",
+                "preflight: {:.0} {unit}, about {} of output",
                 plan.steps,
                 human_bytes(plan.bytes)
             );

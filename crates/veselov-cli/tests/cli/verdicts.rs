@@ -166,3 +166,51 @@ fn a_symmetry_generator_that_is_not_finite_is_refused_at_parse() {
         );
     }
 }
+
+#[test]
+fn messages_speak_the_users_words() {
+    let kepler = set(&example("kepler.toml"), "plots", "false");
+    // No Rust type names.
+    let (ok, stderr, _) = run("words-every", &set(&kepler, "every", "-1"));
+    assert!(!ok && stderr.contains("expected a whole number ≥ 0"), "{stderr}");
+    assert!(!stderr.contains("u64"), "{stderr}");
+    // Numbers in shortest form with an exponent, never hundreds of digits.
+    let (ok, stderr, _) = run("words-dt", &set(&kepler, "dt", "-1e308"));
+    assert!(!ok && stderr.contains("-1e308"), "{stderr}");
+    // One step is a step.
+    let one = with_time_table(&kepler, "steps = 1\n");
+    let dir = crate::common::Scratch::new("words-one-step");
+    let file = crate::common::scenario(&dir, &one);
+    let o = crate::common::veselov()
+        .args(["run", "--out"])
+        .arg(dir.join("out"))
+        .arg(&file)
+        .output()
+        .expect("run");
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(said.contains(": 1 step to t = 0.01"), "{said}");
+}
+
+#[test]
+fn a_failed_run_prints_no_success_line_before_its_error() {
+    // exp(x²) pulls the particle out faster than a step of 0.1 can follow:
+    // Newton fails at the fourth step.
+    let text = "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2 + exp(x^2)\"\n\
+                [method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 100\n[initial]\nq = [1.0]\np = [0.0]\n\
+                [output]\nplots = false\n";
+    let dir = crate::common::Scratch::new("words-failed");
+    let file = crate::common::scenario(&dir, text);
+    let o = crate::common::veselov()
+        .args(["run", "--out"])
+        .arg(dir.join("out"))
+        .arg(&file)
+        .output()
+        .expect("run");
+    let (said, stderr) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(!o.status.success() && stderr.contains("error: run failed"), "{stderr}");
+    assert!(
+        !said.contains("outputs in"),
+        "a success-style line before the error: {said}"
+    );
+    assert_eq!(summary(&dir.join("out"))["status"], "error");
+}

@@ -205,8 +205,13 @@ where
         (s.output.plots, draw_field),
         || {
             format!(
-                "{} on a {}×{} CFK lattice: {} time steps to t = {}, max |E − E₀| = {:.3e}",
-                s.model.name, setup.nodes[0], setup.nodes[1], k_final, t_final, obs.energy_error_max,
+                "{} on a {}×{} CFK lattice: {} to t = {}, max |E − E₀| = {}",
+                s.model.name,
+                setup.nodes[0],
+                setup.nodes[1],
+                crate::output::count(k_final, "time step", "time steps"),
+                crate::output::number(t_final),
+                crate::output::approx(obs.energy_error_max),
             )
         },
     )

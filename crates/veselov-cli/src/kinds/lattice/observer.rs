@@ -376,8 +376,12 @@ fn close<S>(
     };
     close_run(session, ending, own, obs.error.take(), (s.output.plots, draw), || {
         format!(
-            "{} / {}: {} levels to t = {}, max |E − E₀| = {:.3e}",
-            s.model.name, s.method.scheme, levels, t_final, energy_error_max,
+            "{} / {}: {} to t = {}, max |E − E₀| = {}",
+            s.model.name,
+            s.method.scheme,
+            crate::output::count(levels as u64, "time step", "time steps"),
+            crate::output::number(t_final),
+            crate::output::approx(energy_error_max),
         )
     })
 }

@@ -316,7 +316,10 @@ pub fn march_generic<L: CellEnergy<DIM>, const DIM: usize>(
         GenericMarcher::new(lag, lattice, y0, y1).map_err(|e| loaded.key_error("lattice", e.to_string()))?;
     let tol = loaded.scenario.method.tolerance.unwrap_or(1e-13);
     if !(tol.is_finite() && tol > 0.0) {
-        return Err(loaded.key_error("method.tolerance", format!("expected a finite number > 0, got {tol}")));
+        return Err(loaded.key_error(
+            "method.tolerance",
+            format!("expected a finite number > 0, got {}", crate::output::number(tol)),
+        ));
     }
     marcher.rel_tol = tol;
     let xi = charge.map(|c| c.1);

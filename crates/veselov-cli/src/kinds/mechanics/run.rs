@@ -14,7 +14,7 @@ use super::schema::LoadedScenario;
 use super::systems::System;
 use crate::catalog::{self, Choice};
 use crate::error::CliError;
-use crate::output::Table;
+use crate::output::{Table, approx, count, number};
 use crate::pipeline::finish::{Totals, finish, open_table_session, start_or_resume, t_of, totals};
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, RowFn, TableObserver};
@@ -344,17 +344,19 @@ where
         |t| match t.balance {
             // Forced: E is not conserved; the meaningful figure is the energy balance.
             Some((_, _, balance)) => format!(
-                "{}: {} steps to t = {t_final}, max |E − E₀ − W| = {balance:.3e} (energy balance; work of the \
-                 forces W = {:.6e})",
+                "{}: {} to t = {}, max |E − E₀ − W| = {} (energy balance; work of the forces W = {})",
                 scheme.describe(),
-                outcome.last_step,
-                t.work()
+                count(outcome.last_step, "step", "steps"),
+                number(t_final),
+                approx(balance),
+                approx(t.work())
             ),
             None => format!(
-                "{}: {} steps to t = {t_final}, max |E − E₀| = {:.3e}",
+                "{}: {} to t = {}, max |E − E₀| = {}",
                 scheme.describe(),
-                outcome.last_step,
-                t.column("energy").map_or(0.0, |c| c.value)
+                count(outcome.last_step, "step", "steps"),
+                number(t_final),
+                approx(t.column("energy").map_or(0.0, |c| c.value))
             ),
         },
     )

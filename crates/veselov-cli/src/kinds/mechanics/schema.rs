@@ -219,7 +219,10 @@ impl LoadedScenario {
         {
             return Err(self.key_error(
                 "method.newton_tolerance",
-                format!("expected a relative tolerance between 2.2e-16 (ε) and 1e-3, got {t}"),
+                format!(
+                    "expected a relative tolerance between 2.2e-16 (ε) and 1e-3, got {}",
+                    crate::output::number(t)
+                ),
             ));
         }
         if let Some(n) = s.method.newton_max_iterations

@@ -137,7 +137,14 @@ pub fn run_variable<const N: usize>(
             });
             summary::common(status, outcome.last_step, t_final, wall, iterations, own)
         },
-        |_| format!("{}: {} steps to t = {t_final}", rule.name(), outcome.last_step),
+        |_| {
+            format!(
+                "{}: {} to t = {}",
+                rule.name(),
+                crate::output::count(outcome.last_step, "step", "steps"),
+                crate::output::number(t_final)
+            )
+        },
     )
 }
 

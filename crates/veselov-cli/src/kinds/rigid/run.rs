@@ -223,10 +223,11 @@ where
         },
         |t| {
             format!(
-                "{method}: {} steps to t = {t_final}, max |E − E₀| = {:.3e}, max |RᵀR − I| = {:.1e}",
-                outcome.last_step,
-                t.column("energy").map_or(0.0, |c| c.value),
-                orthogonality(t)
+                "{method}: {} to t = {}, max |E − E₀| = {}, max |RᵀR − I| = {}",
+                crate::output::count(outcome.last_step, "step", "steps"),
+                crate::output::number(t_final),
+                crate::output::approx(t.column("energy").map_or(0.0, |c| c.value)),
+                crate::output::approx(orthogonality(t))
             )
         },
     )
