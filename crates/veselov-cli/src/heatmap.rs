@@ -36,10 +36,13 @@ pub fn draw_heatmap(path: &Path, map: &Heatmap) -> Result<(), PlotError> {
     };
     let format = PlotFormat::from_path(path).ok_or_else(|| fail("expected a .svg or .png file name".into()))?;
     register_font().map_err(fail)?;
-    let result = match format {
+    // Rendering goes through a third-party library: should it panic on some
+    // input, report that as an error rather than abort the command.
+    let rendered = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match format {
         PlotFormat::Svg => render(SVGBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area(), map),
         PlotFormat::Png => render(BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area(), map),
-    };
+    }));
+    let result = rendered.unwrap_or_else(|_| Err("the plotting library failed".to_string()));
     result.map_err(|message| {
         let _ = std::fs::remove_file(path);
         fail(message)
@@ -113,17 +116,40 @@ fn subsample(len: usize, count: usize) -> Vec<usize> {
     }
 }
 
-fn render<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, map: &Heatmap) -> Result<(), String> {
-    let text = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    let rows = map.values.len();
-    let cols = map.values.first().map_or(0, Vec::len);
-    let finite = map.values.iter().flatten().copied().filter(|v| v.is_finite());
+/// The values the colour map spans: those of the finite `values` (cells
+/// of NaN or infinity are drawn white, as gaps), widened to a unit range
+/// when they are all equal or none is finite, and narrowed to half the
+/// largest float each way so that the span is finite.
+fn colour_range(values: &[Vec<f64>]) -> (f64, f64) {
+    let finite = values.iter().flatten().copied().filter(|v| v.is_finite());
     let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
-    let (lo, hi) = if lo.is_finite() && hi > lo {
+    let (lo, hi) = if !lo.is_finite() {
+        (0.0, 1.0)
+    } else if hi > lo {
         (lo, hi)
     } else {
         (lo.min(0.0), lo.max(0.0) + 1.0)
     };
+    let half = 0.5 * f64::MAX;
+    (lo.clamp(-half, half), hi.clamp(-half, half))
+}
+
+/// An axis range that can be drawn: `range` if finite and not empty, a
+/// unit range about its start if empty, `(0, 1)` if not finite.
+fn axis((lo, hi): (f64, f64)) -> (f64, f64) {
+    match (lo.is_finite() && hi.is_finite(), hi > lo) {
+        (true, true) if (hi - lo).is_finite() => (lo, hi),
+        (true, false) if (lo + 1.0).is_finite() => (lo, lo + 1.0),
+        _ => (0.0, 1.0),
+    }
+}
+
+fn render<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, map: &Heatmap) -> Result<(), String> {
+    let text = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let rows = map.values.len();
+    let cols = map.values.first().map_or(0, Vec::len);
+    let (lo, hi) = colour_range(map.values);
+    let (x_range, y_range) = (axis(map.x_range), axis(map.y_range));
     root.fill(&WHITE).map_err(text)?;
     let area = root.titled(map.title, (FONT, 22)).map_err(text)?;
     let (width, _) = area.dim_in_pixel();
@@ -133,7 +159,7 @@ fn render<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, map
         .margin(20)
         .x_label_area_size(50)
         .y_label_area_size(70)
-        .build_cartesian_2d(map.x_range.0..map.x_range.1, map.y_range.0..map.y_range.1)
+        .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
         .map_err(text)?;
     chart
         .configure_mesh()
@@ -148,8 +174,8 @@ fn render<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, map
         return root.present().map_err(text);
     }
     let (ri, ci) = (subsample(rows, MAX_CELLS), subsample(cols, MAX_CELLS));
-    let dx = (map.x_range.1 - map.x_range.0) / ci.len() as f64;
-    let dy = (map.y_range.1 - map.y_range.0) / ri.len() as f64;
+    let dx = (x_range.1 - x_range.0) / ci.len() as f64;
+    let dy = (y_range.1 - y_range.0) / ri.len() as f64;
     let cells = ri.iter().enumerate().flat_map(|(a, &r)| {
         ci.iter().enumerate().map(move |(b, &c)| {
             let v = map.values[r].get(c).copied().unwrap_or(f64::NAN);
@@ -158,8 +184,8 @@ fn render<DB: DrawingBackend>(root: DrawingArea<DB, plotters::coord::Shift>, map
             } else {
                 RGBColor(255, 255, 255)
             };
-            let x0 = map.x_range.0 + b as f64 * dx;
-            let y0 = map.y_range.0 + a as f64 * dy;
+            let x0 = x_range.0 + b as f64 * dx;
+            let y0 = y_range.0 + a as f64 * dy;
             Rectangle::new([(x0, y0), (x0 + dx, y0 + dy)], colour.filled())
         })
     });
@@ -186,6 +212,35 @@ mod tests {
         assert_eq!(s.len(), 300);
         assert_eq!((s[0], s[299]), (0, 999));
         assert!(s.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    /// NaN and infinite cells are gaps, extreme values and degenerate or
+    /// non-finite axis ranges are drawn: no value makes the colour map
+    /// (which panics on NaN bounds) or the drawing fail.
+    #[test]
+    fn non_finite_and_extreme_values_are_drawn() {
+        let dir = crate::test_scratch::Scratch::new("heatmap-non-finite");
+        let grids = [
+            vec![vec![f64::NAN; 5]; 4],
+            vec![vec![f64::NAN, 1.0, f64::INFINITY, f64::NEG_INFINITY]; 3],
+            vec![vec![-f64::MAX, f64::MAX]; 2],
+            vec![vec![1.7e308; 3]; 2],
+        ];
+        for values in &grids {
+            let (lo, hi) = colour_range(values);
+            assert!(lo.is_finite() && hi.is_finite() && hi > lo && (hi - lo).is_finite());
+            for y_range in [(0.0, 1.0), (f64::NAN, 1.0), (2.0, 2.0), (-f64::MAX, f64::MAX)] {
+                let map = Heatmap {
+                    title: "test",
+                    x_label: "x",
+                    y_label: "t",
+                    x_range: (0.0, 4.0),
+                    y_range,
+                    values,
+                };
+                draw_heatmap(&dir.join("map.png"), &map).expect("drawn");
+            }
+        }
     }
 
     #[test]

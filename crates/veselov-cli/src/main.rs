@@ -34,7 +34,7 @@ enum Command {
         /// No progress bar or final report.
         #[arg(long)]
         quiet: bool,
-        /// Overwrite a non-empty output directory (the outputs of an earlier run there are removed first; other files are kept).
+        /// Overwrite a non-empty output directory (the files an earlier run there recorded in its outputs.json are removed first; other files are kept).
         #[arg(long)]
         force: bool,
         /// Run beyond the preflight limits (1e9 steps, 10 GiB of output).
@@ -76,7 +76,7 @@ enum Command {
         /// Output directory (default: the scenario's output directory + /verify).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Overwrite a non-empty output directory (the outputs of an earlier run there are removed first; other files are kept).
+        /// Overwrite a non-empty output directory (the files an earlier run there recorded in its outputs.json are removed first; other files are kept).
         #[arg(long)]
         force: bool,
         /// Print nothing.

@@ -158,6 +158,7 @@ const OUTPUT_STEMS: &[&str] = &[
     "centerline_xz",
     "centerline_yz",
     "spacetime",
+    "energy_blocks",
 ];
 
 /// The extensions of the files of [`OUTPUT_STEMS`].
@@ -165,7 +166,8 @@ const OUTPUT_EXTENSIONS: &[&str] = &["csv", "npy", "svg", "png", "gif"];
 
 /// Whether `name` is a file a run writes into its output directory (every
 /// kind's data, plots, animation, `summary.json` and `checkpoint.json`):
-/// the files `--force` removes before a new run there.
+/// the files `--force` removes from a directory of a run that recorded no
+/// list of its files (one written by an earlier version).
 pub fn is_run_output(name: &str) -> bool {
     if name == "summary.json" || name == "checkpoint.json" {
         return true;
@@ -182,23 +184,22 @@ pub fn is_run_output(name: &str) -> bool {
             .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
 }
 
-/// Make `dir` ready for a run: create it, or refuse if it holds files and
-/// `force` is off. With `force`, the files an earlier run of any kind wrote
-/// there ([`is_run_output`]) are removed first, so that none of them is
-/// taken for an output of the new run; other files and subdirectories are
-/// kept.
+/// Make `dir` ready for a run: create it, or refuse if it holds files (its
+/// lock aside: the run's own, taken first) and `force` is off. With
+/// `force`, the files an earlier run wrote there are removed first (those
+/// its `outputs.json` lists; see [`manifest`](crate::pipeline::manifest)),
+/// so that none of them is taken for an output of the new run; other files
+/// and subdirectories are kept.
 pub fn prepare_dir(dir: &Path, force: bool) -> Result<PathBuf, CliError> {
     if dir.exists() {
-        let mut entries = std::fs::read_dir(dir).map_err(io(dir))?;
+        let mut entries = std::fs::read_dir(dir)
+            .map_err(io(dir))?
+            .filter(|e| !matches!(e, Ok(e) if e.file_name() == crate::pipeline::lock::FILE));
         if entries.next().is_some() && !force {
             return Err(CliError::OutputNotEmpty { dir: dir.to_path_buf() });
         }
-        for entry in std::fs::read_dir(dir).map_err(io(dir))? {
-            let entry = entry.map_err(io(dir))?;
-            let earlier = entry.file_name().to_str().is_some_and(is_run_output);
-            if earlier && entry.file_type().map_err(io(dir))?.is_file() {
-                std::fs::remove_file(entry.path()).map_err(io(&entry.path()))?;
-            }
+        if force {
+            crate::pipeline::manifest::remove_earlier_outputs(dir)?;
         }
     } else {
         std::fs::create_dir_all(dir).map_err(io(dir))?;

@@ -125,6 +125,15 @@ impl Progress {
         }
     }
 
+    /// Print `warning: <message>` on standard error, above the bar if it
+    /// is shown (even with `quiet`: a warning is not progress).
+    pub fn warn(&self, message: &str) {
+        match &self.bar {
+            Some(bar) => bar.suspend(|| eprintln!("warning: {message}")),
+            None => eprintln!("warning: {message}"),
+        }
+    }
+
     /// Remove the bar.
     pub fn finish(&mut self) {
         if let Some(bar) = self.bar.take() {

@@ -24,7 +24,8 @@ use serde_json::Value;
 use crate::error::CliError;
 use crate::figures;
 use crate::output::Table;
-use crate::pipeline::readback::npy_shape;
+use crate::pipeline::manifest::{self, Snapshot};
+use crate::pipeline::readback::npy_info;
 
 /// Redraw the figures of the run or study in `dir` as `format` (`svg` or
 /// `png`); returns the files written, sorted.
@@ -39,6 +40,24 @@ pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
         )));
     }
     let before = figure_files(dir)?;
+    let files = Snapshot::take(dir);
+    let drawn = draw_figures(dir, format);
+    // The figures join the run's record of its files, if it keeps one (a
+    // directory of an earlier version keeps none, and is cleaned by name).
+    if matches!(manifest::recorded(dir), Ok(Some(_))) {
+        manifest::record(dir, &files)?;
+    }
+    drawn?;
+    let after = figure_files(dir)?;
+    Ok(after
+        .into_iter()
+        .filter(|(path, modified)| before.get(path) != Some(modified))
+        .map(|(path, _)| path)
+        .collect())
+}
+
+/// Draw the figures of the run or study in `dir`, recognised by its files.
+fn draw_figures(dir: &Path, format: &str) -> Result<(), CliError> {
     let summary = read_summary(dir)?;
     let text = |key: &str| summary.as_ref().and_then(|s| s.get(key)).and_then(Value::as_str);
     let has = |key: &str| summary.as_ref().is_some_and(|s| s.get(key).is_some());
@@ -47,28 +66,26 @@ pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
     } else if dir.join("trajectory.csv").exists() {
         figures::draw_all(dir, &Table::read_csv(&dir.join("trajectory.csv"))?, format)?;
     } else if text("model") == Some("beam") {
-        let shape = npy_shape(&dir.join("frames.npy"))?;
+        let (cross, rows) = centreline_rows(dir, "frames.npy", 12)?;
         let x = if text("evolution") == Some("space") { "s" } else { "t" };
-        crate::kinds::beam::figures::draw_beam(dir, dimension(&shape, 1)?, rows(&shape), x, format)?;
+        crate::kinds::beam::figures::draw_beam(dir, cross, rows, x, format)?;
     } else if text("model") == Some("cosserat-rod") {
-        let shape = npy_shape(&dir.join("centerline.npy"))?;
-        crate::kinds::rod::figures::draw_rod(dir, dimension(&shape, 1)?, rows(&shape), format)?;
+        let (nodes, rows) = centreline_rows(dir, "centerline.npy", 3)?;
+        crate::kinds::rod::figures::draw_rod(dir, nodes, rows, format)?;
     } else if text("lattice") == Some("cfk") {
         let s = summary.as_ref().unwrap_or(&Value::Null);
         let nodes = s.get("nodes").and_then(Value::as_array).map(|a| {
             a.iter()
-                .filter_map(Value::as_u64)
-                .map(|n| n as usize)
-                .collect::<Vec<_>>()
+                .map(|n| n.as_u64().and_then(|n| usize::try_from(n).ok()).filter(|&n| n > 0))
+                .collect::<Option<Vec<usize>>>()
         });
-        let Some(&[nx, ny]) = nodes.as_deref() else {
+        let Some(Some(&[nx, ny])) = nodes.as_ref().map(Option::as_deref) else {
             return Err(summary_key(dir, "nodes", "two node counts"));
         };
         let dx = number(dir, s, "dx")?;
-        let shape = npy_shape(&dir.join("snapshots.npy"))?;
-        let per_row = shape.iter().skip(1).product::<usize>();
-        let components = (per_row / (nx * ny).max(1)).max(1);
-        crate::kinds::cfk::figures::draw(dir, ([nx, ny], dx), components, rows(&shape), format)?;
+        extent(dir, "dx", dx, nx.max(ny))?;
+        let (components, rows) = snapshot_rows(dir, &[nx, ny], "nodes")?;
+        crate::kinds::cfk::figures::draw(dir, ([nx, ny], dx), components, rows, format)?;
     } else if has("scheme") {
         redraw_field(dir, summary.as_ref().unwrap_or(&Value::Null), format)?;
     } else {
@@ -78,12 +95,7 @@ pub fn redraw(dir: &Path, format: &str) -> Result<Vec<PathBuf>, CliError> {
             dir.display()
         )));
     }
-    let after = figure_files(dir)?;
-    Ok(after
-        .into_iter()
-        .filter(|(path, modified)| before.get(path) != Some(modified))
-        .map(|(path, _)| path)
-        .collect())
+    Ok(())
 }
 
 /// `dir/summary.json`, if there is one.
@@ -117,19 +129,6 @@ fn number(dir: &Path, summary: &Value, key: &str) -> Result<f64, CliError> {
         .ok_or_else(|| summary_key(dir, key, "a positive number"))
 }
 
-/// Rows of an array of `shape`.
-fn rows(shape: &[usize]) -> u64 {
-    shape.first().map_or(0, |&r| r as u64)
-}
-
-/// Entry `axis` of an array's shape.
-fn dimension(shape: &[usize], axis: usize) -> Result<usize, CliError> {
-    shape
-        .get(axis)
-        .copied()
-        .ok_or_else(|| CliError::Setup(format!("an output array has shape {shape:?}, expected a row shape")))
-}
-
 /// The convergence plot of a `verify` study, from its summary.
 fn redraw_verify(dir: &Path, summary: &Value, format: &str) -> Result<(), CliError> {
     let list = |key: &str| -> Result<Vec<f64>, CliError> {
@@ -159,20 +158,107 @@ fn redraw_field(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErro
     let nodes = summary
         .get("nodes")
         .and_then(Value::as_u64)
+        .and_then(|n| usize::try_from(n).ok())
         .filter(|&n| n > 0)
-        .ok_or_else(|| summary_key(dir, "nodes", "a node count"))? as usize;
+        .ok_or_else(|| summary_key(dir, "nodes", "a node count"))?;
     let (dx, length) = (number(dir, summary, "dx")?, number(dir, summary, "length")?);
+    extent(dir, "dx", dx, nodes)?;
     let energy = Table::read_csv(&dir.join("energy.csv"))?;
-    let shape = npy_shape(&dir.join("snapshots.npy"))?;
-    let components = (shape.iter().skip(1).product::<usize>() / nodes).max(1);
+    let (components, rows) = snapshot_rows(dir, &[nodes], "nodes")?;
     let model = summary.get("model").and_then(Value::as_str).unwrap_or_default();
     crate::kinds::lattice::figures::draw_field_files(
         dir,
         (model, components),
         (nodes, dx, length),
-        (&energy, rows(&shape)),
+        (&energy, rows),
         format,
     )
+}
+
+/// Refuse a spacing `dx` (the summary's `key`) over `nodes` nodes whose
+/// extent is not a finite number.
+fn extent(dir: &Path, key: &str, dx: f64, nodes: usize) -> Result<(), CliError> {
+    if (dx * nodes as f64).is_finite() {
+        Ok(())
+    } else {
+        Err(summary_key(dir, key, "a spacing whose lattice has a finite extent"))
+    }
+}
+
+/// The values per node (1, or 2 for a complex field) and the rows of
+/// `dir/snapshots.npy`, checked against the lattice's `nodes` per axis
+/// (the summary's `key`): its shape must be `(rows, nodes…)` or `(rows,
+/// nodes…, 2)`; and `snapshot_times.csv` must hold a time for each row.
+fn snapshot_rows(dir: &Path, nodes: &[usize], key: &str) -> Result<(usize, u64), CliError> {
+    let path = dir.join("snapshots.npy");
+    let shape = npy_info(&path)?.shape;
+    let lattice = shape.get(1..=nodes.len());
+    let components = match shape.get(nodes.len() + 1..) {
+        Some([]) => Some(1),
+        Some([2]) => Some(2),
+        _ => None,
+    };
+    let (Some(lattice), Some(components)) = (lattice, components) else {
+        return Err(CliError::Io {
+            path,
+            message: format!(
+                "its shape {shape:?} is not that of snapshots of the lattice in summary.json (`{key}` = \
+                 {nodes:?}): expected (rows, {}) or (rows, {}, 2)",
+                join(nodes),
+                join(nodes)
+            ),
+        });
+    };
+    if lattice != nodes {
+        return Err(CliError::Io {
+            path,
+            message: format!(
+                "its shape {shape:?} holds a lattice of {lattice:?} nodes, but summary.json says `{key}` = \
+                 {nodes:?}"
+            ),
+        });
+    }
+    let rows = shape.first().copied().unwrap_or(0) as u64;
+    let times_path = dir.join("snapshot_times.csv");
+    let times = Table::read_csv(&times_path)?;
+    if times.rows.len() as u64 != rows {
+        return Err(CliError::Io {
+            path: times_path,
+            message: format!(
+                "holds {} times, but snapshots.npy holds {rows} snapshots",
+                times.rows.len()
+            ),
+        });
+    }
+    if let Some(k) = times
+        .rows
+        .iter()
+        .position(|r| !r.first().is_some_and(|t| t.is_finite()))
+    {
+        return Err(CliError::Io {
+            path: times_path,
+            message: format!("line {}: not a finite time", k + 2),
+        });
+    }
+    Ok((components, rows))
+}
+
+fn join(nodes: &[usize]) -> String {
+    nodes.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
+}
+
+/// The nodes and rows of a centreline file `dir/<name>` of shape `(rows,
+/// nodes, width)`.
+fn centreline_rows(dir: &Path, name: &str, width: usize) -> Result<(usize, u64), CliError> {
+    let path = dir.join(name);
+    let shape = npy_info(&path)?.shape;
+    match shape.as_slice() {
+        &[rows, nodes, w] if w == width && nodes > 0 => Ok((nodes, rows as u64)),
+        _ => Err(CliError::Io {
+            path,
+            message: format!("its shape {shape:?} is not (rows, nodes, {width})"),
+        }),
+    }
 }
 
 /// The figure files (`.svg`, `.png`, `.gif`) in `dir` with their modification times.

@@ -97,7 +97,17 @@ pub fn run_text(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
 
 fn run_kind(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     let kind = kind(path, text)?;
-    kind.run(path, text, job).map_err(|e| point_to_keys(e, kind))
+    let quiet = job.quiet;
+    match kind.run(path, text, job) {
+        // Resuming a completed run does nothing, and that is no failure.
+        Err(note @ CliError::AlreadyComplete { .. }) => {
+            if !quiet {
+                eprintln!("note: {note}");
+            }
+            Ok(())
+        }
+        result => result.map_err(|e| point_to_keys(e, kind)),
+    }
 }
 
 /// A parse error about an unknown or missing key, with where the kind's

@@ -95,8 +95,9 @@ impl Study {
     /// For each `dt` (with `n` steps) measure `error(n, dt)` (an `Err` inside is a
     /// failed run, reported and recorded as NaN), print the table and the
     /// fitted order, and write `convergence.csv`, `summary.json` and
-    /// `convergence.svg` into `dir`. An [`interrupt`](Study::interrupt) set
-    /// before a run ends the study there with an error, writing nothing.
+    /// `convergence.svg` into `dir`, listed in its `outputs.json`. An
+    /// [`interrupt`](Study::interrupt) set before a run ends the study there
+    /// with an error, writing nothing.
     pub fn run(
         &self,
         dir: &std::path::Path,
@@ -106,6 +107,8 @@ impl Study {
         mut error: impl FnMut(usize, f64) -> Result<Result<f64, veselov::Error>, CliError>,
     ) -> Result<(), CliError> {
         let order = self.order;
+        // What is new in `dir` at the end is the study's: recorded for `--force`.
+        let files = crate::pipeline::manifest::Snapshot::take(dir);
         let mut table = Table {
             header: vec!["dt".into(), "steps".into(), "error".into()],
             rows: Vec::new(),
@@ -192,6 +195,7 @@ impl Study {
             }),
         )?;
         draw_convergence(&dir.join("convergence.svg"), &dts, &errs, order, fit.map(|f| f.order))?;
+        crate::pipeline::manifest::record(dir, &files)?;
         if !quiet {
             crate::say!("outputs in {}", dir.display());
         }

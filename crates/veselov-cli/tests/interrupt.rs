@@ -144,13 +144,60 @@ fn interrupt_and_resume(name: &str, text: &str, files: &Files) {
         .expect("resume");
     assert!(status.success());
     assert_eq!(summary(&part)["status"], "ok");
-    assert_eq!(summary(&part)["steps"], summary(&whole)["steps"]);
+    same_summary(name, &summary(&whole), &summary(&part));
     for f in files.compared {
         let a = std::fs::read(whole.join(f)).expect("whole");
         let b = std::fs::read(part.join(f)).expect("resumed");
         assert!(a == b, "{name}: {f} differs after resume");
     }
+    resume_of_a_completed_run_changes_nothing(name, &part, &file);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The summaries of a run done in one go (`whole`) and of the same run
+/// interrupted and resumed (`part`) agree in every key but the wall time:
+/// steps, time, and every counter (`iterations_mean`, the kinds' Newton
+/// iterations, Jacobians, gradient evaluations, fallback steps).
+fn same_summary(name: &str, whole: &serde_json::Value, part: &serde_json::Value) {
+    let (Some(whole), Some(part)) = (whole.as_object(), part.as_object()) else {
+        panic!("{name}: a summary is not an object");
+    };
+    let keys = |s: &serde_json::Map<String, serde_json::Value>| s.keys().cloned().collect::<Vec<_>>();
+    assert_eq!(keys(whole), keys(part), "{name}: the summaries' keys differ");
+    for (key, value) in whole {
+        if key != "wall_seconds" {
+            assert_eq!(&part[key], value, "{name}: `{key}` differs after resume");
+        }
+    }
+}
+
+/// `--resume` of the run in `dir`, which has completed, succeeds and
+/// leaves every file as it was (the summary's counters included), with a
+/// note that the run is complete.
+fn resume_of_a_completed_run_changes_nothing(name: &str, dir: &Path, file: &Path) {
+    let read_all = || -> Vec<(std::ffi::OsString, Vec<u8>)> {
+        let mut files: Vec<_> = std::fs::read_dir(dir)
+            .expect("dir")
+            .map(|e| e.expect("entry"))
+            .map(|e| (e.file_name(), std::fs::read(e.path()).expect("file")))
+            .collect();
+        files.sort();
+        files
+    };
+    let before = read_all();
+    let again = Command::new(binary())
+        .args(["run", "--resume"])
+        .arg(dir)
+        .arg(file)
+        .output()
+        .expect("resume a completed run");
+    let err = String::from_utf8_lossy(&again.stderr);
+    assert!(again.status.success(), "{name}: {err}");
+    assert!(err.contains("already complete"), "{name}: {err}");
+    assert!(
+        read_all() == before,
+        "{name}: resuming the completed run changed its files"
+    );
 }
 
 /// A mechanics run long enough to be interrupted (a few seconds).
@@ -179,6 +226,34 @@ fn mechanics_run_survives_sigterm_and_resumes_bit_for_bit() {
         &format!("{DOUBLE_PENDULUM}checkpoint_every = 5000\n"),
         &TRAJECTORY,
     );
+}
+
+/// A run interrupted twice (by `--time-limit`) and resumed twice counts
+/// every part: its summary is that of the run done in one go, counters
+/// included (each checkpoint carries those of the parts before it).
+#[test]
+fn counters_add_up_over_two_interruptions() {
+    let dir = Scratch::new("twice");
+    let file = dir.join("scenario.toml");
+    std::fs::write(&file, format!("{DOUBLE_PENDULUM}checkpoint_every = 5000\n")).expect("scenario");
+    let run = |args: &[&std::ffi::OsStr]| {
+        Command::new(binary())
+            .args(["run", "--quiet"])
+            .args(args)
+            .arg(&file)
+            .status()
+            .expect("run")
+    };
+    let (whole, part) = (dir.join("whole"), dir.join("part"));
+    assert!(run(&["--out".as_ref(), whole.as_ref()]).success());
+    let limit: [&std::ffi::OsStr; 2] = ["--time-limit".as_ref(), "0.5".as_ref()];
+    assert!(!run(&[&limit[..], &["--out".as_ref(), part.as_ref()]].concat()).success());
+    assert_eq!(summary(&part)["status"], "interrupted");
+    assert!(!run(&[&limit[..], &["--resume".as_ref(), part.as_ref()]].concat()).success());
+    assert_eq!(summary(&part)["status"], "interrupted", "the second part finished");
+    assert!(run(&["--resume".as_ref(), part.as_ref()]).success());
+    same_summary("twice", &summary(&whole), &summary(&part));
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

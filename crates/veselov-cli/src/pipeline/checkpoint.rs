@@ -110,6 +110,90 @@ where
     })
 }
 
+/// Checkpoints written before their cost is judged (`Cost`).
+const COST_SAMPLE: u64 = 100;
+
+/// Share of the wall time spent writing checkpoints beyond which a run is
+/// warned ([`Cost`]).
+const COST_WARNING: f64 = 0.5;
+
+/// Share of the wall time the suggested checkpoint interval leaves to
+/// checkpoints (`Cost`).
+const COST_TARGET: f64 = 0.05;
+
+/// What writing checkpoints costs a run, to warn when it dominates: a
+/// checkpoint flushes every output file, rewrites the NPY headers and
+/// writes and renames `checkpoint.json` — a few hundred microseconds, as
+/// long as hundreds of steps of a small mechanical system. Once
+/// `COST_SAMPLE` checkpoints are written, if they took more than half
+/// of the run's time, a warning (once) gives their measured cost and the
+/// interval that would keep them to `COST_TARGET` of it.
+#[derive(Debug, Default)]
+pub struct Cost {
+    /// Checkpoints written by this invocation.
+    written: u64,
+    /// Time spent writing them.
+    spent: std::time::Duration,
+    /// Whether the warning was given.
+    warned: bool,
+}
+
+impl Cost {
+    /// Note a checkpoint that took `took`, written after `steps` steps of
+    /// this invocation and `elapsed` of its wall time, with checkpoints due
+    /// every `every` steps (0: only by the clock, `--checkpoint-seconds`),
+    /// a step being called `unit`; returns the warning to give, if it is due.
+    pub fn note(
+        &mut self,
+        took: std::time::Duration,
+        (steps, unit): (u64, &str),
+        elapsed: std::time::Duration,
+        every: u64,
+    ) -> Option<String> {
+        self.written += 1;
+        self.spent += took;
+        let share = self.spent.as_secs_f64() / elapsed.as_secs_f64();
+        if self.warned || self.written < COST_SAMPLE || share.is_nan() || share <= COST_WARNING || steps == 0 {
+            return None;
+        }
+        self.warned = true;
+        let each = self.spent.as_secs_f64() / self.written as f64;
+        let per_step = (elapsed.as_secs_f64() - self.spent.as_secs_f64()).max(0.0) / steps as f64;
+        // c/(c + n·s) ≤ target ⇔ n ≥ c(1 − target)/(target·s).
+        let needed = each * (1.0 - COST_TARGET) / (COST_TARGET * per_step.max(1e-12));
+        let interval = if every > 0 {
+            format!("one every {every} {unit}")
+        } else {
+            "written by the clock".to_string()
+        };
+        Some(format!(
+            "writing checkpoints has taken {:.0} % of this run's time so far ({:.2} ms each, {interval}, against \
+             {:.1} µs a step): raise `output.checkpoint_every` (or --checkpoint-seconds) so that they come at \
+             most once every {} {unit}, to keep them to {:.0} % of the time",
+            100.0 * share,
+            1e3 * each,
+            1e6 * per_step,
+            round_up(needed),
+            100.0 * COST_TARGET,
+        ))
+    }
+}
+
+/// The round number (1, 2 or 5 times a power of ten) at or above `x`
+/// (at least 1).
+fn round_up(x: f64) -> u64 {
+    if !(x.is_finite() && x > 1.0) {
+        return if x.is_finite() { 1 } else { u64::MAX };
+    }
+    let power = 10f64.powf(x.log10().floor());
+    let nice = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * power)
+        .find(|&v| v >= x)
+        .unwrap_or(10.0 * power);
+    if nice >= u64::MAX as f64 { u64::MAX } else { nice as u64 }
+}
+
 /// `x` if finite (JSON has no NaN or infinity), else `None`.
 fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
@@ -150,5 +234,50 @@ impl Saved {
             time: v["time"].as_f64(),
             t_end: v["t_end"].as_f64(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn dominant_checkpoints_are_warned_once_with_an_interval_that_tames_them() {
+        let mut cost = Cost::default();
+        let ms = Duration::from_millis;
+        // 99 checkpoints of 1 ms every step of 10 µs: too few to judge yet.
+        for k in 1..COST_SAMPLE {
+            assert_eq!(
+                cost.note(ms(1), (k, "steps"), ms(k) + Duration::from_micros(10 * k), 1),
+                None
+            );
+        }
+        let n = COST_SAMPLE;
+        let warning = cost
+            .note(ms(1), (n, "steps"), ms(n) + Duration::from_micros(10 * n), 1)
+            .expect("a warning");
+        // 1 ms against 10 µs a step: 1900 steps keep them to 5 %; rounded up.
+        assert!(warning.contains("once every 2000 steps"), "{warning}");
+        assert!(warning.contains("99 %"), "{warning}");
+        assert_eq!(cost.note(ms(1), (n + 1, "steps"), ms(n + 1), 1), None, "warned once");
+        // Cheap checkpoints are not warned.
+        let mut cheap = Cost::default();
+        for k in 1..=2 * COST_SAMPLE {
+            assert_eq!(
+                cheap.note(Duration::from_micros(10), (k * 1000, "steps"), ms(k), 1000),
+                None
+            );
+        }
+    }
+
+    #[test]
+    fn intervals_are_rounded_up_to_round_numbers() {
+        assert_eq!(round_up(0.3), 1);
+        assert_eq!(round_up(1900.0), 2000);
+        assert_eq!(round_up(2000.0), 2000);
+        assert_eq!(round_up(2001.0), 5000);
+        assert_eq!(round_up(7.0), 10);
+        assert_eq!(round_up(f64::INFINITY), u64::MAX);
     }
 }

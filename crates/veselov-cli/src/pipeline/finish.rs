@@ -98,8 +98,9 @@ pub fn open_table_session(
     Ok((session, positions, rest))
 }
 
-/// Close the table, write the summary and the plots, report, and turn a
-/// failure or an interruption into the command's error.
+/// Close the table, write the summary and the plots (not for an
+/// interrupted run), report, and turn a failure or an interruption into the
+/// command's error.
 pub fn finish<S: Clone>(
     out: &OutputSpec,
     session: &Session,
@@ -121,7 +122,8 @@ pub fn finish<S: Clone>(
     if let Some(e) = io_error {
         return Err(e);
     }
-    if out.plots {
+    let plots = out.plots && !interrupted(&status);
+    if plots {
         let rows = table.positions()?;
         let rows = rows.0.rows.max(rows.1.rows);
         let data = table_for_plots(dir, "trajectory", &table.header, rows)?;
@@ -132,7 +134,14 @@ pub fn finish<S: Clone>(
         crate::say!("{}; outputs in {}", report(&table), dir.display());
     }
     session.verdict.show_new(&warnings);
-    conclude(status, dir)
+    conclude(status, dir, out.plots)
+}
+
+/// Whether a run that ended with `status` was interrupted: its plots are
+/// not drawn, so that the command exits at once (reading back a long run's
+/// output for them can take seconds); `veselov plot DIR` draws them.
+fn interrupted(status: &Status) -> bool {
+    matches!(status, Status::Interrupted)
 }
 
 /// Writes `dir/summary.json`: the common keys of a run that ended with
@@ -164,15 +173,17 @@ pub struct Ending {
     pub steps: u64,
     /// The time (or arc length) reached.
     pub t_final: f64,
-    /// Nonlinear iterations of this part of the run.
+    /// Nonlinear iterations of the whole run, resumed parts included (as
+    /// [`Session::execute`] counts them).
     pub iterations: u64,
 }
 
 /// The tail of a run whose observer writes its own files: the summary (the
 /// common keys, then `own`), then the observer's first I/O error if it had
 /// one (the summary still describes what was computed), the plots
-/// (`draw`, when `plots` is on), the one-line report (`report`, followed
-/// by where the outputs are) unless quiet, and the command's result.
+/// (`draw`, when `plots` is on and the run was not interrupted), the
+/// one-line report (`report`, followed by where the outputs are) unless
+/// quiet, and the command's result.
 pub fn close_run(
     session: &Session,
     ending: Ending,
@@ -195,25 +206,29 @@ pub fn close_run(
     if let Some(e) = observer_error {
         return Err(e);
     }
-    if plots {
+    if plots && !interrupted(&ending.status) {
         draw()?;
     }
     if !session.quiet && !matches!(ending.status, Status::Failed(_)) {
         crate::say!("{}; outputs in {}", report(), dir.display());
     }
     session.verdict.show_new(&warnings);
-    conclude(ending.status, dir)
+    conclude(ending.status, dir, plots)
 }
 
 /// The command's result for a run that ended with `status`, its outputs in
-/// `dir`: `Ok`, or the run's failure or interruption.
-pub fn conclude(status: Status, dir: &Path) -> Result<(), CliError> {
+/// `dir`: `Ok`, or the run's failure or interruption (`plots`: whether the
+/// run was to draw plots, which an interrupted run leaves undrawn).
+pub fn conclude(status: Status, dir: &Path, plots: bool) -> Result<(), CliError> {
     match status {
         Status::Failed(error) => Err(CliError::Run {
             error,
             dir: dir.to_path_buf(),
         }),
-        Status::Interrupted => Err(CliError::Interrupted { dir: dir.to_path_buf() }),
+        Status::Interrupted => Err(CliError::Interrupted {
+            dir: dir.to_path_buf(),
+            plots_skipped: plots,
+        }),
         _ => Ok(()),
     }
 }
@@ -244,14 +259,15 @@ pub struct Totals {
     pub force_evaluations: u64,
 }
 
-/// Iterations, fallback steps, Jacobians and gradient evaluations over the whole run, resumed parts included.
-pub fn totals(session: &Session, outcome: &Outcome) -> Totals {
-    let before = session.resumed.as_ref();
+/// Iterations, fallback steps, Jacobians and gradient evaluations over the
+/// whole run, resumed parts included: those of the outcome of
+/// [`Session::execute`], which counts from the checkpoint's.
+pub fn totals(outcome: &Outcome) -> Totals {
     Totals {
-        iterations: before.map_or(0, |s| s.iterations) + outcome.iterations,
-        fallback_steps: before.map_or(0, |s| s.fallback_steps) + outcome.fallback_steps,
-        jacobians: before.map_or(0, |s| s.jacobians) + outcome.jacobians,
-        force_evaluations: before.map_or(0, |s| s.force_evaluations) + outcome.force_evaluations,
+        iterations: outcome.iterations,
+        fallback_steps: outcome.fallback_steps,
+        jacobians: outcome.jacobians,
+        force_evaluations: outcome.force_evaluations,
     }
 }
 

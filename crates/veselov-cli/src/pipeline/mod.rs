@@ -16,10 +16,16 @@
 //!   from which `--resume DIR` continues bit for bit.
 //! * **One summary schema** ([`summary`]): common keys plus each kind's own,
 //!   written at the end and on every failure.
+//! * **One run per directory** ([`lock`]): the output directory is locked
+//!   for the run's lifetime; a second run into it is refused.
+//! * **A record of the run's files** ([`manifest`], `outputs.json`): what
+//!   `--force` removes before a new run there, and nothing else.
 
 pub mod checkpoint;
 pub mod finish;
 pub mod identity;
+pub mod lock;
+pub mod manifest;
 pub mod readback;
 pub mod stream;
 pub mod summary;
@@ -38,6 +44,8 @@ use crate::output::prepare_dir;
 use crate::progress::{Measure, Progress};
 use crate::scenario::key_error;
 pub use checkpoint::Saved;
+use lock::DirLock;
+use manifest::Snapshot;
 
 /// Largest step count run without `--force-large`.
 pub const MAX_STEPS: u64 = 1_000_000_000;
@@ -128,6 +136,17 @@ impl Plan {
         Ok(())
     }
 
+    /// Whether the run saved in `saved` has already gone as far as this plan
+    /// asks: to its final time (a variable-step run stopped by time), or
+    /// through every planned step (a plan that counts its steps; the
+    /// lattice kinds plan `t_end/dt` and march to its ceiling).
+    pub fn reached_by(&self, saved: &Saved) -> bool {
+        match self.t_end {
+            Some(t_end) => saved.time.is_some_and(|t| t >= t_end),
+            None => self.steps.is_finite() && saved.step as f64 >= self.steps.ceil(),
+        }
+    }
+
     /// Planned step count as an integer (saturating).
     pub fn whole_steps(&self) -> u64 {
         if self.steps >= u64::MAX as f64 {
@@ -148,6 +167,14 @@ pub fn table_bytes(rows: f64, columns: usize, formats: &[String]) -> f64 {
         .map(|f| if f == "npy" { 8.0 } else { CSV_BYTES_PER_VALUE })
         .sum();
     rows * columns as f64 * per_value
+}
+
+/// Whether `dir/summary.json` says its run completed (`"status": "ok"`).
+fn completed(dir: &std::path::Path) -> bool {
+    std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
+        .is_some_and(|v| v["status"] == "ok")
 }
 
 /// A run in progress: output directory, interruption flag, progress, checkpoints.
@@ -173,17 +200,43 @@ pub struct Session {
     step: Option<f64>,
     /// [`Plan::t_end`], recorded in checkpoints.
     t_end: Option<f64>,
+    /// [`Plan::unit`], named in messages.
+    unit: &'static str,
     progress: Progress,
     /// Warnings met so far and the check of the summary at the end.
     pub verdict: crate::verdict::Verdict,
+    /// The directory's files when the run opened it: those new or changed
+    /// since are the run's, recorded in its [`manifest`].
+    outputs: Snapshot,
+    /// The directory's lock, held while the session lives (and released
+    /// when it is dropped, after the files are recorded).
+    _lock: DirLock,
+}
+
+impl Drop for Session {
+    /// The run's files are recorded, however the run ended (completed,
+    /// failed, interrupted, or left by an error), and then the directory's
+    /// lock is released.
+    fn drop(&mut self) {
+        if let Err(e) = self.record_outputs() {
+            eprintln!("warning: {e}");
+        }
+    }
 }
 
 /// Steps between two looks at the clock for time-based checkpoints.
 const CLOCK_EVERY: u64 = 256;
 
+/// Least wall time between two records of the run's files at checkpoints
+/// (each reads the directory): the record is also made when the files are
+/// opened and when the run ends.
+const RECORD_EVERY: Duration = Duration::from_secs(1);
+
 impl Session {
-    /// Check the plan, prepare (or, resuming, reopen) the output directory,
-    /// and install the signal handlers.
+    /// Check the plan, lock the output directory ([`lock`]) and prepare it
+    /// (or, resuming, reopen it: a run that has already completed is left
+    /// as it is, [`CliError::AlreadyComplete`]), and install the signal
+    /// handlers.
     pub fn open(
         file: &std::path::Path,
         job: &RunJob,
@@ -194,13 +247,33 @@ impl Session {
     ) -> Result<Self, CliError> {
         plan.check(file, job.force_large)?;
         let scenario = job.scenario.as_deref().and_then(identity::identity);
-        let (dir, resumed) = match &job.resume {
-            Some(d) => (d.clone(), Some(Saved::read(d, kind)?)),
-            None => (prepare_dir(&dir, job.force)?, None),
+        let dir = job.resume.clone().unwrap_or(dir);
+        if job.resume.is_none() {
+            std::fs::create_dir_all(&dir).map_err(|e| CliError::Io {
+                path: dir.clone(),
+                message: e.to_string(),
+            })?;
+        }
+        if !dir.is_dir() {
+            // A resume of a directory that is not there: the checkpoint's
+            // reader says what `--resume` needs.
+            Saved::read(&dir, kind)?;
+        }
+        // Locked before anything in it is read or written.
+        let lock = DirLock::acquire(&dir, job.quiet)?;
+        let resumed = match &job.resume {
+            Some(d) => Some(Saved::read(d, kind)?),
+            None => {
+                prepare_dir(&dir, job.force)?;
+                None
+            }
         };
         // Before anything in the directory is touched.
         if let Some(saved) = &resumed {
             identity::check_resume(file, &dir, saved, scenario.as_deref(), plan)?;
+            if plan.reached_by(saved) && completed(&dir) {
+                return Err(CliError::AlreadyComplete { dir, step: saved.step });
+            }
         }
         let interrupt = match &job.interrupt {
             Some(flag) => flag.clone(),
@@ -242,6 +315,8 @@ impl Session {
             );
         }
         Ok(Self {
+            outputs: Snapshot::take(&dir),
+            _lock: lock,
             dir,
             quiet: job.quiet,
             start: Instant::now(),
@@ -252,6 +327,7 @@ impl Session {
             scenario,
             step: plan.step,
             t_end: plan.t_end,
+            unit: plan.unit,
             progress: Progress::new(
                 Measure::Count {
                     total: plan.whole_steps(),
@@ -261,6 +337,12 @@ impl Session {
             ),
             verdict: crate::verdict::Verdict::default(),
         })
+    }
+
+    /// Record the files the run has written so far in the directory's
+    /// [`manifest`] (`outputs.json`).
+    pub fn record_outputs(&self) -> Result<(), CliError> {
+        manifest::record(&self.dir, &self.outputs)
     }
 
     /// The stop condition `stop` plus the interruption flag.
@@ -280,6 +362,12 @@ impl Session {
     /// checkpoint stands). `start` is how the run began: the recording of a
     /// fresh run's first state, `Ok` for a resumed one; a failed start ends
     /// the run as failed with no step taken.
+    ///
+    /// The outcome describes the whole run: its `steps` are those of this
+    /// invocation, but its iterations, fallback steps, Jacobians and
+    /// gradient evaluations count every part, resumed ones included (so do
+    /// the checkpoints written from it), so that a resumed run's summary
+    /// states what one uninterrupted run would.
     pub fn execute<S, O>(
         &mut self,
         start: Result<(), veselov::Error>,
@@ -306,16 +394,24 @@ impl Session {
             });
         }
         let reached = Cell::new(stepper.time(state));
+        // The counters run on from those of the parts resumed, so that the
+        // outcome (and every checkpoint written from it) counts the whole run.
+        let before = self.resumed.as_ref();
         let mut total = Outcome {
             last_step: first,
             steps: 0,
-            iterations: 0,
-            fallback_steps: 0,
-            jacobians: 0,
-            force_evaluations: 0,
+            iterations: before.map_or(0, |s| s.iterations),
+            fallback_steps: before.map_or(0, |s| s.fallback_steps),
+            jacobians: before.map_or(0, |s| s.jacobians),
+            force_evaluations: before.map_or(0, |s| s.force_evaluations),
             status: Status::Completed,
         };
         let mut last_checkpoint = Instant::now();
+        // The observer's files are open: a run killed from here on leaves
+        // them recorded.
+        self.record_outputs()?;
+        let mut last_record = Instant::now();
+        let mut cost = checkpoint::Cost::default();
         loop {
             let progress = &mut self.progress;
             let mut due = false;
@@ -363,6 +459,7 @@ impl Session {
                 || stop.steps.is_some_and(|n| total.last_step >= n)
                 || stop.t_end.is_some_and(|t| stepper.time(state) >= t);
             if self.checkpoint_every.is_some() && total.status != Status::Stopped && total.failure().is_none() {
+                let began = Instant::now();
                 checkpoint::write(
                     &self.dir,
                     (stepper, state, observer),
@@ -370,6 +467,14 @@ impl Session {
                     self.wall_seconds(),
                     (self.scenario.as_deref(), self.step, self.t_end),
                 )?;
+                if last_record.elapsed() >= RECORD_EVERY {
+                    self.record_outputs()?;
+                    last_record = Instant::now();
+                }
+                let steps = total.last_step.saturating_sub(first);
+                if let Some(warning) = cost.note(began.elapsed(), (steps, self.unit), self.start.elapsed(), every) {
+                    self.progress.warn(&warning);
+                }
             }
             if done {
                 break;

@@ -2,7 +2,7 @@
 //! [`MAX_PLOT_ROWS`] rows are kept (every k-th row and the last one), so a
 //! run of any length is drawn from a fixed amount of data.
 
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 use crate::error::CliError;
@@ -54,16 +54,34 @@ pub fn rows_for_plots(dir: &Path, stem: &str, header: &[String], rows: u64, max:
                 .map(|s| s.parse::<f64>())
                 .collect::<Result<Vec<f64>, _>>()
                 .map_err(|e| io(&csv, format!("line {}: {e}", i + 2)))?;
+            if row.len() != header.len() {
+                return Err(io(
+                    &csv,
+                    format!("line {}: {} values for {} columns", i + 2, row.len(), header.len()),
+                ));
+            }
             keep(i as u64, row);
         }
         return Ok(table);
     }
     let npy = dir.join(format!("{stem}.npy"));
+    let info = npy_info(&npy)?;
+    let per_row: usize = info.shape.iter().skip(1).product();
+    if per_row != header.len() || info.shape.is_empty() {
+        return Err(io(
+            &npy,
+            format!(
+                "its rows hold {per_row} values (shape {:?}), expected {}",
+                info.shape,
+                header.len()
+            ),
+        ));
+    }
+    if rows > info.rows() {
+        return Err(io(&npy, format!("holds {} rows, expected {rows}", info.rows())));
+    }
     let mut f = BufReader::new(std::fs::File::open(&npy).map_err(|e| io(&npy, e))?);
-    let mut pre = [0u8; 10];
-    f.read_exact(&mut pre).map_err(|e| io(&npy, e))?;
-    let mut dict = vec![0u8; u16::from_le_bytes([pre[8], pre[9]]) as usize];
-    f.read_exact(&mut dict).map_err(|e| io(&npy, e))?;
+    f.seek(SeekFrom::Start(info.data_offset)).map_err(|e| io(&npy, e))?;
     let mut buf = vec![0u8; 8 * header.len()];
     for i in 0..rows {
         f.read_exact(&mut buf).map_err(|e| io(&npy, e))?;
@@ -76,28 +94,83 @@ pub fn rows_for_plots(dir: &Path, stem: &str, header: &[String], rows: u64, max:
     Ok(table)
 }
 
-/// The shape of the float64 NPY array `path` (rows first), read from its
-/// header.
-pub fn npy_shape(path: &Path) -> Result<Vec<usize>, CliError> {
+/// What the header of a float64 NPY file says: its shape (rows first) and
+/// where its data begin.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NpyInfo {
+    /// The array's shape.
+    pub shape: Vec<usize>,
+    /// Bytes before the data.
+    pub data_offset: u64,
+}
+
+impl NpyInfo {
+    /// Rows of the array (its first dimension; 1 for a scalar).
+    pub fn rows(&self) -> u64 {
+        self.shape.first().map_or(1, |&r| r as u64)
+    }
+}
+
+/// Largest NPY header read (runs write 64 to 128 bytes).
+const MAX_NPY_HEADER: usize = 1 << 16;
+
+/// Read and check the header of the NPY file `path`: a little-endian
+/// float64 (`'<f8'`) array in C order, whose file holds every value its
+/// shape counts (a file cut short, a Fortran-ordered array or another
+/// dtype is an error naming the file, before anything is allocated from
+/// the shape).
+pub fn npy_info(path: &Path) -> Result<NpyInfo, CliError> {
     let bad = |m: &str| io(path, format!("not a float64 NPY file written by a run: {m}"));
     let mut f = BufReader::new(std::fs::File::open(path).map_err(|e| io(path, e))?);
-    let mut pre = [0u8; 10];
-    f.read_exact(&mut pre).map_err(|e| io(path, e))?;
+    let mut pre = [0u8; 8];
+    f.read_exact(&mut pre).map_err(|_| bad("too short for an NPY header"))?;
     if &pre[..6] != b"\x93NUMPY" {
         return Err(bad("no NPY magic"));
     }
-    let mut dict = vec![0u8; u16::from_le_bytes([pre[8], pre[9]]) as usize];
-    f.read_exact(&mut dict).map_err(|e| io(path, e))?;
-    let dict = String::from_utf8_lossy(&dict);
-    if !dict.contains("'<f8'") {
-        return Err(bad("its dtype is not '<f8'"));
+    let header_len = match pre[6] {
+        1 => {
+            let mut n = [0u8; 2];
+            f.read_exact(&mut n).map_err(|_| bad("its header is cut short"))?;
+            u16::from_le_bytes(n) as usize
+        }
+        2 | 3 => {
+            let mut n = [0u8; 4];
+            f.read_exact(&mut n).map_err(|_| bad("its header is cut short"))?;
+            usize::try_from(u32::from_le_bytes(n)).unwrap_or(usize::MAX)
+        }
+        v => return Err(bad(&format!("unknown NPY version {v}"))),
+    };
+    if header_len > MAX_NPY_HEADER {
+        return Err(bad(&format!("a header of {header_len} bytes")));
     }
-    let shape = dict
-        .split_once("'shape': (")
-        .and_then(|(_, rest)| rest.split_once(')'))
+    let mut dict = vec![0u8; header_len];
+    f.read_exact(&mut dict).map_err(|_| bad("its header is cut short"))?;
+    let dict = String::from_utf8_lossy(&dict);
+    let value = |key: &str| -> Option<&str> {
+        let (_, rest) = dict.split_once(&format!("'{key}':"))?;
+        Some(rest.trim_start())
+    };
+    let descr = value("descr").ok_or_else(|| bad("no dtype"))?;
+    if !(descr.starts_with("'<f8'") || descr.starts_with("\"<f8\"")) {
+        return Err(bad("its dtype is not '<f8' (little-endian float64)"));
+    }
+    let fortran = value("fortran_order").ok_or_else(|| bad("no fortran_order"))?;
+    if fortran.starts_with("True") {
+        return Err(io(
+            path,
+            "the array is stored in Fortran (column-major) order; runs write C order, in which it is read: \
+             save it with numpy.ascontiguousarray or fortran_order=False",
+        ));
+    }
+    if !fortran.starts_with("False") {
+        return Err(bad("fortran_order is neither True nor False"));
+    }
+    let shape = value("shape")
+        .and_then(|rest| rest.strip_prefix('('))
+        .and_then(|rest| rest.split_once(')'))
         .ok_or_else(|| bad("no shape"))?
         .0;
-    shape
+    let shape = shape
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
@@ -105,7 +178,28 @@ pub fn npy_shape(path: &Path) -> Result<Vec<usize>, CliError> {
             s.parse::<usize>()
                 .map_err(|_| bad("a shape entry is not a whole number"))
         })
-        .collect()
+        .collect::<Result<Vec<usize>, _>>()?;
+    let data_offset = (pre.len() + if pre[6] == 1 { 2 } else { 4 } + header_len) as u64;
+    let values = shape
+        .iter()
+        .try_fold(1u64, |n, &d| n.checked_mul(d as u64))
+        .and_then(|n| n.checked_mul(8))
+        .ok_or_else(|| bad(&format!("its shape {shape:?} counts more values than a file can hold")))?;
+    let length = std::fs::metadata(path).map_err(|e| io(path, e))?.len();
+    let held = length.saturating_sub(data_offset);
+    if held < values {
+        return Err(io(
+            path,
+            format!("cut short: its shape {shape:?} needs {values} bytes of data, the file holds {held}"),
+        ));
+    }
+    Ok(NpyInfo { shape, data_offset })
+}
+
+/// The shape of the float64 NPY array `path` (rows first), read from its
+/// header and checked as [`npy_info`] does.
+pub fn npy_shape(path: &Path) -> Result<Vec<usize>, CliError> {
+    Ok(npy_info(path)?.shape)
 }
 
 #[cfg(test)]
@@ -124,5 +218,49 @@ mod tests {
         }
         std::fs::write(&path, b"not an npy file at all").expect("write");
         assert!(npy_shape(&path).is_err());
+    }
+
+    /// A header that is not that of a C-ordered float64 array whose file
+    /// holds its values is an error naming the file, whatever the shape
+    /// claims (nothing is allocated from it).
+    #[test]
+    fn npy_headers_other_than_a_runs_are_refused() {
+        let dir = crate::test_scratch::Scratch::new("npy-refused");
+        let path = dir.join("snapshots.npy");
+        let write = |header: Vec<u8>, values: usize| {
+            let mut bytes = header;
+            bytes.extend(std::iter::repeat_n(0u8, 8 * values));
+            std::fs::write(&path, bytes).expect("write");
+        };
+        let good = crate::output::npy_header_shape(&[2, 3]);
+        // The dict after the 10-byte preamble, edited (same length).
+        let edit = |from: &str, to: &str| {
+            let text = String::from_utf8_lossy(&good[10..]).replacen(from, to, 1);
+            [&good[..10], text.as_bytes()].concat()
+        };
+        write(good.clone(), 6);
+        assert_eq!(npy_info(&path).expect("a run's file").shape, [2, 3]);
+        let cases = [
+            (edit("'fortran_order': False", "'fortran_order': True "), 6, "Fortran"),
+            (edit("'<f8'", "'>f8'"), 6, "dtype"),
+            (edit("'<f8'", "'<f4'"), 6, "dtype"),
+            (good.clone(), 5, "cut short"),
+            (edit("(2, 3)", "(2, x)"), 6, "not a whole number"),
+            (
+                crate::output::npy_header_shape(&[1 << 32, 1 << 32]),
+                6,
+                "more values than",
+            ),
+            (
+                crate::output::npy_header_shape(&[1_000_000_000, 1_000_000_000]),
+                6,
+                "cut short",
+            ),
+        ];
+        for (header, values, expected) in cases {
+            write(header, values);
+            let e = npy_info(&path).expect_err(expected).to_string();
+            assert!(e.contains("snapshots.npy") && e.contains(expected), "{e}");
+        }
     }
 }

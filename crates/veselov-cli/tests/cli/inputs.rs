@@ -114,9 +114,11 @@ fn file_names(dir: &Path) -> Vec<String> {
 }
 
 /// Every kind of run writes only files `--force` knows as run outputs
-/// (`output::is_run_output`), in both plot formats: a file a run writes
-/// under a name missing from that list would survive a `--force` rerun of
-/// another kind.
+/// (`output::is_run_output`, by which a directory of an earlier version is
+/// cleaned), in both plot formats, and lists every one of them in its
+/// `outputs.json` (by which `--force` cleans a directory now): a file a run
+/// writes missing from either would survive a `--force` rerun of another
+/// kind.
 #[test]
 fn every_file_a_run_writes_is_a_known_output() {
     let short = |file: &str, key: &str, value: &str| common::set(&common::example(file), key, value);
@@ -137,24 +139,32 @@ fn every_file_a_run_writes_is_a_known_output() {
             let text = text.replacen("[output]\n", &format!("[output]\nplot_format = \"{format}\"\n"), 1);
             let (ok, stderr, out) = run(&format!("known-{name}-{format}"), &text);
             assert!(ok, "{name} ({format}): {stderr}");
-            for file in file_names(&out) {
-                assert!(
-                    veselov_cli::output::is_run_output(&file),
-                    "{name} ({format}) wrote {file}"
-                );
-                seen += 1;
-            }
+            known_and_recorded(&format!("{name} ({format})"), &out);
+            seen += file_names(&out).len();
         }
     }
     let dir = Scratch::new("known-verify");
     let file = scenario(&dir, &short("harmonic.toml", "steps", "50"));
     let out = dir.join("verify");
     succeeds(&mut verify_command("0.1,0.05", &out, &file));
-    for file in file_names(&out) {
-        assert!(veselov_cli::output::is_run_output(&file), "verify wrote {file}");
-        seen += 1;
-    }
+    known_and_recorded("verify", &out);
+    seen += file_names(&out).len();
     assert!(seen > 100, "{seen} files");
+}
+
+/// Every file of the run `name` in `out` but its record is a known output
+/// and is listed in the record.
+fn known_and_recorded(name: &str, out: &Path) {
+    let recorded = veselov_cli::pipeline::manifest::recorded(out)
+        .expect("a readable outputs.json")
+        .expect("an outputs.json");
+    for file in file_names(out) {
+        if file == veselov_cli::pipeline::manifest::FILE {
+            continue;
+        }
+        assert!(veselov_cli::output::is_run_output(&file), "{name} wrote {file}");
+        assert!(recorded.contains(&file), "{name}: {file} is not in outputs.json");
+    }
 }
 
 /// `--force` into the directory of an earlier run of another kind leaves

@@ -302,7 +302,7 @@ where
         fallback_steps: fallback,
         force_evaluations,
         jacobians,
-    } = totals(&session, &outcome);
+    } = totals(&outcome);
     let wall = session.wall_seconds();
     let t_final = t_of(outcome.last_step, t0, dt);
     finish(

@@ -104,7 +104,7 @@ pub fn run_variable<const N: usize>(
         fallback_steps: fallback,
         jacobians,
         ..
-    } = totals(&session, &outcome);
+    } = totals(&outcome);
     let wall = session.wall_seconds();
     let t_final = x.t;
     finish(

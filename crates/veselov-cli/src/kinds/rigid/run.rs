@@ -188,7 +188,7 @@ where
     let mut stepper = GroupStepper::new(&mut map, x0.t);
     let mut x = x0;
     let outcome = start_or_resume(&mut session, &mut stepper, &mut x, &mut table, &words, steps)?;
-    let iterations = totals(&session, &outcome).iterations;
+    let iterations = totals(&outcome).iterations;
     let wall = session.wall_seconds();
     let t_final = t_of(outcome.last_step, x0.t, dt);
     let orthogonality =
