@@ -16,4 +16,5 @@ mod lattice;
 mod listings;
 mod mechanics;
 mod shared;
+mod vectors;
 mod verify;
