@@ -4,13 +4,18 @@
 //! kind's own schema is in its folder under [`crate::kinds`].
 //!
 //! Every table rejects unknown keys. Errors name the file, the key and what was
-//! expected; parse errors also show the line and column.
+//! expected; parse errors also show the line and column. Array keys of every
+//! kind are read and checked by one mechanism, [`Array`] and [`List`]: an
+//! array of the wrong length or with a bad entry is refused naming the key.
 
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
 use crate::error::CliError;
+
+mod arrays;
+pub use arrays::{Array, Entry, List};
 
 /// When the run starts (`t0`) and how long it lasts: exactly one
 /// of `t_end` and `steps`.

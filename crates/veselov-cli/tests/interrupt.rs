@@ -150,6 +150,18 @@ fn interrupt_and_resume(name: &str, text: &str, files: &Files) {
         let b = std::fs::read(part.join(f)).expect("resumed");
         assert!(a == b, "{name}: {f} differs after resume");
     }
+    // What a held rod or beam reports from its first and last rows and its
+    // support, kept in the checkpoint across the interruption.
+    let (s_whole, s_part) = (summary(&whole), summary(&part));
+    for key in [
+        "tip_displacement",
+        "tip_rotation_vector",
+        "deflection_max",
+        "reaction_force",
+        "reaction_moment",
+    ] {
+        assert_eq!(s_whole.get(key), s_part.get(key), "{name}: {key} differs after resume");
+    }
     resume_of_a_completed_run_changes_nothing(name, &part, &file);
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -440,6 +452,45 @@ plots = false
 }
 
 #[test]
+fn clamped_rod_run_resumes_its_tip_and_reaction_bit_for_bit() {
+    // A damped cantilever under an end force: the support's impulse and the
+    // first row of the centreline travel in the checkpoint.
+    interrupt_and_resume(
+        "rod-clamped",
+        r#"
+[model]
+name = "cosserat-rod"
+length = 1.0
+nodes = 41
+radius = 0.05
+density = 1000.0
+young = 1e5
+poisson = 0.5
+[ends]
+start = "clamped"
+[loads]
+damping = 13.8
+end_force = [0.0146, 0.0, 0.0]
+ramp = 1.0
+[time]
+t_end = 60.0
+[output]
+every = 10
+checkpoint_every = 500
+plots = false
+"#,
+        &Files {
+            watch: "momentum.csv",
+            watch_bytes: 20_000,
+            paired: ("momentum.csv", "centerline.npy", 41 * 3),
+            compared: &["momentum.csv", "energy.csv", "centerline.npy", "frames.npy"],
+            args: &[],
+            changed: None,
+        },
+    );
+}
+
+#[test]
 fn beam_run_survives_sigterm_and_resumes_bit_for_bit() {
     // Seed 000's time evolution on SE(3) with a clamped end (the rolling
     // three-level window rebuilt from the checkpoint).
@@ -471,7 +522,7 @@ plots = false
             watch: "momentum.csv",
             watch_bytes: 20_000,
             paired: ("momentum.csv", "frames.npy", 21 * 12),
-            compared: &["momentum.csv", "energy.csv", "frames.npy"],
+            compared: &["momentum.csv", "energy.csv", "frames.npy", "centerline.npy"],
             args: &[],
             changed: None,
         },

@@ -22,7 +22,7 @@ fn bad_input_gives_one_clear_message() {
         ("dt-zero", KEPLER.replace("dt = 0.01", "dt = 0.0"), &["method.dt", "> 0"]),
         ("dt-negative", KEPLER.replace("dt = 0.01", "dt = -1.0"), &["method.dt"]),
         ("dt-nan", KEPLER.replace("dt = 0.01", "dt = nan"), &["method.dt"]),
-        ("dimension", format!("{KEPLER}[initial]\nq = [1.0, 0.0, 0.0]\np = [0.0, 1.0]\n"), &["initial.q", "expected 2 values"]),
+        ("dimension", format!("{KEPLER}[initial]\nq = [1.0, 0.0, 0.0]\np = [0.0, 1.0]\n"), &["initial.q", "expected 2 numbers"]),
         ("non-finite-initial", format!("{KEPLER}[initial]\nq = [1.0, inf]\np = [0.0, 1.0]\n"), &["initial.q[1]", "finite"]),
         ("bad-eccentricity", KEPLER.replace("name = \"kepler\"", "name = \"kepler\"\nparams = { eccentricity = 1.5 }"), &["eccentricity", "[0, 1)"]),
         ("overflowing-inertia", KEPLER.replace("name = \"kepler\"", "name = \"pendulum\"\nparams = { length = 1e300 }").replace("[time]", "[initial]\nq = [1.0]\np = [0.0]\n[time]"), &["model.params", "mass·length²"]),

@@ -18,5 +18,6 @@ mod listings;
 mod mechanics;
 mod plot_inputs;
 mod shared;
+mod vectors;
 mod verdicts;
 mod verify;

@@ -10,13 +10,25 @@ use crate::output::Table;
 /// (`centerline.gif`), momentum-map changes and energy, read back from the
 /// files.
 pub fn draw_beam(dir: &Path, cross: usize, rows: u64, x: &str, format: &str) -> Result<(), CliError> {
-    crate::centerline::draw_centerline_figures(
-        dir,
-        ("frames", 12),
-        (cross, rows),
-        |r, c| [r[12 * c + 9], r[12 * c + 10], r[12 * c + 11]],
-        (x, format),
-    )?;
+    // Time evolution writes the centreline itself (runs before it did: the
+    // positions in frames.npy); space evolution's levels are columns.
+    if x == "t" && dir.join("centerline.npy").exists() {
+        crate::centerline::draw_centerline_figures(
+            dir,
+            ("centerline", 3),
+            (cross, rows),
+            |r, c| [r[3 * c], r[3 * c + 1], r[3 * c + 2]],
+            (x, format),
+        )?;
+    } else {
+        crate::centerline::draw_centerline_figures(
+            dir,
+            ("frames", 12),
+            (cross, rows),
+            |r, c| [r[12 * c + 9], r[12 * c + 10], r[12 * c + 11]],
+            (x, format),
+        )?;
+    }
     let momentum = Table::read_csv(&dir.join("momentum.csv"))?;
     crate::figures::draw_changes(
         &dir.join(format!("momentum.{format}")),

@@ -1,15 +1,19 @@
-//! The observer of a beam run: the rows of `frames.npy`, `momentum.csv`
-//! and `energy.csv` every `every` levels, the drift of the evolution
-//! momentum map and the current 𝒥 of the whole computed domain.
+//! The observer of a beam run: the rows of `frames.npy`, `centerline.npy`
+//! (time evolution), `momentum.csv` and `energy.csv` every `every` levels,
+//! the drift of the evolution momentum map, the current 𝒥 of the whole
+//! computed domain, and for a beam held at one end the reaction of its
+//! support and the motion of its tip.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{SMatrix, SVector, Vector3};
 use veselov::evolution::marcher::Evolution000;
+use veselov::field::cell::DiscreteLagrangian;
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{Retraction, SE3};
 use veselov::models::beam::{BeamLagrangian, left_generators};
 use veselov::run::{Control, Observer, StepStats, Words};
 
 use super::setup::BeamSetup;
+use crate::centerline::{Reaction, ShapeChange};
 use crate::error::CliError;
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{Resumable, after_recording};
@@ -92,6 +96,8 @@ pub(super) struct BeamObserver<'a> {
     pub(super) setup: &'a BeamSetup,
     pub(super) every: u64,
     pub(super) frames: NpyStream,
+    /// `centerline.npy`, in time evolution.
+    pub(super) centerline: Option<NpyStream>,
     pub(super) momentum: CsvStream,
     pub(super) energy: CsvStream,
     /// 𝖩⁺ at the first row and the largest change since, relative to the
@@ -105,7 +111,100 @@ pub(super) struct BeamObserver<'a> {
     pub(super) domain: DomainCurrent,
     pub(super) energy_range: [f64; 2],
     pub(super) row: Vec<f64>,
+    /// The positions of a row (nodes × 3).
+    pub(super) line: Vec<f64>,
+    /// The first and last rows of the centreline and the tip's frame.
+    pub(super) shape: ShapeChange,
+    /// The support's reaction, in time evolution with one end clamped.
+    pub(super) support: SupportImpulse,
     pub(super) error: Option<CliError>,
+}
+
+/// The impulse of the support at the one clamped end of a beam, from the
+/// discrete Euler–Lagrange equation at the clamped node, which the march
+/// does not impose: with the node's currents J = X(y)ᵀ ∂ℒ/∂y and discrete
+/// forces F mapped alike (X = [`left_generators`], spatial, angular part
+/// about the origin first), the support's impulse on node (ℓ, c) is
+/// I_R = −Σ_cells (J + X(y)ᵀ F), the sum over the cells the node is a
+/// vertex of: at the start (c = 0) the base vertex of cell 0 between
+/// levels ℓ and ℓ + 1 and the forward vertex of cell 0 between ℓ − 1 and
+/// ℓ; at the end (c = C) the cross vertex of cell C − 1 between ℓ and
+/// ℓ + 1. Summed over the nodes of a level these equations are the
+/// momentum balance of the beam; at a free node the sum is zero.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SupportImpulse {
+    /// The clamped end (0: start, 1: end), when only one is.
+    pub(super) end: Option<usize>,
+    /// The start node's terms from the cell below it (J^fwd + X(y)ᵀF^fwd of
+    /// cell 0 of the previous band; NaN before the first band).
+    below: [f64; 6],
+    /// The level ℓ of the last node whose impulse is known, and I_R there
+    /// (angular about the origin, then linear; NaN: none yet).
+    pub(super) last: [f64; 7],
+}
+
+impl SupportImpulse {
+    pub(super) fn new(end: Option<usize>) -> Self {
+        Self {
+            end,
+            below: [f64::NAN; 6],
+            last: [f64::NAN; 7],
+        }
+    }
+
+    /// Add the band between the previous and the current level of `e`: the
+    /// clamped node on the previous level has all its cells now.
+    pub(super) fn add_band<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(&mut self, e: &Beam<R>) {
+        let Some(end) = self.end else { return };
+        let generators = |g: &SE3<f64>| -> SMatrix<f64, 6, 6> { left_generators(g) };
+        let c = if end == 0 { 0 } else { e.cross() - 1 };
+        let currents = e.cell_currents::<6>(c, generators);
+        // The discrete forces at the cell's vertices, mapped as the currents.
+        let lag = e.lagrangian();
+        let mut forces = [SVector::<f64, 6>::zeros(); 3];
+        e.for_each_cell(|k, cell, y| {
+            if k == c && DiscreteLagrangian::<RigidMotions, 6>::has_forces(lag) {
+                for (l, f) in forces.iter_mut().enumerate() {
+                    let force = DiscreteLagrangian::<RigidMotions, 6>::cell_force::<f64>(lag, cell, y, l);
+                    *f = left_generators(&y[l]).transpose() * force;
+                }
+            }
+        });
+        let term = |l: usize| currents[l] + forces[l];
+        let level = e.level() as f64 - 1.0;
+        let impulse = if end == 0 {
+            let below = SVector::<f64, 6>::from(self.below);
+            self.below.copy_from_slice(term(1).as_slice());
+            -(term(0) + below)
+        } else {
+            -term(2)
+        };
+        self.last[0] = level;
+        self.last[1..].copy_from_slice(impulse.as_slice());
+    }
+
+    /// The reaction at the clamped node of level `level`, at `at`, over a
+    /// step `dt` ([`Reaction::from_impulse`]), if its impulse is known.
+    pub(super) fn reaction(&self, level: usize, dt: f64, at: Option<Vector3<f64>>) -> Option<Reaction> {
+        let end = self.end?;
+        let i = &self.last;
+        if i[0] != level as f64 || i.iter().any(|x| x.is_nan()) {
+            return None;
+        }
+        let angular = Vector3::new(i[1], i[2], i[3]);
+        let linear = Vector3::new(i[4], i[5], i[6]);
+        Some(Reaction::from_impulse(end, (linear, angular), dt, &at?))
+    }
+
+    fn save(&self, out: &mut Vec<f64>) {
+        out.extend(self.below);
+        out.extend(self.last);
+    }
+
+    fn restore(&mut self, w: &mut Words<'_>) -> veselov::Result<()> {
+        w.fill(&mut self.below)?;
+        w.fill(&mut self.last)
+    }
 }
 
 impl BeamObserver<'_> {
@@ -146,19 +245,27 @@ impl BeamObserver<'_> {
         let change = (j.plus - SVector::<f64, 6>::from(self.first)).amax();
         self.drift = self.drift.max(change / j.scale.max(f64::MIN_POSITIVE));
         self.row.clear();
+        self.line.clear();
         let mut c = [0.0; 12];
         for node in 0..=e.cross() {
             <RigidMotions as veselov::field::fibre::Fibre<6>>::write(&e.value(0, node), &mut c);
             // Fibre order: R row by row, then the translation.
             self.row.extend_from_slice(&c);
+            self.line.extend_from_slice(&c[9..]);
         }
+        let tip = self.shape.tip_node().unwrap_or(0);
+        let mut tip_frame = [0.0; 9];
+        tip_frame.copy_from_slice(&self.row[12 * tip..12 * tip + 9]);
+        self.shape.record(&self.line, tip_frame);
         let domain = self.domain.value(e, &j.plus, j.scale);
         let mut m = vec![level as f64, x];
         m.extend_from_slice(j.plus.as_slice());
         m.extend_from_slice(domain.as_slice());
+        let line = &self.line;
         let r = self
             .frames
             .row(&self.row)
+            .and_then(|()| self.centerline.as_mut().map_or(Ok(()), |c| c.row(line)))
             .and_then(|()| self.momentum.row(&m))
             .and_then(|()| self.energy.row(&[level as f64, x, energy]));
         self.io(r);
@@ -169,6 +276,7 @@ impl BeamObserver<'_> {
 impl<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static> Observer<Beam<R>> for BeamObserver<'_> {
     fn observe(&mut self, step: u64, state: &Beam<R>, _: &StepStats) -> Control {
         self.domain.add_band(state);
+        self.support.add_band(state);
         let recorded = if step.is_multiple_of(self.every) {
             self.record(state)
         } else {
@@ -180,10 +288,15 @@ impl<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static> Observer<B
 
 impl Resumable for BeamObserver<'_> {
     fn save(&mut self, out: &mut Vec<f64>) -> Result<(), CliError> {
+        let centerline = match &mut self.centerline {
+            Some(c) => c.position()?,
+            None => Default::default(),
+        };
         for p in [
             self.frames.position()?,
             self.momentum.position()?,
             self.energy.position()?,
+            centerline,
         ] {
             p.save(out);
         }
@@ -191,6 +304,8 @@ impl Resumable for BeamObserver<'_> {
         out.extend([self.drift, f64::from(u8::from(self.started))]);
         out.extend(self.energy_range);
         self.domain.save(out);
+        self.support.save(out);
+        self.shape.save(out);
         Ok(())
     }
     fn take_error(&mut self) -> Option<CliError> {
@@ -206,6 +321,8 @@ impl BeamObserver<'_> {
         self.drift = w.one()?;
         self.started = w.one()? != 0.0;
         self.energy_range = [w.one()?, w.one()?];
-        self.domain.restore(w)
+        self.domain.restore(w)?;
+        self.support.restore(w)?;
+        self.shape.restore(w)
     }
 }

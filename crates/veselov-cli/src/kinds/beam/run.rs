@@ -5,12 +5,16 @@
 //! output per `every` levels.
 //!
 //! Outputs: `frames.npy` (rows × cross nodes × 12: R row by row, then the
-//! position), `momentum.csv` (level, t or s, then the six components of the
+//! position), `centerline.npy` in time evolution (rows × nodes × 3: the
+//! positions, the rod's layout), `momentum.csv` (level, t or s, then the six components of the
 //! evolution momentum map 𝖩⁺ of the cell level below — 𝖩_𝖫 in time, 𝖩_𝖭 in
 //! space — angular first), `energy.csv` (level, t or s, E_𝖫 = Δs Σ e_𝖫 or
 //! E_𝖭 = Δt Σ e_𝖭), `summary.json` (with the largest change of 𝖩⁺ relative
-//! to the size of its terms), plots of the centreline, the momentum map and
-//! the energy.
+//! to the size of its terms; for a beam clamped at one end the tip's
+//! displacement and rotation, the largest deflection and the reaction of
+//! the support, [`crate::centerline::ShapeChange`] and
+//! [`super::observer::SupportImpulse`]), plots of the centreline, the
+//! momentum map and the energy.
 
 use std::path::Path;
 
@@ -24,8 +28,9 @@ use veselov::models::beam::{BeamDensity, BeamLagrangian, beam_lagrangian, straig
 use veselov::run::{Outcome, Status, StopWhen};
 
 use super::figures::draw_beam;
-use super::observer::{Beam, BeamObserver, DomainCurrent};
+use super::observer::{Beam, BeamObserver, DomainCurrent, SupportImpulse};
 use super::setup::{BeamSetup, BeamStart};
+use crate::centerline::{Reaction, ShapeChange, centerline_stream, single_support};
 use crate::error::CliError;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream};
@@ -105,6 +110,7 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         Some(r) => (r.restore_run(&dir, |w| obs.restore(w), &mut state)?, Ok(())),
         None => {
             obs.domain.add_band(&state);
+            obs.support.add_band(&state);
             (0, obs.record(&state))
         }
     };
@@ -127,9 +133,21 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     }
     obs.frames.position()?;
     obs.energy.position()?;
+    if let Some(c) = &mut obs.centerline {
+        c.position()?;
+    }
     let rows_out = obs.momentum.position()?.rows;
     let level = state.level();
-    let own = summary(setup, &outcome, level, cross, &obs);
+    // The clamped node's equation is complete one level below the last.
+    let support_node = |end: usize| if end == 0 { 0 } else { cross - 1 };
+    let reaction = obs.support.end.and_then(|end| {
+        let at = obs.shape.last_point(support_node(end));
+        match outcome.status {
+            Status::Completed => obs.support.reaction(level.saturating_sub(1), setup.dt, at),
+            _ => None,
+        }
+    });
+    let own = summary(setup, &outcome, (level, cross), &obs, reaction.as_ref());
     let t_final = level as f64 * step_length;
     let ending = Ending {
         status: outcome.status,
@@ -147,10 +165,12 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         }),
         || {
             format!(
-                "beam, {} evolution: {} levels to {x} = {t_final}, max change of the momentum map {:.1e} of its terms",
+                "beam, {} evolution: {} levels to {x} = {t_final}, max change of the momentum map {:.1e} of its terms{}{}",
                 if setup.space { "space" } else { "time" },
                 level,
                 obs.drift,
+                obs.shape.report(),
+                Reaction::report(reaction.as_ref()),
             )
         },
     )
@@ -197,13 +217,13 @@ fn open_observer<'a>(
     setup: &'a BeamSetup,
     job: &RunJob,
     cross: usize,
-) -> Result<(Session, Option<Resumed<3>>, BeamObserver<'a>), CliError> {
+) -> Result<(Session, Option<Resumed<4>>, BeamObserver<'a>), CliError> {
     let s = &setup.scenario;
     let rows = setup.levels / setup.every + 2;
     let plan = Plan {
         steps: setup.levels as f64,
         steps_key: "time.t_end",
-        bytes: rows as f64 * (cross as f64 * 12.0 * 8.0 + 11.0 * CSV_BYTES_PER_VALUE),
+        bytes: rows as f64 * (cross as f64 * 15.0 * 8.0 + 17.0 * CSV_BYTES_PER_VALUE),
         bytes_key: "output.every",
         unit: "levels",
         step: Some(setup.dt),
@@ -229,7 +249,7 @@ fn open_observer<'a>(
             also: "more `model.nodes` if the space step dominates the error",
         },
     });
-    let (session, resumed) = open_lattice_run::<3>(
+    let (session, resumed) = open_lattice_run::<4>(
         &setup.path,
         job,
         (s.output.dir.clone(), &plan),
@@ -241,10 +261,17 @@ fn open_observer<'a>(
     let at = Resumed::positions(&resumed);
     let x = if setup.space { "s" } else { "t" };
     let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    // Space evolution marches across the time nodes: nothing is held.
+    let held = if setup.space { [false; 2] } else { setup.clamped };
     let obs = BeamObserver {
         setup,
         every: setup.every,
         frames: NpyStream::create(&dir.join("frames.npy"), &[cross, 12], rows, at[0])?,
+        centerline: if setup.space {
+            None
+        } else {
+            Some(centerline_stream(&dir, cross, rows, at[3])?)
+        },
         momentum: CsvStream::create(
             &dir.join("momentum.csv"),
             &names(&[
@@ -272,22 +299,26 @@ fn open_observer<'a>(
         domain: DomainCurrent::default(),
         energy_range: [f64::NAN; 2],
         row: Vec::with_capacity(cross * 12),
+        line: Vec::with_capacity(cross * 3),
+        shape: ShapeChange::new((0..cross).map(|a| a as f64 * setup.ds).collect(), held),
+        support: SupportImpulse::new(single_support(held)),
         error: None,
     };
     Ok((session, resumed, obs))
 }
 
 /// The kind's own keys of `summary.json`: the run ended at `level`, with
-/// `cross` nodes across a level.
+/// `cross` nodes across a level; those of a held beam's shape and support
+/// ([`ShapeChange::keys`], [`Reaction::keys`]).
 fn summary(
     setup: &BeamSetup,
     outcome: &Outcome,
-    level: usize,
-    cross: usize,
+    (level, cross): (usize, usize),
     obs: &BeamObserver<'_>,
+    reaction: Option<&Reaction>,
 ) -> serde_json::Value {
     let s = &setup.scenario;
-    json!({
+    let mut own = json!({
         "scenario": setup.path.display().to_string(),
         "model": s.model.name,
         "evolution": if setup.space { "space" } else { "time" },
@@ -308,5 +339,10 @@ fn summary(
         "domain_current_max": obs.domain.worst,
         "energy_min": obs.energy_range[0],
         "energy_max": obs.energy_range[1],
-    })
+    });
+    if let Some(own) = own.as_object_mut() {
+        own.extend(obs.shape.keys());
+        own.extend(Reaction::keys(reaction));
+    }
+    own
 }

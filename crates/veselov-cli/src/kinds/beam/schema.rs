@@ -42,7 +42,7 @@
 
 use serde::Deserialize;
 
-use crate::scenario::RowsOutputSpec;
+use crate::scenario::{Array, RowsOutputSpec};
 
 /// The model name of the beam kind.
 pub const BEAM_MODEL: &str = "beam";
@@ -171,12 +171,12 @@ pub(crate) struct BeamEndsSpec {
 pub(crate) struct BeamLoadsSpec {
     /// The gravitational acceleration (x, y, z), averaged over each cell.
     #[schemars(extend("unit" = "m/s²", "default" = [0.0, 0.0, 0.0]))]
-    pub gravity: Option<[f64; 3]>,
+    pub gravity: Option<Array<f64, 3>>,
     /// Six viscous damping coefficients per unit length (each ≥ 0) against
     /// the body velocity, angular first (about E1, E2, E3, in N·s), then
     /// linear (along E1, E2, E3, in N·s/m²).
     #[schemars(extend("default" = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]))]
-    pub damping: Option<[f64; 6]>,
+    pub damping: Option<Array<f64, 6>>,
 }
 
 /// The first two levels of the march. In time evolution the

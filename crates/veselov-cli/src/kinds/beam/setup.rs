@@ -13,7 +13,9 @@ use super::schema::{
     BEAM_MODEL, BeamEndsSpec, BeamInitialSpec, BeamLoadsSpec, BeamMethodSpec, BeamModelSpec, BeamScenario, BeamTimeSpec,
 };
 use crate::error::CliError;
-use crate::scenario::{adjusted_step_note, finite_value, key_error, parse_toml, positive_value, shear_from_keys};
+use crate::scenario::{
+    Array, adjusted_step_note, finite_value, key_error, parse_toml, positive_value, shear_from_keys,
+};
 
 /// Largest number of nodes across a level.
 const MAX_NODES: usize = 100_000;
@@ -316,13 +318,9 @@ fn ends(path: &Path, ends: &BeamEndsSpec, space: bool) -> Result<[bool; 2], CliE
 /// `[loads]`: gravity and the viscous damping of the body velocity.
 fn loads(path: &Path, loads: &BeamLoadsSpec) -> Result<([f64; 3], [f64; 6]), CliError> {
     let key = |k: &str, m: String| key_error(path, k, m);
-    let gravity = loads.gravity.unwrap_or([0.0; 3]);
-    for (i, g) in gravity.iter().enumerate() {
-        finite_value(path, &format!("loads.gravity[{i}]"), *g)?;
-    }
-    let damping = loads.damping.unwrap_or([0.0; 6]);
-    for (i, c) in damping.iter().enumerate() {
-        let c = finite_value(path, &format!("loads.damping[{i}]"), *c)?;
+    let gravity = Array::or(&loads.gravity, path, "loads.gravity", [0.0; 3])?;
+    let damping = Array::or(&loads.damping, path, "loads.damping", [0.0; 6])?;
+    for (i, &c) in damping.iter().enumerate() {
         if c < 0.0 {
             return Err(key(&format!("loads.damping[{i}]"), format!("must be ≥ 0, got {c}")));
         }

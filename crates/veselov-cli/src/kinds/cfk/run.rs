@@ -23,7 +23,7 @@ use crate::error::CliError;
 use crate::pipeline::finish::{Ending, close_run};
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{CSV_BYTES_PER_VALUE, Plan, Resumed, RunJob, Session, open_lattice_run};
-use crate::scenario::{finite_value, positive_value};
+use crate::scenario::{Array, finite_value, positive_value};
 use crate::verdict::{Conserved, ENERGY_ERROR_FIELDS, EnergyCheck, StepAdvice, Verdict};
 
 /// Run a CFK-lattice field scenario.
@@ -81,10 +81,7 @@ fn initial<const M: usize>(setup: &Setup, (m2, lambda): (f64, f64)) -> Result<In
     let i = &setup.scenario.initial;
     let (lx, ly) = (setup.nodes[0] as f64 * setup.dx, setup.nodes[1] as f64 * setup.dx);
     let amplitude = finite_value(&setup.path, "initial.amplitude", i.amplitude.unwrap_or(1.0))?;
-    let mode = i.mode.clone().unwrap_or_else(|| vec![1, 1]);
-    if mode.len() != 2 {
-        return Err(setup.key("initial.mode", format!("expected two mode numbers, got {mode:?}")));
-    }
+    let mode = Array::or(&i.mode, &setup.path, "initial.mode", [1, 1])?;
     let (kx, ky) = (TAU * mode[0] as f64 / lx, TAU * mode[1] as f64 / ly);
     let complex = M == 2;
     match (i.kind.as_str(), complex) {

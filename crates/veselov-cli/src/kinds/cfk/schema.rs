@@ -10,7 +10,7 @@ use veselov::field::cauchy::CauchyOptions;
 
 use crate::error::CliError;
 use crate::kinds::lattice::schema::{FieldModelSpec, FieldTimeSpec};
-use crate::scenario::{check_plot_format, finite_value, key_error, parse_toml, positive_value};
+use crate::scenario::{Array, check_plot_format, finite_value, key_error, parse_toml, positive_value};
 
 /// A field scenario on the CFK simplicial lattice in 2+1 dimensions: the
 /// field equation, the lattice, the rule and its solves, the initial field,
@@ -58,7 +58,7 @@ pub(super) struct CfkLatticeSpec {
     /// Nodes per space axis [nx, ny], each 3 to 4096, with nx·ny at most
     /// 2²⁰ = 1048576; the lattice is periodic in both directions.
     #[schemars(extend("x-type" = "array of 2 integers"))]
-    pub(super) nodes: Vec<usize>,
+    pub(super) nodes: Array<i64, 2>,
     /// The space step Δx (> 0): the periodic domain is nx·Δx by ny·Δx.
     pub(super) spacing: f64,
     /// Time step Δt (> 0), at most 0.4·Δx (the measured stability limit of the
@@ -104,7 +104,7 @@ pub(super) struct CfkInitialSpec {
     /// `standing-wave` and `plane-wave`: the mode numbers [mx, my], whole waves
     /// across the domain along x and y.
     #[schemars(extend("default" = [1, 1], "x-type" = "array of 2 integers"))]
-    pub(super) mode: Option<Vec<i32>>,
+    pub(super) mode: Option<Array<i64, 2>>,
 }
 
 /// What a CFK run writes and where.
@@ -183,20 +183,23 @@ impl Setup {
                 format!("CFK field runs are in 2 space dimensions, got {}", l.space_dimension),
             ));
         }
-        if l.nodes.len() != 2 || l.nodes.iter().any(|&n| !(3..=4096).contains(&n)) {
+        let nodes = l.nodes.values(path, "lattice.nodes")?;
+        if nodes.iter().any(|n| !(3..=4096).contains(n)) {
             return Err(key(
                 "lattice.nodes",
-                format!("expected two node counts in 3..=4096, got {:?}", l.nodes),
+                format!("expected two node counts in 3..=4096, got {nodes:?}"),
             ));
         }
+        // In 3..=4096: exact.
+        let nodes = nodes.map(|n| n as usize);
         // The march keeps 7 levels of values and 4 levels of cell gradients
         // (about 1 KiB per node of a level): cap a level at 2²⁰ nodes.
-        if l.nodes[0] * l.nodes[1] > MAX_LEVEL_NODES {
+        if nodes[0] * nodes[1] > MAX_LEVEL_NODES {
             return Err(key(
                 "lattice.nodes",
                 format!(
                     "{} × {} nodes per level exceed the limit of {MAX_LEVEL_NODES}",
-                    l.nodes[0], l.nodes[1]
+                    nodes[0], nodes[1]
                 ),
             ));
         }
@@ -267,7 +270,7 @@ impl Setup {
         check_plot_format(path, &o.plot_format)?;
         Ok(Self {
             path: path.to_path_buf(),
-            nodes: [l.nodes[0], l.nodes[1]],
+            nodes,
             scenario,
             dx,
             dt,

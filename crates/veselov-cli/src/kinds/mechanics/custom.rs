@@ -276,15 +276,15 @@ impl DynCustomSymmetry {
         };
         let finite = |xi: &[f64]| xi.iter().all(|x| x.is_finite());
         if let Some(init) = &scenario.scenario.initial
-            && init.q.len() == n
+            && let Ok(q0) = init.q.values(&scenario.path, "initial.q", &[n], "")
         {
-            let xi = at(&init.q);
+            let xi = at(&q0);
             if !finite(&xi) {
                 return Err(scenario.key_error(
                     key,
                     format!(
                         "the generator is not finite at the initial state q = {}: ξ = {}",
-                        numbers(&init.q),
+                        numbers(&q0),
                         numbers(&xi)
                     ),
                 ));

@@ -21,7 +21,7 @@ use super::systems::{check_defect, invariance_samples};
 use crate::catalog::Choice;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
-use crate::scenario::note_step_length;
+use crate::scenario::{List, note_step_length};
 
 /// Run the custom model of `scenario` (more than [`MAX_FIXED_DIMENSION`]
 /// coordinates) with the options of `job`.
@@ -108,20 +108,7 @@ fn initial(scenario: &LoadedScenario, l: &DynCustomLagrangian, coordinates: &[St
     let Some(init) = &scenario.scenario.initial else {
         return Err(scenario.key_error("initial", "missing: custom models need [initial] q and p (or v)"));
     };
-    let check = |key: &str, x: &[f64]| {
-        if x.len() == coordinates.len() {
-            Ok(x.to_vec())
-        } else {
-            Err(scenario.key_error(
-                key,
-                format!(
-                    "expected {} values (one per coordinate), got {}",
-                    coordinates.len(),
-                    x.len()
-                ),
-            ))
-        }
-    };
+    let check = |key: &str, x: &List<f64>| x.values(&scenario.path, key, &[coordinates.len()], " (one per coordinate)");
     let q = check("initial.q", &init.q)?;
     let p = match (&init.p, &init.v) {
         (Some(p), _) => check("initial.p", p)?,

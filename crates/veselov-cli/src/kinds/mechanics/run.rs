@@ -19,7 +19,7 @@ use crate::pipeline::finish::{Totals, finish, open_table_session, start_or_resum
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, RowFn, TableObserver};
 use crate::pipeline::{RunJob, summary};
-use crate::scenario::{note_step_length, planned_steps};
+use crate::scenario::{List, note_step_length, planned_steps};
 use crate::verdict::{Conserved, ENERGY_ERROR_MECHANICS, EnergyCheck, StepAdvice};
 
 /// The scenario's method, with errors naming the key.
@@ -55,18 +55,10 @@ pub fn resolve_initial<const N: usize>(
         };
     };
     let coords = system.coordinates.join(", ");
-    let vector = |key: &str, x: &[f64]| -> Result<SVector<f64, N>, CliError> {
-        if x.len() != N {
-            return Err(scenario.key_error(
-                key,
-                format!(
-                    "expected {N} values (model `{}` has coordinates {coords}), got {}",
-                    system.model,
-                    x.len()
-                ),
-            ));
-        }
-        Ok(SVector::from_column_slice(x))
+    let note = format!(" (model `{}` has coordinates {coords})", system.model);
+    let vector = |key: &str, x: &List<f64>| -> Result<SVector<f64, N>, CliError> {
+        let x = x.values(&scenario.path, key, &[N], &note)?;
+        Ok(SVector::from_column_slice(&x))
     };
     let q = vector("initial.q", &init.q)?;
     match (&init.p, &init.v) {

@@ -11,7 +11,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::error::CliError;
-use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, output_dir, parse_toml, step_count, step_length};
+use crate::scenario::{
+    List, OutputSpec, TimeSpec, check_time_and_output, output_dir, parse_toml, step_count, step_length,
+};
 
 /// A mechanics scenario: a built-in model or a Lagrangian given as
 /// expressions, the method and its step, the time span, the initial state and
@@ -150,12 +152,12 @@ impl MethodSpec {
 pub struct InitialSpec {
     /// Initial coordinates, one value per coordinate, in the order of the
     /// model's coordinates (`veselov models`) or of `coordinates`.
-    pub q: Vec<f64>,
+    pub q: List<f64>,
     /// Initial momenta p = ∂L/∂v, one per coordinate; give either `p` or `v`.
-    pub p: Option<Vec<f64>>,
+    pub p: Option<List<f64>>,
     /// Initial velocities, one per coordinate, turned into momenta through the
     /// Lagrangian; give either `p` or `v`.
-    pub v: Option<Vec<f64>>,
+    pub v: Option<List<f64>>,
 }
 
 /// A scenario with the path it came from.
@@ -234,12 +236,12 @@ impl LoadedScenario {
             ));
         }
         if let Some(init) = &s.initial {
-            self.finite("initial.q", &init.q)?;
+            // `q`, `p` and `v` are checked, length first, against the
+            // model's coordinates once the model is known.
             match (&init.p, &init.v) {
                 (Some(_), Some(_)) => return Err(self.key_error("initial", "give either `p` or `v`, not both")),
                 (None, None) => return Err(self.key_error("initial", "missing `p` or `v`")),
-                (Some(p), None) => self.finite("initial.p", p)?,
-                (None, Some(v)) => self.finite("initial.v", v)?,
+                _ => {}
             }
         }
         for (k, v) in &s.model.params {

@@ -10,7 +10,7 @@ use veselov::lie::{SO3, so3};
 
 use crate::error::CliError;
 use crate::output::number;
-use crate::scenario::{OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, parse_toml};
+use crate::scenario::{Array, List, OutputSpec, TimeSpec, check_time_and_output, finite_value, key_error, parse_toml};
 
 /// A rigid-body scenario: the body, the Lie-group integrator and its step,
 /// the time span, the initial attitude and motion, and the outputs.
@@ -55,15 +55,15 @@ pub struct RigidModelSpec {
     /// Default [1, 2, 3] for `rigid-body` and `rigid-body-se3`, [1, 1, 0.5] for
     /// `heavy-top`.
     #[schemars(extend("unit" = "kg·m²", "x-type" = "array of 3 or 9 floats"))]
-    pub inertia: Option<Vec<f64>>,
+    pub inertia: Option<List<f64>>,
     /// Mass of the body (`heavy-top` and `rigid-body-se3`; refused by
     /// `rigid-body`).
     #[schemars(extend("unit" = "kg", "default" = 1.0))]
     pub mass: Option<f64>,
     /// `heavy-top` only: the centre of mass in the body frame, measured from
     /// the pivot.
-    #[schemars(extend("unit" = "m", "default" = [0.0, 0.0, 1.0], "x-type" = "array of 3 floats"))]
-    pub centre_of_mass: Option<Vec<f64>>,
+    #[schemars(extend("unit" = "m", "default" = [0.0, 0.0, 1.0]))]
+    pub centre_of_mass: Option<Array<f64, 3>>,
     /// `heavy-top` only: the gravitational acceleration, acting along −z.
     #[schemars(extend("unit" = "m/s²", "default" = 9.81))]
     pub gravity: Option<f64>,
@@ -101,32 +101,31 @@ pub struct RigidInitialSpec {
     /// Initial attitude as a rotation vector, the axis times the angle; give
     /// either this or `quaternion`. Default: the identity, except [0.3, 0, 0]
     /// for `heavy-top`.
-    #[schemars(extend("unit" = "rad", "x-type" = "array of 3 floats"))]
-    pub rotation_vector: Option<Vec<f64>>,
+    #[schemars(extend("unit" = "rad"))]
+    pub rotation_vector: Option<Array<f64, 3>>,
     /// Initial attitude as a quaternion [w, x, y, z] (Hamilton convention; it
     /// need not be normalised); give either this or `rotation_vector`.
-    #[schemars(extend("x-type" = "array of 4 floats"))]
-    pub quaternion: Option<Vec<f64>>,
+    pub quaternion: Option<Array<f64, 4>>,
     /// Initial angular velocity Ω in the body frame; give either this or
     /// `angular_momentum`. Default [0.05, 1, 0.05] (near the unstable middle
     /// axis) for `rigid-body` and `rigid-body-se3`, [0, 0, 20] for `heavy-top`.
-    #[schemars(extend("unit" = "rad/s", "x-type" = "array of 3 floats"))]
-    pub angular_velocity: Option<Vec<f64>>,
+    #[schemars(extend("unit" = "rad/s"))]
+    pub angular_velocity: Option<Array<f64, 3>>,
     /// Initial angular momentum Π = 𝕀Ω in the body frame; give either this or
     /// `angular_velocity`.
-    #[schemars(extend("unit" = "kg·m²/s", "x-type" = "array of 3 floats"))]
-    pub angular_momentum: Option<Vec<f64>>,
+    #[schemars(extend("unit" = "kg·m²/s"))]
+    pub angular_momentum: Option<Array<f64, 3>>,
     /// `rigid-body-se3` only: the initial position of the centre of mass.
-    #[schemars(extend("unit" = "m", "default" = [0.0, 0.0, 0.0], "x-type" = "array of 3 floats"))]
-    pub position: Option<Vec<f64>>,
+    #[schemars(extend("unit" = "m", "default" = [0.0, 0.0, 0.0]))]
+    pub position: Option<Array<f64, 3>>,
     /// `rigid-body-se3` only: the initial velocity of the centre of mass in the
     /// body frame; give either this or `linear_momentum`.
-    #[schemars(extend("unit" = "m/s", "default" = [1.0, 0.0, 0.0], "x-type" = "array of 3 floats"))]
-    pub velocity: Option<Vec<f64>>,
+    #[schemars(extend("unit" = "m/s", "default" = [1.0, 0.0, 0.0]))]
+    pub velocity: Option<Array<f64, 3>>,
     /// `rigid-body-se3` only: the initial linear momentum m v in the body frame;
     /// give either this or `velocity`.
-    #[schemars(extend("unit" = "kg·m/s", "x-type" = "array of 3 floats"))]
-    pub linear_momentum: Option<Vec<f64>>,
+    #[schemars(extend("unit" = "kg·m/s"))]
+    pub linear_momentum: Option<Array<f64, 3>>,
 }
 
 /// A parsed rigid-body scenario and its file.
@@ -153,22 +152,10 @@ impl LoadedRigid {
     pub(super) fn vector3(
         &self,
         key: &str,
-        value: &Option<Vec<f64>>,
+        value: &Option<Array<f64, 3>>,
         default: [f64; 3],
     ) -> Result<Vector3<f64>, CliError> {
-        match value {
-            None => Ok(Vector3::from(default)),
-            Some(v) if v.len() == 3 => {
-                if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-                    return Err(self.key_error(
-                        &format!("{key}[{i}]"),
-                        format!("expected a finite number, got {}", v[i]),
-                    ));
-                }
-                Ok(Vector3::new(v[0], v[1], v[2]))
-            }
-            Some(v) => Err(self.key_error(key, format!("expected 3 numbers, got {}", v.len()))),
-        }
+        Array::or(value, &self.path, key, default).map(Vector3::from)
     }
 
     pub(super) fn scalar(&self, key: &str, value: Option<f64>, default: f64) -> Result<f64, CliError> {
@@ -179,21 +166,16 @@ impl LoadedRigid {
         match &self.scenario.model.inertia {
             None => Ok(Matrix3::from_diagonal(&Vector3::from(default))),
             Some(v) => {
-                if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-                    return Err(self.key_error(
-                        &format!("model.inertia[{i}]"),
-                        format!("expected a finite number, got {}", v[i]),
-                    ));
-                }
-                let inertia = match v.len() {
-                    3 => Matrix3::from_diagonal(&Vector3::new(v[0], v[1], v[2])),
-                    9 => Matrix3::from_row_slice(v),
-                    n => {
-                        return Err(self.key_error(
-                            "model.inertia",
-                            format!("expected 3 principal moments or 9 tensor entries, got {n} numbers"),
-                        ));
-                    }
+                let v = v.values(
+                    &self.path,
+                    "model.inertia",
+                    &[3, 9],
+                    " (the principal moments, or the tensor's entries row by row)",
+                )?;
+                let inertia = if v.len() == 3 {
+                    Matrix3::from_diagonal(&Vector3::new(v[0], v[1], v[2]))
+                } else {
+                    Matrix3::from_row_slice(&v)
                 };
                 self.check_principal_moments(&inertia)?;
                 Ok(inertia)
@@ -243,19 +225,8 @@ impl LoadedRigid {
                 [0.0; 3],
             )?)),
             (None, Some(q)) => {
-                if q.len() != 4 {
-                    return Err(self.key_error(
-                        "initial.quaternion",
-                        format!("expected 4 numbers [w, x, y, z], got {}", q.len()),
-                    ));
-                }
-                if let Some(i) = q.iter().position(|x| !x.is_finite()) {
-                    return Err(self.key_error(
-                        &format!("initial.quaternion[{i}]"),
-                        format!("expected a finite number, got {}", q[i]),
-                    ));
-                }
-                SO3::from_quaternion(&Quaternion::new(q[0], q[1], q[2], q[3]))
+                let [w, x, y, z] = q.values(&self.path, "initial.quaternion")?;
+                SO3::from_quaternion(&Quaternion::new(w, x, y, z))
                     .map_err(|e| self.key_error("initial.quaternion", e.to_string()))
             }
             (None, None) => Ok(SO3::identity()),
@@ -265,8 +236,8 @@ impl LoadedRigid {
     /// Body momentum from `velocity_key`/`momentum_key` (exactly one, or the default velocity).
     pub(super) fn body_momentum(
         &self,
-        (velocity_key, velocity): (&str, &Option<Vec<f64>>),
-        (momentum_key, momentum): (&str, &Option<Vec<f64>>),
+        (velocity_key, velocity): (&str, &Option<Array<f64, 3>>),
+        (momentum_key, momentum): (&str, &Option<Array<f64, 3>>),
         inertia: &Matrix3<f64>,
         default_velocity: [f64; 3],
     ) -> Result<Vector3<f64>, CliError> {

@@ -30,7 +30,7 @@ use veselov::lie::so3;
 use veselov::models::rod::EndCondition;
 
 use crate::error::CliError;
-use crate::scenario::key_error;
+use crate::scenario::{Array, key_error};
 
 /// `[ends.start_motion]` or `[ends.end_motion]`: the motion of a driven
 /// end from its initial pose, as expressions in the run's time `t`; give
@@ -41,33 +41,31 @@ pub(crate) struct MotionSpec {
     /// The displacement Δr(t) from the initial position: three
     /// expressions in `t` (x, y, z), zero at t = 0.
     #[schemars(extend("unit" = "m", "default" = ["0", "0", "0"]))]
-    pub displacement: Option<[String; 3]>,
+    pub displacement: Option<Array<String, 3>>,
     /// The rotation θ(t) applied to the initial frame, a rotation vector in
     /// the spatial frame: three expressions in `t` (x, y, z), zero at t = 0.
     #[schemars(extend("unit" = "rad", "default" = ["0", "0", "0"]))]
-    pub rotation: Option<[String; 3]>,
+    pub rotation: Option<Array<String, 3>>,
 }
 
 /// Largest `|Δr(0)|`, `|θ(0)|` accepted as zero.
 const START_TOLERANCE: f64 = 1e-12;
 
-/// Three expressions in `t`, parsed with errors naming `key[i]`.
-fn parse_vector(file: &Path, key: &str, sources: &Option<[String; 3]>) -> Result<Option<[Expr; 3]>, CliError> {
-    parse_in(file, key, sources, "t")
+/// Three expressions in `t`, parsed with errors naming `key` (a length
+/// other than 3) or `key[i]`.
+fn parse_vector(file: &Path, key: &str, sources: &Option<Array<String, 3>>) -> Result<Option<[Expr; 3]>, CliError> {
+    match sources {
+        Some(sources) => parse_in(file, key, sources, "t").map(Some),
+        None => Ok(None),
+    }
 }
 
-/// Three expressions in the variable `variable`, parsed with errors naming `key[i]`.
-fn parse_in(
-    file: &Path,
-    key: &str,
-    sources: &Option<[String; 3]>,
-    variable: &str,
-) -> Result<Option<[Expr; 3]>, CliError> {
-    let Some(sources) = sources else {
-        return Ok(None);
-    };
+/// Three expressions in the variable `variable`, parsed with errors naming
+/// `key` (a length other than 3) or `key[i]`.
+fn parse_in(file: &Path, key: &str, sources: &Array<String, 3>, variable: &str) -> Result<[Expr; 3], CliError> {
+    let sources = sources.values(file, key)?;
     let parse = |i: usize| parse_expression(file, &format!("{key}[{i}]"), &sources[i], variable);
-    Ok(Some([parse(0)?, parse(1)?, parse(2)?]))
+    Ok([parse(0)?, parse(1)?, parse(2)?])
 }
 
 /// One expression in the single variable `variable`, its errors naming `key`.
@@ -138,10 +136,8 @@ pub(crate) struct Centreline {
 impl Centreline {
     /// Parse `[initial] position` and check it at the material points
     /// `points` (finite, with a non-zero tangent), naming `key`.
-    pub fn new(file: &Path, key: &str, sources: &[String; 3], points: &[f64]) -> Result<Self, CliError> {
-        let Some(position) = parse_in(file, key, &Some(sources.clone()), "s")? else {
-            return Err(key_error(file, key, "three expressions in s are needed"));
-        };
+    pub fn new(file: &Path, key: &str, sources: &Array<String, 3>, points: &[f64]) -> Result<Self, CliError> {
+        let position = parse_in(file, key, sources, "s")?;
         let curve = Self {
             position: Arc::new(position),
         };

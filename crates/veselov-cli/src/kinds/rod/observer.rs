@@ -1,7 +1,8 @@
 //! The observer of a rod run: the centreline and frames at the cut, the
 //! momenta and the energy every `every` time steps, the momentum balance
-//! against the impulse of the loads, and the largest residual of the
-//! discrete Euler–Lagrange equations.
+//! against the impulse of the loads (with a held end: the reaction of the
+//! support), the tip's motion, and the largest residual of the discrete
+//! Euler–Lagrange equations.
 
 use nalgebra::Vector3;
 use veselov::field::cauchy::CauchyMarcher;
@@ -13,6 +14,7 @@ use veselov::models::rod::{energy, load_impulse};
 use veselov::run::{Control, Observer, StepStats, Words};
 
 use super::setup::RodSetup;
+use crate::centerline::{Reaction, ShapeChange};
 use crate::error::CliError;
 use crate::pipeline::stream::{CsvStream, NpyStream};
 use crate::pipeline::{Resumable, after_recording};
@@ -52,6 +54,17 @@ pub(super) struct RodObserver<'a> {
     /// equations (the vertex equations) at the accepted values.
     pub(super) el_residual_max: f64,
     pub(super) rows_written: u64,
+    /// The first and last rows of the centreline and the tip's frame.
+    pub(super) shape: ShapeChange,
+    /// The end held, when only one is: the support whose reaction is
+    /// reported.
+    pub(super) support: Option<usize>,
+    /// The support's impulse since the start, I_R(c) = P(c) − P(0) − Σ I_loads
+    /// (linear, angular about the origin; the discrete momentum balance),
+    /// with the step c (levels since the first cut) it was taken at: one
+    /// time step before the planned end, and at the last row (NaN: not yet).
+    pub(super) support_before: [f64; 7],
+    pub(super) support_last: [f64; 7],
     pub(super) error: Option<CliError>,
     pub(super) buffer: Vec<f64>,
     pub(super) before: Vec<Option<Pose<f64>>>,
@@ -155,6 +168,11 @@ impl RodObserver<'_> {
             self.start = momenta;
         }
         self.energy_range = [self.energy_range[0].min(e), self.energy_range[1].max(e)];
+        let step = (m.level() - FIRST_CUT) as f64;
+        self.support_last = self.support_impulse(step, &momenta);
+        if step == self.support_before_step() {
+            self.support_before = self.support_last;
+        }
         self.snapshot(m)?;
         if self.setup.ends.start.is_free() && self.setup.ends.end.is_free() {
             // Momentum scales: besides the momenta and impulses themselves,
@@ -184,6 +202,10 @@ impl RodObserver<'_> {
         }
         let nodes = self.setup.lattice.nodes();
         let (line, frames) = self.buffer.split_at(nodes * 3);
+        let tip = self.shape.tip_node().unwrap_or(0);
+        let mut tip_frame = [0.0; 9];
+        tip_frame.copy_from_slice(&frames[9 * tip..9 * tip + 9]);
+        self.shape.record(line, tip_frame);
         let mut row = vec![stepper_t];
         row.extend_from_slice(&momenta);
         let r = self
@@ -230,6 +252,9 @@ impl<L: DiscreteLagrangian<PositionRotation, 6>> Observer<Rod<L>> for RodObserve
         let recorded = if step.is_multiple_of(self.every_levels) {
             self.record(state, run_time(state, self.setup.dt))
         } else {
+            if self.support.is_some() && step as f64 == self.support_before_step() {
+                self.support_before = self.support_impulse(step as f64, &Self::momenta(state));
+            }
             Ok(())
         };
         after_recording(recorded, self.error.is_some())
@@ -252,6 +277,9 @@ impl Resumable for RodObserver<'_> {
         out.push(self.energy0);
         out.extend(self.energy_range);
         out.push(self.el_residual_max);
+        out.extend(self.support_before);
+        out.extend(self.support_last);
+        self.shape.save(out);
         Ok(())
     }
     fn take_error(&mut self) -> Option<CliError> {
@@ -272,6 +300,44 @@ impl RodObserver<'_> {
         self.energy0 = w.one()?;
         self.energy_range = [w.one()?, w.one()?];
         self.el_residual_max = w.one()?;
-        Ok(())
+        w.fill(&mut self.support_before)?;
+        w.fill(&mut self.support_last)?;
+        self.shape.restore(w)
+    }
+
+    /// The step one time step (two levels) before the planned end, at which
+    /// the support's impulse is kept for the reaction over the last step.
+    fn support_before_step(&self) -> f64 {
+        (2 * self.setup.steps) as f64 - 2.0
+    }
+
+    /// The support's impulse since the start, at `step` where the momenta are
+    /// `momenta`: I_R = P − P(0) − Σ I_loads (the discrete momentum balance
+    /// with the support's impulse as the only unknown), after the step.
+    fn support_impulse(&self, step: f64, momenta: &[f64; 6]) -> [f64; 7] {
+        let mut out = [step; 7];
+        for i in 0..6 {
+            out[i + 1] = momenta[i] - self.start[i] - self.impulse[i];
+        }
+        out
+    }
+
+    /// The reaction of the support over the run's last time step, from the
+    /// momentum balance: F = ΔI_R/Δt (linear), M = ΔI_R,O/Δt − r_s × F about
+    /// the support point r_s ([`Reaction::from_impulse`]); `None` without a
+    /// single held end or before the run has reached its planned end.
+    pub(super) fn reaction(&self) -> Option<Reaction> {
+        let end = self.support?;
+        let total = (2 * self.setup.steps) as f64;
+        let (before, last) = (&self.support_before, &self.support_last);
+        if before[0] != total - 2.0 || last[0] != total {
+            return None;
+        }
+        let node = if end == 0 { 0 } else { self.setup.lattice.nodes() - 1 };
+        let at = self.shape.last_point(node)?;
+        let d = |i: usize| last[i + 1] - before[i + 1];
+        let linear = Vector3::new(d(0), d(1), d(2));
+        let angular = Vector3::new(d(3), d(4), d(5));
+        Some(Reaction::from_impulse(end, (linear, angular), self.setup.dt, &at))
     }
 }

@@ -15,8 +15,15 @@
 //!
 //! With free ends the momenta change exactly by the impulse of gravity,
 //! damping and the end load (the discrete Lagrange–d'Alembert balance); the
-//! summary reports the largest balance error. With a clamped end the
-//! support's reaction is not computed and the balance is not reported.
+//! summary reports the largest balance error. With one end held (clamped or
+//! driven) the same balance gives the support's impulse, I_R = ΔP − I_loads,
+//! whose rate over the last time step is the reaction reported
+//! (`reaction_force`, `reaction_moment` about the support point); with both
+//! ends held the balance gives only the sum of the two reactions, and none
+//! is reported. A held rod's summary also has its tip's displacement and
+//! rotation (the free end of a cantilever) and its largest deflection, from
+//! the first and last rows of `centerline.npy` and `frames.npy`
+//! ([`crate::centerline::ShapeChange`]).
 //! `el_residual_max` in the summary is the largest residual of the discrete
 //! Euler–Lagrange equations of the run (each vertex equation at its accepted
 //! values, relative to the size of its terms).
@@ -37,6 +44,7 @@ use super::figures::draw_rod;
 use super::observer::{Cell, FIRST_CUT, Rod, RodObserver, run_time};
 use super::schema::LONG_RUN_STEP_NUMBER;
 use super::setup::{RodSetup, shear_frame_name, step_number_text};
+use crate::centerline::{Reaction, ShapeChange, centerline_stream, single_support};
 use crate::error::CliError;
 use crate::output::{approx, number};
 use crate::pipeline::finish::{Ending, close_run};
@@ -233,7 +241,8 @@ where
     let rows_out = obs.momentum.position()?.rows;
     let t_final = run_time(&state, setup.dt);
     let free = setup.ends.start.is_free() && setup.ends.end.is_free();
-    let own = summary(setup, &outcome, &obs);
+    let reaction = obs.reaction();
+    let own = summary(setup, &outcome, &obs, reaction.as_ref());
     let ending = Ending {
         status: outcome.status,
         steps: outcome.last_step,
@@ -258,9 +267,11 @@ where
                 String::new()
             };
             format!(
-                "cosserat-rod, {nodes} nodes: {} time steps of {:e} to t = {t_final}{balance}",
+                "cosserat-rod, {nodes} nodes: {} time steps of {:e} to t = {t_final}{balance}{}{}",
                 outcome.last_step / 2,
                 setup.dt,
+                obs.shape.report(),
+                Reaction::report(reaction.as_ref()),
             )
         },
     )
@@ -299,11 +310,12 @@ fn open_observer<'a>(
     let dir = session.dir.clone();
     let at = Resumed::positions(&resumed);
     let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    let held = [!setup.ends.start.is_free(), !setup.ends.end.is_free()];
     let obs = RodObserver {
         setup,
         lag,
         every_levels: 2 * setup.every,
-        centerline: NpyStream::create(&dir.join("centerline.npy"), &[nodes, 3], rows, at[0])?,
+        centerline: centerline_stream(&dir, nodes, rows, at[0])?,
         frames: NpyStream::create(&dir.join("frames.npy"), &[nodes, 9], rows, at[1])?,
         momentum: CsvStream::create(
             &dir.join("momentum.csv"),
@@ -318,6 +330,15 @@ fn open_observer<'a>(
         energy_range: [f64::NAN; 2],
         el_residual_max: 0.0,
         rows_written: 0,
+        shape: ShapeChange::new(
+            (0..nodes)
+                .map(|k| lattice.length() * k as f64 / (nodes - 1) as f64)
+                .collect(),
+            held,
+        ),
+        support: single_support(held),
+        support_before: [f64::NAN; 7],
+        support_last: [f64::NAN; 7],
         error: None,
         buffer: Vec::with_capacity(nodes * 12),
         before: Vec::with_capacity(nodes),
@@ -325,13 +346,19 @@ fn open_observer<'a>(
     Ok((session, resumed, obs))
 }
 
-/// The kind's own keys of `summary.json`.
-fn summary(setup: &RodSetup, outcome: &Outcome, obs: &RodObserver<'_>) -> serde_json::Value {
+/// The kind's own keys of `summary.json`, with those of a held rod's shape
+/// and support ([`ShapeChange::keys`], [`Reaction::keys`]).
+fn summary(
+    setup: &RodSetup,
+    outcome: &Outcome,
+    obs: &RodObserver<'_>,
+    reaction: Option<&Reaction>,
+) -> serde_json::Value {
     let s = &setup.scenario;
     let lattice = &setup.lattice;
     let nodes = lattice.nodes();
     let free = setup.ends.start.is_free() && setup.ends.end.is_free();
-    json!({
+    let mut own = json!({
         "scenario": setup.path.display().to_string(),
         "model": s.model.name,
         "nodes": nodes,
@@ -362,7 +389,12 @@ fn summary(setup: &RodSetup, outcome: &Outcome, obs: &RodObserver<'_>) -> serde_
         "el_residual_max": obs.el_residual_max,
         "linear_momentum_balance_error": if free { json!(obs.balance_error[0]) } else { json!(null) },
         "angular_momentum_balance_error": if free { json!(obs.balance_error[1]) } else { json!(null) },
-    })
+    });
+    if let Some(own) = own.as_object_mut() {
+        own.extend(obs.shape.keys());
+        own.extend(Reaction::keys(reaction));
+    }
+    own
 }
 
 fn end_name(e: &EndCondition) -> &'static str {

@@ -50,7 +50,7 @@ use serde::Deserialize;
 
 use super::motion::{MotionSpec, parse_expression};
 use crate::error::CliError;
-use crate::scenario::{RowsOutputSpec, key_error, positive_value};
+use crate::scenario::{Array, RowsOutputSpec, key_error, positive_value};
 
 /// The model name of the rod kind.
 pub const ROD_MODEL: &str = "cosserat-rod";
@@ -233,7 +233,7 @@ pub(crate) struct EndsSpec {
 pub(crate) struct LoadsSpec {
     /// The gravitational acceleration (x, y, z), acting on the local mass.
     #[schemars(extend("unit" = "m/s²", "default" = [0.0, 0.0, 0.0]))]
-    pub gravity: Option<[f64; 3]>,
+    pub gravity: Option<Array<f64, 3>>,
     /// Linear damping c (≥ 0): a force −c ∂ₜr per unit length against the
     /// centreline's velocity.
     #[schemars(extend("unit" = "N·s/m²", "default" = 0.0))]
@@ -245,11 +245,11 @@ pub(crate) struct LoadsSpec {
     /// A force at the last material point, in the spatial frame (x, y, z);
     /// it needs `[ends] end` free.
     #[schemars(extend("unit" = "N", "default" = [0.0, 0.0, 0.0]))]
-    pub end_force: Option<[f64; 3]>,
+    pub end_force: Option<Array<f64, 3>>,
     /// A torque at the last material point, in the spatial frame (x, y, z);
     /// it needs `[ends] end` free.
     #[schemars(extend("unit" = "N·m", "default" = [0.0, 0.0, 0.0]))]
-    pub end_torque: Option<[f64; 3]>,
+    pub end_torque: Option<Array<f64, 3>>,
     /// The time over which the end force and torque grow linearly from zero
     /// to their full value (≥ 0); 0 applies them in full from the start.
     #[schemars(extend("unit" = "s", "default" = 0.0))]
@@ -279,17 +279,17 @@ pub(crate) struct RodInitialSpec {
     pub helix_pitch: Option<f64>,
     /// The initial velocity of the whole rod's translation (x, y, z).
     #[schemars(extend("unit" = "m/s", "default" = [0.0, 0.0, 0.0]))]
-    pub velocity: Option<[f64; 3]>,
+    pub velocity: Option<Array<f64, 3>>,
     /// The initial angular velocity of the whole rod about the origin
     /// (x, y, z), with `velocity` a rigid motion.
     #[schemars(extend("unit" = "rad/s", "default" = [0.0, 0.0, 0.0]))]
-    pub angular_velocity: Option<[f64; 3]>,
+    pub angular_velocity: Option<Array<f64, 3>>,
     /// The initial centreline for `shape = "curve"` (needed there, refused
     /// otherwise): three expressions x, y, z in the material coordinate
     /// `s`, finite with a non-zero tangent at every material point; where
     /// |dr/ds| ≠ 1 the rod starts stretched or compressed.
     #[schemars(extend("unit" = "m"))]
-    pub position: Option<[String; 3]>,
+    pub position: Option<Array<String, 3>>,
 }
 
 /// How long the run lasts and its time step, given as `dt` or as

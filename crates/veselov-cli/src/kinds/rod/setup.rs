@@ -22,7 +22,9 @@ use super::schema::{
 };
 use super::shape::Shape;
 use crate::error::CliError;
-use crate::scenario::{adjusted_step_note, finite_value, key_error, parse_toml, positive_value, shear_from_keys};
+use crate::scenario::{
+    Array, adjusted_step_note, finite_value, key_error, parse_toml, positive_value, shear_from_keys,
+};
 
 /// Largest number of material points.
 const MAX_NODES: usize = 100_000;
@@ -79,12 +81,9 @@ pub fn shear_frame_name(frame: ShearFrame) -> &'static str {
 /// The bending stiffening from shear locking that a run's advice aims at: 1 %.
 pub const BENDING_STIFFENING_ADVISED: f64 = 0.01;
 
-fn vector(path: &Path, key: &str, v: Option<[f64; 3]>) -> Result<Vector3<f64>, CliError> {
-    let v = v.unwrap_or([0.0; 3]);
-    for (i, x) in v.iter().enumerate() {
-        finite_value(path, &format!("{key}[{i}]"), *x)?;
-    }
-    Ok(Vector3::from(v))
+/// The vector key `key` (zero when not given): 3 finite numbers.
+fn vector(path: &Path, key: &str, v: &Option<Array<f64, 3>>) -> Result<Vector3<f64>, CliError> {
+    Array::or(v, path, key, [0.0; 3]).map(Vector3::from)
 }
 
 fn non_negative(path: &Path, key: &str, v: Option<f64>) -> Result<f64, CliError> {
@@ -142,8 +141,8 @@ impl RodSetup {
         } = body;
         Ok(Self {
             path: path.to_path_buf(),
-            velocity: vector(path, "initial.velocity", i.velocity)?,
-            spin: vector(path, "initial.angular_velocity", i.angular_velocity)?,
+            velocity: vector(path, "initial.velocity", &i.velocity)?,
+            spin: vector(path, "initial.angular_velocity", &i.angular_velocity)?,
             scenario,
             parameters,
             profile: varying.then_some(profile),
@@ -464,12 +463,12 @@ fn loads(
     ends: &RodEnds,
 ) -> Result<(Vector3<f64>, RodLoads, bool), CliError> {
     let key = |k: &str, m: String| key_error(path, k, m);
-    let gravity = vector(path, "loads.gravity", l.gravity)?;
+    let gravity = vector(path, "loads.gravity", &l.gravity)?;
     let loads = RodLoads {
         damping_linear: non_negative(path, "loads.damping", l.damping)?,
         damping_angular: non_negative(path, "loads.angular_damping", l.angular_damping)?,
-        end_force: vector(path, "loads.end_force", l.end_force)?,
-        end_torque: vector(path, "loads.end_torque", l.end_torque)?,
+        end_force: vector(path, "loads.end_force", &l.end_force)?,
+        end_torque: vector(path, "loads.end_torque", &l.end_torque)?,
         tip: nodes as i64 - 1,
         ramp: non_negative(path, "loads.ramp", l.ramp)?,
         // Lattice time Δt is the run's t = 0 (see `motion`).
