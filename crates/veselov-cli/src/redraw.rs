@@ -25,7 +25,7 @@ use crate::error::CliError;
 use crate::figures;
 use crate::output::Table;
 use crate::pipeline::manifest::{self, Snapshot};
-use crate::pipeline::readback::npy_info;
+use crate::pipeline::readback::{csv_shape, npy_info, table_for_plots};
 
 /// Redraw the figures of the run or study in `dir` as `format` (`svg` or
 /// `png`); returns the files written, sorted.
@@ -64,7 +64,7 @@ fn draw_figures(dir: &Path, format: &str) -> Result<(), CliError> {
     if has("order_claimed") {
         redraw_verify(dir, summary.as_ref().unwrap_or(&Value::Null), format)?;
     } else if dir.join("trajectory.csv").exists() {
-        figures::draw_all(dir, &Table::read_csv(&dir.join("trajectory.csv"))?, format)?;
+        figures::draw_all(dir, &bounded(dir, "trajectory")?, format)?;
     } else if text("model") == Some("beam") {
         let (cross, rows) = centreline_rows(dir, "frames.npy", 12)?;
         let x = if text("evolution") == Some("space") { "s" } else { "t" };
@@ -163,7 +163,7 @@ fn redraw_field(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErro
         .ok_or_else(|| summary_key(dir, "nodes", "a node count"))?;
     let (dx, length) = (number(dir, summary, "dx")?, number(dir, summary, "length")?);
     extent(dir, "dx", dx, nodes)?;
-    let energy = Table::read_csv(&dir.join("energy.csv"))?;
+    let energy = bounded(dir, "energy")?;
     let (components, rows) = snapshot_rows(dir, &[nodes], "nodes")?;
     let model = summary.get("model").and_then(Value::as_str).unwrap_or_default();
     crate::kinds::lattice::figures::draw_field_files(
@@ -173,6 +173,15 @@ fn redraw_field(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErro
         (&energy, rows),
         format,
     )
+}
+
+/// `dir/<stem>.csv` read back as a run reads it for its plots: at most
+/// [`MAX_PLOT_ROWS`](crate::pipeline::readback::MAX_PLOT_ROWS) rows (every
+/// k-th and the last), so that a long run's file is drawn from a bounded
+/// amount of memory, and the figures equal the run's own.
+fn bounded(dir: &Path, stem: &str) -> Result<Table, CliError> {
+    let (header, rows) = csv_shape(&dir.join(format!("{stem}.csv")))?;
+    table_for_plots(dir, stem, &header, rows)
 }
 
 /// Refuse a spacing `dx` (the summary's `key`) over `nodes` nodes whose

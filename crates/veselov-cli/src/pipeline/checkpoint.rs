@@ -140,7 +140,8 @@ pub struct Cost {
 
 impl Cost {
     /// Note a checkpoint that took `took`, written after `steps` steps of
-    /// this invocation and `elapsed` of its wall time, with checkpoints due
+    /// this invocation and `elapsed` of wall time since its first step (the
+    /// checkpoints' included), with checkpoints due
     /// every `every` steps (0: only by the clock, `--checkpoint-seconds`),
     /// a step being called `unit`; returns the warning to give, if it is due.
     pub fn note(

@@ -411,7 +411,8 @@ impl Session {
         // them recorded.
         self.record_outputs()?;
         let mut last_record = Instant::now();
-        let mut cost = checkpoint::Cost::default();
+        // What checkpoints cost, against the time of the steps since here.
+        let (mut cost, stepping) = (checkpoint::Cost::default(), Instant::now());
         loop {
             let progress = &mut self.progress;
             let mut due = false;
@@ -472,7 +473,7 @@ impl Session {
                     last_record = Instant::now();
                 }
                 let steps = total.last_step.saturating_sub(first);
-                if let Some(warning) = cost.note(began.elapsed(), (steps, self.unit), self.start.elapsed(), every) {
+                if let Some(warning) = cost.note(began.elapsed(), (steps, self.unit), stepping.elapsed(), every) {
                     self.progress.warn(&warning);
                 }
             }

@@ -94,6 +94,24 @@ pub fn rows_for_plots(dir: &Path, stem: &str, header: &[String], rows: u64, max:
     Ok(table)
 }
 
+/// The header and the number of rows of the CSV file `path` (one pass
+/// over it, keeping nothing but the count): what [`rows_for_plots`] needs
+/// to read back a file whose length is not known otherwise.
+pub fn csv_shape(path: &Path) -> Result<(Vec<String>, u64), CliError> {
+    let f = std::fs::File::open(path).map_err(|e| io(path, e))?;
+    let mut lines = BufReader::new(f).lines();
+    let header = match lines.next() {
+        Some(line) => line.map_err(|e| io(path, e))?,
+        None => return Err(io(path, "empty file")),
+    };
+    let mut rows = 0u64;
+    for line in lines {
+        line.map_err(|e| io(path, e))?;
+        rows += 1;
+    }
+    Ok((header.split(',').map(|s| s.trim().to_string()).collect(), rows))
+}
+
 /// What the header of a float64 NPY file says: its shape (rows first) and
 /// where its data begin.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -218,6 +236,25 @@ mod tests {
         }
         std::fs::write(&path, b"not an npy file at all").expect("write");
         assert!(npy_shape(&path).is_err());
+    }
+
+    #[test]
+    fn a_long_csv_is_read_back_bounded() {
+        let dir = crate::test_scratch::Scratch::new("csv-bounded");
+        let path = dir.join("trajectory.csv");
+        let rows: Vec<String> = (0..120_001).map(|k| format!("{k},{}", 2 * k)).collect();
+        std::fs::write(&path, format!("t,x\n{}\n", rows.join("\n"))).expect("write");
+        let (header, count) = csv_shape(&path).expect("shape");
+        assert_eq!(
+            (header.as_slice(), count),
+            (["t", "x"].map(String::from).as_slice(), 120_001)
+        );
+        let table = table_for_plots(&dir, "trajectory", &header, count).expect("rows");
+        assert!(table.rows.len() as u64 <= MAX_PLOT_ROWS + 1, "{}", table.rows.len());
+        assert_eq!(table.rows.last(), Some(&vec![120_000.0, 240_000.0]));
+        std::fs::write(&path, "t,x\n1,2\n3\n").expect("write");
+        let e = table_for_plots(&dir, "trajectory", &header, 2).expect_err("a short row");
+        assert!(e.to_string().contains("line 3"), "{e}");
     }
 
     /// A header that is not that of a C-ordered float64 array whose file
