@@ -6,11 +6,11 @@
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::error::CliError;
 
-fn io(path: &Path) -> impl Fn(std::io::Error) -> CliError + '_ {
+pub(crate) fn io(path: &Path) -> impl Fn(std::io::Error) -> CliError + '_ {
     move |e| CliError::Io {
         path: path.to_path_buf(),
         message: e.to_string(),
@@ -182,33 +182,6 @@ pub fn is_run_output(name: &str) -> bool {
         || stem
             .strip_prefix("field_")
             .is_some_and(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
-}
-
-/// Make `dir` ready for a run: create it, or refuse if it holds files (its
-/// lock aside: the run's own, taken first) and `force` is off. With
-/// `force`, the files an earlier run wrote there are removed first (those
-/// its `outputs.json` lists; see [`manifest`](crate::pipeline::manifest)),
-/// so that none of them is taken for an output of the new run; other files
-/// and subdirectories are kept.
-pub fn prepare_dir(dir: &Path, force: bool) -> Result<PathBuf, CliError> {
-    if dir.exists() {
-        let mut entries = std::fs::read_dir(dir)
-            .map_err(io(dir))?
-            .filter(|e| !matches!(e, Ok(e) if e.file_name() == crate::pipeline::lock::FILE));
-        if entries.next().is_some() && !force {
-            return Err(CliError::OutputNotEmpty { dir: dir.to_path_buf() });
-        }
-        if force {
-            crate::pipeline::manifest::remove_earlier_outputs(dir)?;
-        }
-    } else {
-        std::fs::create_dir_all(dir).map_err(io(dir))?;
-    }
-    // Probe writability now, before any computation.
-    let probe = dir.join(".veselov-write-test");
-    std::fs::write(&probe, b"").map_err(io(dir))?;
-    std::fs::remove_file(&probe).map_err(io(dir))?;
-    Ok(dir.to_path_buf())
 }
 
 /// Append `x` in the shortest form that reads back to the same `f64`:

@@ -20,7 +20,7 @@
 //! removed: the directory holds no run, only files of its own).
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::SystemTime;
 
 use serde_json::json;
@@ -162,6 +162,33 @@ pub fn remove_earlier_outputs(dir: &Path) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+/// Make `dir` ready for a run: create it, or refuse if it holds files (its
+/// lock aside: the run's own, taken first) and `force` is off. With
+/// `force`, the files an earlier run wrote there are removed first (those
+/// its `outputs.json` lists; see [`remove_earlier_outputs`]),
+/// so that none of them is taken for an output of the new run; other files
+/// and subdirectories are kept.
+pub fn prepare_dir(dir: &Path, force: bool) -> Result<PathBuf, CliError> {
+    if dir.exists() {
+        let mut entries = std::fs::read_dir(dir)
+            .map_err(crate::output::io(dir))?
+            .filter(|e| !matches!(e, Ok(e) if e.file_name() == super::lock::FILE));
+        if entries.next().is_some() && !force {
+            return Err(CliError::OutputNotEmpty { dir: dir.to_path_buf() });
+        }
+        if force {
+            remove_earlier_outputs(dir)?;
+        }
+    } else {
+        std::fs::create_dir_all(dir).map_err(crate::output::io(dir))?;
+    }
+    // Probe writability now, before any computation.
+    let probe = dir.join(".veselov-write-test");
+    std::fs::write(&probe, b"").map_err(crate::output::io(dir))?;
+    std::fs::remove_file(&probe).map_err(crate::output::io(dir))?;
+    Ok(dir.to_path_buf())
 }
 
 #[cfg(test)]

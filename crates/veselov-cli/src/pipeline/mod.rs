@@ -40,12 +40,12 @@ use std::time::{Duration, Instant};
 use veselov::run::{Checkpoint, Control, Observer, Outcome, Status, StepStats, Stepper, StopWhen, Words, drive};
 
 use crate::error::CliError;
-use crate::output::prepare_dir;
 use crate::progress::{Measure, Progress};
 use crate::scenario::key_error;
 pub use checkpoint::Saved;
 use lock::DirLock;
 use manifest::Snapshot;
+use manifest::prepare_dir;
 
 /// Largest step count run without `--force-large`.
 pub const MAX_STEPS: u64 = 1_000_000_000;

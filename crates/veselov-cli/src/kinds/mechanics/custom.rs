@@ -55,6 +55,32 @@ fn symbols(scenario: &LoadedScenario, coordinates: &[String], with_velocities: b
     Ok(table)
 }
 
+/// Eight states `(t, q, v)` in `n` coordinates spread over
+/// `|q_i|, |v_i| ∈ [0.3, 1.3]` (either sign) and `t ∈ [0, 1]`, from a fixed
+/// pseudo-random sequence, so that the check is the same on every run.
+pub(crate) fn invariance_samples(n: usize) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        let u = (seed >> 11) as f64 / (1u64 << 53) as f64;
+        let sign = if seed & 1 == 0 { 1.0 } else { -1.0 };
+        (u, sign)
+    };
+    (0..8)
+        .map(|_| {
+            let mut draw = || {
+                let (u, sign) = next();
+                sign * (0.3 + u)
+            };
+            let q: Vec<f64> = (0..n).map(|_| draw()).collect();
+            let v: Vec<f64> = (0..n).map(|_| draw()).collect();
+            (next().0, q, v)
+        })
+        .collect()
+}
+
 /// `[a, b, …]` with each number as [`crate::output::number`] writes it.
 fn numbers(x: &[f64]) -> String {
     let items: Vec<String> = x.iter().map(|v| crate::output::number(*v)).collect();
@@ -290,7 +316,7 @@ impl DynCustomSymmetry {
                 ));
             }
         }
-        let samples = super::systems::invariance_samples(n);
+        let samples = invariance_samples(n);
         if samples.iter().all(|(_, q, _)| !finite(&at(q))) {
             let q = samples.first().map(|s| s.1.clone()).unwrap_or_default();
             return Err(scenario.key_error(

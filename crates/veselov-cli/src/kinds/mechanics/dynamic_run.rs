@@ -14,10 +14,11 @@ use veselov::mechanics::DynStepper;
 use veselov::mechanics::{DynGalerkinIntegrator, DynLagrangian, DynState, GalerkinScheme, dyn_energy, dyn_momentum};
 use veselov::num_dual::Dual64;
 
+use super::custom::invariance_samples;
 use super::custom::{DynCustomLagrangian, DynCustomSymmetry, MAX_DIMENSION, MAX_FIXED_DIMENSION};
 use super::run::{FixedRun, header_of, resolve_choice, run_fixed_table};
 use super::schema::LoadedScenario;
-use super::systems::{check_defect, invariance_samples};
+use super::systems::check_defect;
 use crate::catalog::Choice;
 use crate::error::CliError;
 use crate::pipeline::RunJob;

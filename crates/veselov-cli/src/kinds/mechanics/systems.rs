@@ -15,7 +15,7 @@ use veselov::models::{
 use veselov::sem::{SemAction, SemIntegrator, SemRule, VariableStepMap};
 use veselov::solve::NewtonOptions;
 
-use super::custom::{CustomForce, CustomLagrangian, CustomSymmetry, MAX_DIMENSION};
+use super::custom::{CustomForce, CustomLagrangian, CustomSymmetry, MAX_DIMENSION, invariance_samples};
 use super::schema::LoadedScenario;
 use crate::catalog;
 use crate::error::CliError;
@@ -343,32 +343,6 @@ fn check_invariance<const N: usize>(
         check_defect(scenario, name, (defect, size), (t, q.as_slice(), v.as_slice()))?;
     }
     Ok(())
-}
-
-/// Eight states `(t, q, v)` in `n` coordinates spread over
-/// `|q_i|, |v_i| ∈ [0.3, 1.3]` (either sign) and `t ∈ [0, 1]`, from a fixed
-/// pseudo-random sequence, so that the check is the same on every run.
-pub(crate) fn invariance_samples(n: usize) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
-    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = || {
-        seed = seed
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        let u = (seed >> 11) as f64 / (1u64 << 53) as f64;
-        let sign = if seed & 1 == 0 { 1.0 } else { -1.0 };
-        (u, sign)
-    };
-    (0..8)
-        .map(|_| {
-            let mut draw = || {
-                let (u, sign) = next();
-                sign * (0.3 + u)
-            };
-            let q: Vec<f64> = (0..n).map(|_| draw()).collect();
-            let v: Vec<f64> = (0..n).map(|_| draw()).collect();
-            (next().0, q, v)
-        })
-        .collect()
 }
 
 /// Refuse the symmetry `name` if its invariance defect `δL` at `(t, q, v)`

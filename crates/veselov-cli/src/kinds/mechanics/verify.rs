@@ -15,7 +15,7 @@ use super::sem_run::sem_factory;
 use super::systems::{Job, System};
 use crate::catalog::Choice;
 use crate::error::CliError;
-use crate::output::prepare_dir;
+use crate::pipeline::manifest::prepare_dir;
 use crate::verify::{Study, VerifyJob, note_adjusted, study_steps};
 
 fn run_to<const N: usize>(

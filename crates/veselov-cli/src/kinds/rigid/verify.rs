@@ -8,7 +8,7 @@ use veselov::lie::{CayleyMap, ExpMap, GroupFamily, Retraction};
 use super::RigidJob;
 use super::schema::LoadedRigid;
 use crate::error::CliError;
-use crate::output::prepare_dir;
+use crate::pipeline::manifest::prepare_dir;
 use crate::scenario::{output_dir, step_count};
 use crate::verify::{Study, VerifyJob, note_adjusted, study_steps};
 
