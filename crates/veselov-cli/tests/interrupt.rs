@@ -247,7 +247,12 @@ fn mechanics_run_survives_sigterm_and_resumes_bit_for_bit() {
 fn counters_add_up_over_two_interruptions() {
     let dir = Scratch::new("twice");
     let file = dir.join("scenario.toml");
-    std::fs::write(&file, format!("{DOUBLE_PENDULUM}checkpoint_every = 5000\n")).expect("scenario");
+    // Fifteen times the other tests' run (about 7 s here, few rows), so that
+    // two parts of 0.5 s cannot finish it even on a much faster machine.
+    let long = DOUBLE_PENDULUM
+        .replace("steps = 400000", "steps = 6000000")
+        .replace("every = 7", "every = 1000");
+    std::fs::write(&file, format!("{long}checkpoint_every = 5000\n")).expect("scenario");
     let run = |args: &[&std::ffi::OsStr]| {
         Command::new(binary())
             .args(["run", "--quiet"])
