@@ -1,6 +1,6 @@
 //! The centreline of the beam and rod kinds: its file `centerline.npy`
-//! ([`centerline_stream`], one layout for both kinds), what a held
-//! structure did ([`measure`]: the tip, the deflection, the reaction), and
+//! (`centerline_stream`, one layout for both kinds), what a held
+//! structure did (`measure`: the tip, the deflection, the reaction), and
 //! its figures, read back from a run's files: snapshots in the x–z and y–z
 //! planes, labelled with their times, and the animation `centerline.gif`.
 

@@ -12,8 +12,8 @@
 //! E_𝖭 = Δt Σ e_𝖭), `summary.json` (with the largest change of 𝖩⁺ relative
 //! to the size of its terms; for a beam clamped at one end the tip's
 //! displacement and rotation, the largest deflection and the reaction of
-//! the support, [`crate::centerline::ShapeChange`] and
-//! [`super::observer::SupportImpulse`]), plots of the centreline, the
+//! the support, `ShapeChange` and
+//! `SupportImpulse`), plots of the centreline, the
 //! momentum map and the energy.
 
 use std::path::Path;

@@ -23,7 +23,7 @@
 //! is reported. A held rod's summary also has its tip's displacement and
 //! rotation (the free end of a cantilever) and its largest deflection, from
 //! the first and last rows of `centerline.npy` and `frames.npy`
-//! ([`crate::centerline::ShapeChange`]).
+//! (`ShapeChange`).
 //! `el_residual_max` in the summary is the largest residual of the discrete
 //! Euler–Lagrange equations of the run (each vertex equation at its accepted
 //! values, relative to the size of its terms).
