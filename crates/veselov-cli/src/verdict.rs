@@ -95,6 +95,27 @@ pub struct StepAdvice {
     pub also: &'static str,
 }
 
+impl StepAdvice {
+    /// The advice of a lattice whose step is `[lattice] courant` when given,
+    /// else `[lattice] dt`, of order 2.
+    pub fn lattice(courant: Option<f64>, dt: f64, also: &'static str) -> Self {
+        match courant {
+            Some(c) => Self {
+                key: "lattice.courant",
+                value: c,
+                order: 2,
+                also,
+            },
+            None => Self {
+                key: "lattice.dt",
+                value: dt,
+                order: 2,
+                also,
+            },
+        }
+    }
+}
+
 /// The end-of-run check of a conservative run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnergyCheck {

@@ -266,20 +266,7 @@ fn open_session<const M: usize>(setup: &Setup, job: &RunJob) -> Result<(Session,
         energy: Some(EnergyCheck {
             conserved: Conserved::Energy,
             limit: s.checks.energy_limit(&setup.path, ENERGY_ERROR_FIELDS)?,
-            advice: match s.lattice.courant {
-                Some(c) => StepAdvice {
-                    key: "lattice.courant",
-                    value: c,
-                    order: 2,
-                    also,
-                },
-                None => StepAdvice {
-                    key: "lattice.dt",
-                    value: setup.dt,
-                    order: 2,
-                    also,
-                },
-            },
+            advice: StepAdvice::lattice(s.lattice.courant, setup.dt, also),
         }),
     };
     let (session, resumed) = open_lattice_run::<4>(

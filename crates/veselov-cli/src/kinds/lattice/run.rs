@@ -189,20 +189,11 @@ fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f6
     session.verdict.energy = Some(EnergyCheck {
         conserved: Conserved::Energy,
         limit,
-        advice: match l.courant {
-            Some(c) => StepAdvice {
-                key: "lattice.courant",
-                value: c,
-                order: 2,
-                also: "more `lattice.nodes` if the space step dominates the error",
-            },
-            None => StepAdvice {
-                key: "lattice.dt",
-                value: lattice.dt(),
-                order: 2,
-                also: "more `lattice.nodes` if the space step dominates the error",
-            },
-        },
+        advice: StepAdvice::lattice(
+            l.courant,
+            lattice.dt(),
+            "more `lattice.nodes` if the space step dominates the error",
+        ),
     });
     Ok(session)
 }
