@@ -221,11 +221,17 @@ pub fn count(n: u64, one: &str, many: &str) -> String {
 /// 10⁻⁴ ≤ |x| < 10⁶ and with an exponent otherwise: the form of a measured
 /// or suggested value (`148 %`, `dt ≤ 0.00233`, `2e11 %`, `dt ≤ 1.5e-7`).
 pub fn approx(x: f64) -> String {
+    significant(x, 3)
+}
+
+/// `x` rounded to `digits` significant digits (at least 1), in the form of
+/// [`approx`]: `24.52`, `-2.417e-10`, `0`.
+pub fn significant(x: f64, digits: usize) -> String {
     if x == 0.0 || !x.is_finite() {
         return number(x);
     }
-    // Through the exponent form, which rounds to three digits exactly.
-    let r: f64 = format!("{x:.2e}").parse().unwrap_or(x);
+    // Through the exponent form, which rounds to the digits exactly.
+    let r: f64 = format!("{x:.*e}", digits.max(1) - 1).parse().unwrap_or(x);
     if (1e-4..1e6).contains(&r.abs()) {
         number(r)
     } else {

@@ -304,7 +304,11 @@ pub fn shear_from_keys(
 pub fn adjusted_step_note(asked: Option<f64>, dt: f64, t_end: f64) -> String {
     match asked {
         Some(asked) if (asked - dt).abs() > 1e-12 * dt => {
-            format!(" (the {asked:e} asked for, adjusted to land on t_end = {t_end:e})")
+            format!(
+                " (the {} asked for, adjusted to land on t_end = {})",
+                crate::output::number(asked),
+                crate::output::number(t_end)
+            )
         }
         _ => String::new(),
     }
@@ -404,7 +408,11 @@ pub fn step_length(time: &TimeSpec, dt: f64) -> f64 {
 /// Say when [`step_length`] changed the requested `dt` (by more than a relative 1e-12).
 pub fn note_step_length(requested: f64, taken: f64, quiet: bool) {
     if !quiet && (taken - requested).abs() > 1e-12 * requested.abs() {
-        crate::say!("note: dt = {requested:e} adjusted to {taken:.12e} so that the run ends at t_end");
+        crate::say!(
+            "note: dt = {} adjusted to {} so that the run ends at t_end",
+            crate::output::number(requested),
+            crate::output::number(taken)
+        );
     }
 }
 
@@ -415,8 +423,11 @@ pub fn note_lattice_end(t_end: f64, dt: f64, quiet: bool) {
     let end = (t_end / dt).ceil() * dt;
     if !quiet && (end - t_end).abs() > 1e-12 * t_end {
         eprintln!(
-            "note: the lattice's time step dt = {dt:e} does not divide t_end = {t_end:e}: the run ends at \
-             t = {end:e}, the first step at or after t_end"
+            "note: the lattice's time step dt = {} does not divide t_end = {}: the run ends at t = {}, the \
+             first step at or after t_end",
+            crate::output::number(dt),
+            crate::output::number(t_end),
+            crate::output::number(end)
         );
     }
 }
@@ -479,8 +490,9 @@ pub fn key_at(text: &str, message: &str) -> Option<String> {
 }
 
 /// Where the run writes its files, how often it writes a row,
-/// its plots and its checkpoints. Steps are time steps for the rod and
-/// levels for the beam.
+/// its plots and its checkpoints. Steps are time steps Δt (the rod
+/// computes two lattice levels per time step, the beam one; the beam's
+/// space evolution counts space steps).
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RowsOutputSpec {

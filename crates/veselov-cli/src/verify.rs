@@ -53,12 +53,16 @@ pub fn study_steps(file: &std::path::Path, dts: &[f64], span: f64) -> Result<(Ve
     let (mut steps, mut taken) = (Vec::new(), Vec::new());
     for &dt in dts {
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(bad(format!("{dt} is not a positive step")));
+            return Err(bad(format!("{} is not a positive step", crate::output::number(dt))));
         }
         let n = landing_steps(span, dt);
         if n > MAX_VERIFY_STEPS {
             return Err(bad(format!(
-                "{dt:e} asks for {n:e} steps over t_end − t0 = {span}; at most {MAX_VERIFY_STEPS:e} per run"
+                "{} asks for {} steps over t_end − t0 = {}; at most {} per run",
+                crate::output::number(dt),
+                crate::output::approx(n),
+                crate::output::number(span),
+                crate::output::number(MAX_VERIFY_STEPS)
             )));
         }
         steps.push(n as usize);
@@ -121,7 +125,8 @@ impl Study {
         for (&dt, &n) in dts.iter().zip(steps) {
             if self.interrupt.as_ref().is_some_and(|flag| flag.load(Ordering::Relaxed)) {
                 return Err(CliError::Setup(format!(
-                    "convergence study interrupted before its run with dt = {dt:e}"
+                    "convergence study interrupted before its run with dt = {}",
+                    crate::output::number(dt)
                 )));
             }
             let err = match error(n, dt)? {

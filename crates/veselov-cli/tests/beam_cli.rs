@@ -72,7 +72,7 @@ fn step_limit_is_enforced_unless_overridden() {
         &set(&example("beam_free_free.toml"), "t_end", "0.05\ndt = 0.03"),
     );
     assert!(
-        !ok && err.contains("(the 3e-2 asked for, adjusted to land on t_end = 5e-2)"),
+        !ok && err.contains("(the 0.03 asked for, adjusted to land on t_end = 0.05)"),
         "{err}"
     );
     let forced = text.replace("[method]", "[method]\nallow_unstable = true");

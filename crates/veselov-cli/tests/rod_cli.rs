@@ -176,7 +176,7 @@ fn above_the_step_limit_the_run_is_refused_or_fails_cleanly() {
     // beside the one the march would take (10 s asked, one step of 0.5 s).
     let (ok, err, _) = run("adjusted", &set(&base, "t_end", "0.5\ndt = 10.0"));
     assert!(
-        !ok && err.contains("dt = 5e-1 (the 1e1 asked for, adjusted to land on t_end = 5e-1)"),
+        !ok && err.contains("dt = 0.5 (the 10 asked for, adjusted to land on t_end = 0.5)"),
         "{err}"
     );
     let forced = fast.replace("[output]", "[method]\nallow_unstable = true\n\n[output]");

@@ -27,6 +27,8 @@ use serde_json::{Map, Value, json};
 use veselov::lie::{SO3, so3};
 use veselov::run::Words;
 
+use crate::output::{approx, number, significant};
+
 /// The held ends of a rod or beam (start, end).
 pub(crate) type Held = [bool; 2];
 
@@ -200,15 +202,15 @@ impl ShapeChange {
         if let Some(t) = self.tip() {
             let u = &t.displacement;
             format!(
-                ", tip displacement {:.4e} m ({:.3e}, {:.3e}, {:.3e}), tip rotation {:.4e} rad",
-                u.norm(),
-                u[0],
-                u[1],
-                u[2],
-                t.rotation_angle
+                ", tip displacement {} m ({}, {}, {}), tip rotation {} rad",
+                significant(u.norm(), 4),
+                approx(u[0]),
+                approx(u[1]),
+                approx(u[2]),
+                significant(t.rotation_angle, 4)
             )
         } else if let Some((d, s)) = self.deflection_max() {
-            format!(", largest deflection {d:.4e} m at s = {s}")
+            format!(", largest deflection {} m at s = {}", significant(d, 4), number(s))
         } else {
             String::new()
         }
@@ -279,10 +281,15 @@ impl Reaction {
     /// The words of the final report line.
     pub(crate) fn report(reaction: Option<&Self>) -> String {
         match reaction {
-            Some(r) => format!(
-                ", reaction at the {} F = ({:.4e}, {:.4e}, {:.4e}) N, M = ({:.4e}, {:.4e}, {:.4e}) N·m",
-                r.end, r.force[0], r.force[1], r.force[2], r.moment[0], r.moment[1], r.moment[2]
-            ),
+            Some(r) => {
+                let v = |x: &Vector3<f64>| x.iter().map(|&c| significant(c, 4)).collect::<Vec<_>>().join(", ");
+                format!(
+                    ", reaction at the {} F = ({}) N, M = ({}) N·m",
+                    r.end,
+                    v(&r.force),
+                    v(&r.moment)
+                )
+            }
             None => String::new(),
         }
     }
@@ -327,7 +334,12 @@ mod tests {
         assert_eq!((d, at), (t.displacement.norm(), 1.0));
         let keys = c.keys();
         assert_eq!(keys["tip_displacement"], json!([0.01, 0.0, 0.9999 - 1.0]));
-        assert!(c.report().contains("tip displacement 1.0000e-2 m"));
+        assert!(
+            c.report()
+                .contains("tip displacement 0.01 m (0.01, 0, -0.0001), tip rotation 0.02 rad"),
+            "{}",
+            c.report()
+        );
         // Held at both ends: no tip, the deflection still; free: neither.
         let mut both = ShapeChange::new(vec![0.0, 0.5, 1.0], [true, true]);
         both.record(&straight, [0.0; 9]);

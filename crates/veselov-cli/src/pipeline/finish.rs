@@ -71,6 +71,8 @@ pub fn open_table_session(
         },
         bytes: table_bytes(rows, columns, &output.formats),
         bytes_key: "output.every",
+        levels_per_step: 1,
+        given_steps: 0,
         unit: "steps",
         step,
         t_end: if step.is_none() && time.steps.is_none() {
@@ -145,13 +147,14 @@ fn interrupted(status: &Status) -> bool {
 }
 
 /// Writes `dir/summary.json`: the common keys of a run that ended with
-/// `status` after `steps` steps at `t_final`, then the kind's own keys, then
-/// the warnings of `verdict`, which it returns.
+/// `status` after `steps` stepper steps (`per` of which make a time step) at
+/// `t_final`, then the kind's own keys, then the warnings of `verdict`,
+/// which it returns.
 #[allow(clippy::too_many_arguments)]
 pub fn write_summary(
     dir: &Path,
     status: &Status,
-    steps: u64,
+    steps: (u64, u64),
     t_final: f64,
     wall_seconds: f64,
     iterations: u64,
@@ -196,7 +199,7 @@ pub fn close_run(
     let warnings = write_summary(
         dir,
         &ending.status,
-        ending.steps,
+        (ending.steps, session.levels_per_step),
         ending.t_final,
         session.wall_seconds(),
         ending.iterations,

@@ -64,10 +64,11 @@ pub fn check_resume(
         return Err(refuse(
             plan.steps_key.to_string(),
             format!(
-                "gives the time step dt = {current:e} here, but the run in {} being resumed steps with \
-                 dt = {before:e}: a resumed run keeps its step (a t_end a whole number of those steps from \
-                 the start keeps it)",
-                dir.display()
+                "gives the time step dt = {} here, but the run in {} being resumed steps with dt = {}: a \
+                 resumed run keeps its step (a t_end a whole number of those steps from the start keeps it)",
+                crate::output::number(current),
+                dir.display(),
+                crate::output::number(before)
             ),
         ));
     }
@@ -96,12 +97,13 @@ fn check_not_shorter(file: &Path, dir: &Path, saved: &Saved, plan: &Plan) -> Res
         return Ok(());
     }
     let here = match plan.t_end {
-        Some(t_end) => format!("asks to end at t = {t_end}"),
-        None => format!("asks for {:.0} {}", plan.steps.ceil(), plan.unit),
+        Some(t_end) => format!("asks to end at t = {}", crate::output::number(t_end)),
+        None => format!("asks for {:.0} {}", (plan.steps / plan.per() as f64).ceil(), plan.unit),
     };
+    let step = saved.step / plan.per();
     let there = match saved.time {
-        Some(time) => format!("t = {time} (step {})", saved.step),
-        None => format!("step {}", saved.step),
+        Some(time) => format!("t = {} (step {step})", crate::output::number(time)),
+        None => format!("step {step}"),
     };
     Err(CliError::Key {
         file: file.to_path_buf(),

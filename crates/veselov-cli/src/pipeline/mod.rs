@@ -83,15 +83,26 @@ pub struct RunJob {
 /// What a run will do, known before it starts.
 #[derive(Debug, Clone)]
 pub struct Plan {
-    /// Steps (or levels) planned; for variable steps an estimate.
+    /// Stepper steps planned (levels, for the lattice kinds); for variable
+    /// steps an estimate.
     pub steps: f64,
+    /// Stepper steps that make one time step: 1, or the levels of one time
+    /// step of a lattice (2 for the rod, 3 for a CFK field). Every count a
+    /// user reads (preflight, progress, messages, `summary.json`) is in
+    /// time steps: stepper steps divided by this.
+    pub levels_per_step: u64,
+    /// Time steps the initial data already span, counted in what a user
+    /// reads but not taken by the stepper: 1 for a lattice started from two
+    /// given levels whose stepper counts from 0 (the beam), else 0.
+    pub given_steps: u64,
     /// The key that sets the step count (named in a refusal).
     pub steps_key: &'static str,
     /// Planned output size in bytes.
     pub bytes: f64,
     /// The key that sets the output size.
     pub bytes_key: &'static str,
-    /// What one step is called on the progress bar (`steps`, `levels`).
+    /// What one time step is called in messages and on the progress bar
+    /// (`steps`, `time steps`, `columns`).
     pub unit: &'static str,
     /// The fixed time step of the run's discretization (`None` for
     /// variable steps): recorded in checkpoints, and a resume whose
@@ -111,14 +122,16 @@ impl Plan {
         if force_large {
             return Ok(());
         }
-        if self.steps.is_nan() || self.steps > MAX_STEPS as f64 {
+        let steps = self.steps / self.per() as f64;
+        if steps.is_nan() || steps > MAX_STEPS as f64 {
             return Err(key_error(
                 file,
                 self.steps_key,
                 format!(
-                    "the run would take {:.3e} steps, more than the limit of {MAX_STEPS:.0e}; \
-                     shorten it or pass --force-large",
-                    self.steps
+                    "the run would take {} {}, more than the limit of {}; shorten it or pass --force-large",
+                    crate::output::approx(steps),
+                    self.unit,
+                    crate::output::number(MAX_STEPS as f64)
                 ),
             ));
         }
@@ -147,13 +160,18 @@ impl Plan {
         }
     }
 
-    /// Planned step count as an integer (saturating).
+    /// Planned stepper steps as an integer (saturating).
     pub fn whole_steps(&self) -> u64 {
         if self.steps >= u64::MAX as f64 {
             u64::MAX
         } else {
             self.steps.max(0.0) as u64
         }
+    }
+
+    /// [`Plan::levels_per_step`], at least 1.
+    pub fn per(&self) -> u64 {
+        self.levels_per_step.max(1)
     }
 }
 
@@ -202,6 +220,9 @@ pub struct Session {
     t_end: Option<f64>,
     /// [`Plan::unit`], named in messages.
     unit: &'static str,
+    /// [`Plan::levels_per_step`] (at least 1): the stepper steps of one
+    /// time step.
+    pub levels_per_step: u64,
     progress: Progress,
     /// Warnings met so far and the check of the summary at the end.
     pub verdict: crate::verdict::Verdict,
@@ -272,7 +293,10 @@ impl Session {
         if let Some(saved) = &resumed {
             identity::check_resume(file, &dir, saved, scenario.as_deref(), plan)?;
             if plan.reached_by(saved) && completed(&dir) {
-                return Err(CliError::AlreadyComplete { dir, step: saved.step });
+                return Err(CliError::AlreadyComplete {
+                    dir,
+                    step: saved.step / plan.per(),
+                });
             }
         }
         let interrupt = match &job.interrupt {
@@ -307,10 +331,14 @@ impl Session {
             });
         }
         if !job.quiet {
-            let unit = if plan.steps == 1.0 { "step" } else { "steps" };
+            let steps = (plan.steps / plan.per() as f64).ceil() + plan.given_steps as f64;
+            let unit = if steps == 1.0 {
+                plan.unit.trim_end_matches('s')
+            } else {
+                plan.unit
+            };
             eprintln!(
-                "preflight: {:.0} {unit}, about {} of output",
-                plan.steps,
+                "preflight: {steps:.0} {unit}, about {} of output",
                 human_bytes(plan.bytes)
             );
         }
@@ -328,9 +356,10 @@ impl Session {
             step: plan.step,
             t_end: plan.t_end,
             unit: plan.unit,
+            levels_per_step: plan.per(),
             progress: Progress::new(
                 Measure::Count {
-                    total: plan.whole_steps(),
+                    total: plan.whole_steps() / plan.per(),
                     unit: plan.unit,
                 },
                 job.quiet,
@@ -418,8 +447,9 @@ impl Session {
             let mut due = false;
             let clock = self.checkpoint_seconds;
             let reached = &reached;
+            let per = self.levels_per_step;
             let mut show = |k: u64, _: &S::State, _: &StepStats| {
-                progress.set(k, reached.get());
+                progress.set(k / per, reached.get());
                 match clock {
                     Some(every) if k.is_multiple_of(CLOCK_EVERY) && last_checkpoint.elapsed() >= every => {
                         due = true;
@@ -472,8 +502,9 @@ impl Session {
                     self.record_outputs()?;
                     last_record = Instant::now();
                 }
-                let steps = total.last_step.saturating_sub(first);
-                if let Some(warning) = cost.note(began.elapsed(), (steps, self.unit), stepping.elapsed(), every) {
+                let per = self.levels_per_step;
+                let steps = total.last_step.saturating_sub(first) / per;
+                if let Some(warning) = cost.note(began.elapsed(), (steps, self.unit), stepping.elapsed(), every / per) {
                     self.progress.warn(&warning);
                 }
             }

@@ -2,9 +2,10 @@
 //! the kind's own.
 //!
 //! Common keys: `status` (`"ok"`, `"error"` or `"interrupted"`), `steps`
-//! (steps or levels taken), `t_final`, `wall_seconds`, `iterations_mean`
-//! (nonlinear iterations per step) and `failure` (`null`, or `kind`, `step`,
-//! `time`, `message`), then `warnings` (a list of `{code, message}`, empty
+//! (time steps taken: a lattice's levels divided by its levels per time
+//! step), `t_final`, `wall_seconds`, `iterations_mean` (nonlinear
+//! iterations per time step) and `failure` (`null`, or `kind`, `step` (the
+//! 0-based time step that failed), `time`, `message`), then `warnings` (a list of `{code, message}`, empty
 //! when none: [`crate::verdict`]) and, for runs whose energy is checked,
 //! `checks`.
 
@@ -21,14 +22,17 @@ pub fn status_name(status: &Status) -> &'static str {
 }
 
 /// `{kind, step, time, message}` of a library failure that ended a run
-/// after `steps` steps at `t_final`. An error that does not carry its own
-/// step and time (a vertex solve, a singular Jacobian, a Lie-group map, a
-/// bad value met during the run) is placed at the step the run was taking:
-/// `step` = the steps completed (the 0-based index of the failed one) and
-/// `time` = `t_final` (the time at its start), as [`veselov::Error::NewtonFailure`]
-/// reports its own.
-pub fn failure(e: &veselov::Error, steps: u64, t_final: f64) -> Value {
+/// after `levels` stepper steps (`per` of which make a time step) at
+/// `t_final`. An error that does not carry its own step and time (a vertex
+/// solve, a singular Jacobian, a Lie-group map, a bad value met during the
+/// run) is placed at the step the run was taking: `step` = the steps
+/// completed (the 0-based index of the failed one) and `time` = `t_final`
+/// (the time at its start), as [`veselov::Error::NewtonFailure`] reports its
+/// own. `step` counts time steps: a lattice's failed level `k` is in time
+/// step `k / per` (the message names the level).
+pub fn failure(e: &veselov::Error, (levels, per): (u64, u64), t_final: f64) -> Value {
     use veselov::Error as E;
+    let steps = levels;
     let here = (Some(steps), Some(t_final));
     let (kind, (step, time)): (&str, (Option<u64>, Option<f64>)) = match e {
         E::NonFiniteState { step, t, .. } => ("non_finite_state", (Some(*step as u64), Some(*t))),
@@ -43,15 +47,26 @@ pub fn failure(e: &veselov::Error, steps: u64, t_final: f64) -> Value {
         E::Lie(_) => ("lie_group", here),
         _ => ("invalid_input", here),
     };
+    let step = step.map(|k| k / per.max(1));
     json!({ "kind": kind, "step": step, "time": time, "message": e.to_string() })
 }
 
-/// The common keys, followed by `own` (the kind's keys, which keep their order).
-pub fn common(status: &Status, steps: u64, t_final: f64, wall_seconds: f64, iterations: u64, own: Value) -> Value {
+/// The common keys of a run that took `levels` stepper steps, `per` of
+/// which make one time step, followed by `own` (the kind's keys, which keep
+/// their order).
+pub fn common(
+    status: &Status,
+    (levels, per): (u64, u64),
+    t_final: f64,
+    wall_seconds: f64,
+    iterations: u64,
+    own: Value,
+) -> Value {
     let fail = match status {
-        Status::Failed(e) => failure(e, steps, t_final),
+        Status::Failed(e) => failure(e, (levels, per), t_final),
         _ => Value::Null,
     };
+    let steps = levels / per.max(1);
     let mut map = Map::new();
     map.insert("status".into(), json!(status_name(status)));
     map.insert("steps".into(), json!(steps));

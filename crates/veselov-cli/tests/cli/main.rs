@@ -8,6 +8,7 @@
 mod common;
 
 mod book;
+mod counts;
 mod custom;
 mod examples;
 mod faults;

@@ -24,7 +24,7 @@ fn verify_measures_the_order() {
             .arg(dir.join("w"))
             .arg(&file),
     );
-    assert!(stdout.contains("adjusted to 2.857142857143e-1"), "{stdout}");
+    assert!(stdout.contains("adjusted to 0.2857142857142857"), "{stdout}");
     assert!(stdout.contains("outputs in"), "{stdout}");
     for bad in ["0", "-0.1", "1e-300,1e-301", "nan"] {
         let res = verify_command(bad, dir.join("x"), &file)

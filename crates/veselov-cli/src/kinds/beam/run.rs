@@ -94,8 +94,9 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         && !job.quiet
     {
         eprintln!(
-            "note: dt = {requested:e} adjusted to {:e} = t_end/{} so that the run ends at t_end",
-            setup.dt,
+            "note: dt = {} adjusted to {} = t_end/{} so that the run ends at t_end",
+            crate::output::number(requested),
+            crate::output::number(setup.dt),
             setup.levels + 1
         );
     }
@@ -151,7 +152,9 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     let t_final = level as f64 * step_length;
     let ending = Ending {
         status: outcome.status,
-        steps: outcome.last_step,
+        // Time (or space) steps from the first level: the stepper counts
+        // from the second.
+        steps: level as u64,
         t_final,
         iterations: outcome.iterations,
     };
@@ -165,10 +168,15 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         }),
         || {
             format!(
-                "beam, {} evolution: {} levels to {x} = {t_final}, max change of the momentum map {:.1e} of its terms{}{}",
+                "beam, {} evolution: {} to {x} = {}, max change of the momentum map {} of its terms{}{}",
                 if setup.space { "space" } else { "time" },
-                level,
-                obs.drift,
+                if setup.space {
+                    crate::output::count(level as u64, "space step", "space steps")
+                } else {
+                    crate::output::count(level as u64, "time step", "time steps")
+                },
+                crate::output::number(t_final),
+                crate::output::approx(obs.drift),
                 obs.shape.report(),
                 Reaction::report(reaction.as_ref()),
             )
@@ -225,7 +233,10 @@ fn open_observer<'a>(
         steps_key: "time.t_end",
         bytes: rows as f64 * (cross as f64 * 15.0 * 8.0 + 17.0 * CSV_BYTES_PER_VALUE),
         bytes_key: "output.every",
-        unit: "levels",
+        levels_per_step: 1,
+        // The stepper counts from the second initial level.
+        given_steps: 1,
+        unit: if setup.space { "space steps" } else { "time steps" },
         step: Some(setup.dt),
         t_end: None,
     };

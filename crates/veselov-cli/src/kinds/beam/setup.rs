@@ -287,7 +287,7 @@ fn check_step(
             // The step quoted again beside the one asked for, where
             // landing on t_end changed it.
             let adjusted = match scenario.time.t_end.map(|t| adjusted_step_note(dt_requested, dt, t)) {
-                Some(note) if !note.is_empty() => format!("; dt = {dt:e}{note}"),
+                Some(note) if !note.is_empty() => format!("; dt = {}{note}", crate::output::number(dt)),
                 _ => String::new(),
             };
             return Err(key(
@@ -322,7 +322,10 @@ fn loads(path: &Path, loads: &BeamLoadsSpec) -> Result<([f64; 3], [f64; 6]), Cli
     let damping = Array::or(&loads.damping, path, "loads.damping", [0.0; 6])?;
     for (i, &c) in damping.iter().enumerate() {
         if c < 0.0 {
-            return Err(key(&format!("loads.damping[{i}]"), format!("must be ≥ 0, got {c}")));
+            return Err(key(
+                &format!("loads.damping[{i}]"),
+                format!("must be ≥ 0, got {}", crate::output::number(c)),
+            ));
         }
     }
     Ok((gravity, damping))

@@ -253,10 +253,12 @@ fn open_session<const M: usize>(setup: &Setup, job: &RunJob) -> Result<(Session,
     };
     let plan = Plan {
         steps: 3.0 * steps,
+        levels_per_step: 3,
+        given_steps: 0,
         steps_key: "time.t_end",
         bytes: snapshots * cells * 8.0 + (steps + 1.0) * 7.0 * CSV_BYTES_PER_VALUE,
         bytes_key: "output.snapshot_every",
-        unit: "levels",
+        unit: "time steps",
         step: Some(setup.dt),
         t_end: None,
     };
@@ -299,6 +301,8 @@ fn summary<P, const M: usize>(
         "levels": outcome.last_step,
         "time_steps": k_final,
         "vertex_solves": outcome.last_step * (setup.nodes[0] * setup.nodes[1]) as u64,
+        "newton_iterations_per_vertex": outcome.iterations as f64
+            / (outcome.last_step.max(1) * (setup.nodes[0] * setup.nodes[1]) as u64) as f64,
         "energy_initial": obs.energy0,
         "energy_error_max": obs.energy_error_max,
         "energy_error_max_relative": crate::pipeline::summary::relative_energy_error(obs.energy_error_max, obs.energy0),

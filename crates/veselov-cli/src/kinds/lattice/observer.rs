@@ -355,10 +355,10 @@ fn close<S>(
         "charges_error_max": charges_error_max,
         "recentred_by": info.recentred_by,
     });
-    let steps = levels.saturating_sub(1) as u64;
+    // Time steps from t = 0 (the second initial level is the first).
     let ending = Ending {
         status,
-        steps,
+        steps: levels as u64,
         t_final,
         iterations,
     };

@@ -158,7 +158,9 @@ fn open_session(loaded: &LoadedField, job: &RunJob, lattice: &Lattice, t_end: f6
         } else {
             "output.energy_every"
         },
-        unit: "levels",
+        levels_per_step: 1,
+        given_steps: 0,
+        unit: "time steps",
         step: Some(lattice.dt()),
         t_end: None,
     };

@@ -331,7 +331,7 @@ where
                 own["work_of_forces"] = json!(t.work());
                 own["energy_balance_error_max"] = json!(t.balance.map_or(0.0, |b| b.2));
             }
-            summary::common(status, outcome.last_step, t_final, wall, iterations, own)
+            summary::common(status, (outcome.last_step, 1), t_final, wall, iterations, own)
         },
         |t| match t.balance {
             // Forced: E is not conserved; the meaningful figure is the energy balance.

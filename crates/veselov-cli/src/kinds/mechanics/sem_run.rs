@@ -135,7 +135,7 @@ pub fn run_variable<const N: usize>(
                 "newton_iterations_mean": iterations as f64 / outcome.last_step.max(1) as f64,
                 "jacobians_mean": jacobians as f64 / outcome.last_step.max(1) as f64,
             });
-            summary::common(status, outcome.last_step, t_final, wall, iterations, own)
+            summary::common(status, (outcome.last_step, 1), t_final, wall, iterations, own)
         },
         |_| {
             format!(

@@ -219,7 +219,7 @@ where
                 "momentum_error_max": momentum_errors,
                 "orthogonality_defect_max": orthogonality(t),
             });
-            summary::common(status, outcome.last_step, t_final, wall, iterations, own)
+            summary::common(status, (outcome.last_step, 1), t_final, wall, iterations, own)
         },
         |t| {
             format!(

@@ -144,8 +144,10 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         && !job.quiet
     {
         eprintln!(
-            "note: dt = {requested:e} adjusted to {:e} = t_end/{} so that the run ends at t_end",
-            setup.dt, setup.steps
+            "note: dt = {} adjusted to {} = t_end/{} so that the run ends at t_end",
+            number(requested),
+            number(setup.dt),
+            setup.steps
         );
     }
     let p = setup.parameters;
@@ -260,16 +262,18 @@ where
         || {
             let balance = if free {
                 format!(
-                    ", momentum balance error {:.1e} (linear), {:.1e} (angular)",
-                    obs.balance_error[0], obs.balance_error[1]
+                    ", momentum balance error {} (linear), {} (angular)",
+                    approx(obs.balance_error[0]),
+                    approx(obs.balance_error[1])
                 )
             } else {
                 String::new()
             };
             format!(
-                "cosserat-rod, {nodes} nodes: {} time steps of {:e} to t = {t_final}{balance}{}{}",
-                outcome.last_step / 2,
-                setup.dt,
+                "cosserat-rod, {nodes} nodes: {} of {} to t = {}{balance}{}{}",
+                crate::output::count(outcome.last_step / 2, "time step", "time steps"),
+                number(setup.dt),
+                number(t_final),
                 obs.shape.report(),
                 Reaction::report(reaction.as_ref()),
             )
@@ -291,10 +295,12 @@ fn open_observer<'a>(
     let rows = setup.steps / setup.every + 2;
     let plan = Plan {
         steps: 2.0 * setup.steps as f64,
+        levels_per_step: 2,
+        given_steps: 0,
         steps_key: "time.t_end",
         bytes: rows as f64 * (nodes as f64 * 12.0 * 8.0 + 9.0 * CSV_BYTES_PER_VALUE),
         bytes_key: "output.every",
-        unit: "levels",
+        unit: "time steps",
         step: Some(setup.dt),
         t_end: None,
     };

@@ -89,7 +89,11 @@ fn vector(path: &Path, key: &str, v: &Option<Array<f64, 3>>) -> Result<Vector3<f
 fn non_negative(path: &Path, key: &str, v: Option<f64>) -> Result<f64, CliError> {
     let v = finite_value(path, key, v.unwrap_or(0.0))?;
     if v < 0.0 {
-        return Err(key_error(path, key, format!("must be ≥ 0, got {v}")));
+        return Err(key_error(
+            path,
+            key,
+            format!("must be ≥ 0, got {}", crate::output::number(v)),
+        ));
     }
     Ok(v)
 }
@@ -354,9 +358,11 @@ fn steps(path: &Path, scenario: &RodScenario, body: &RodBody) -> Result<Steps, C
         return Err(key(
             name,
             format!(
-                "dt = {dt:e}{adjusted} exceeds the stability limit {dt_limit:e} of the rod's march \
-                 (step number {} > 1: the lattice waves would grow without bound); {lower}, or set \
-                 [method] allow_unstable = true to run anyway",
+                "dt = {}{adjusted} exceeds the stability limit {} of the rod's march (step number {} > 1: \
+                 the lattice waves would grow without bound); {lower}, or set [method] allow_unstable = true \
+                 to run anyway",
+                crate::output::number(dt),
+                crate::output::number(dt_limit),
                 step_number_text(courant)
             ),
         ));
