@@ -15,6 +15,8 @@
 //! | `beyond_stability_limit` | the step exceeds the scheme's stability limit and the run goes on because `allow_unstable = true` |
 //! | `near_stability_limit` | a rod's step number is close to its limit, where long runs can still grow |
 //! | `shear_locking` | a rod's bending is coarsely resolved by the vertex shear frame |
+//! | `degenerate_start` | a variable-step (SEM) run starts on or near the degeneracy set of its energy equation (for `sem-leftpoint`: a turning point or a critical point of V), where its steps do not follow `dt` |
+//! | `step_runaway` | a `sem-leftpoint` run's step grew beyond [`STEP_RUNAWAY_FACTOR`] times its first step: the inconsistent branch of the energy equation, which refining `dt` does not cure |
 
 use serde::Deserialize;
 use serde_json::{Value, json};
@@ -33,6 +35,28 @@ pub const ENERGY_ERROR_MECHANICS: f64 = 1e-2;
 /// momenta, not the energy, whose error oscillates at O(Δx² + Δt²); the
 /// shipped examples stay below 2 % (beams: see their pages).
 pub const ENERGY_ERROR_FIELDS: f64 = 5e-2;
+
+/// The least [`veselov::sem::StartExpansion::dominance`] (the energy
+/// equation's leading term `c·h₀ʳ` against the next, `a·h₀ʳ⁺¹`) of a
+/// variable-step start that is not warned about: 4, i.e. for the left-point
+/// rule `|c| ≥ 2h₀|∇V|²` (`a = ½|∇V|²`). At a turning point `c = 0` and the
+/// dominance is round-off; started at t = 1 on a Kepler orbit of
+/// eccentricity 0.1 it is 34 with `dt = 0.005`, and it scales like 1/dt.
+pub const DEGENERATE_DOMINANCE: f64 = 4.0;
+
+/// The least [`veselov::sem::StartExpansion::drift`] of a degenerate start
+/// that is warned about: 0.01. Below it `c` stays on the degeneracy set
+/// along the motion (round-off on a circular Kepler orbit, where the
+/// left-point rule keeps its step and is first order).
+pub const DEGENERATE_DRIFT: f64 = 0.01;
+
+/// The factor of growth of a `sem-leftpoint` run's step (largest step over
+/// the first, `dt`) beyond which the run warns: 10. On its consistent branch
+/// the rule's steps follow `dt` (h_k/h₀ tends to a function of the state as
+/// `dt` shrinks) and it cannot pass a turning point; started at one, its
+/// steps grow like the time since it, to O(1) whatever `dt` (×60 from
+/// `dt = 0.005` in one Kepler orbit of eccentricity 0.1).
+pub const STEP_RUNAWAY_FACTOR: f64 = 10.0;
 
 /// Thresholds of the warnings of a run: how far it may stray from what its
 /// scheme conserves before its summary says so.
@@ -135,6 +159,9 @@ pub struct Verdict {
     pub warnings: Vec<Warning>,
     /// The energy check at the end, for conservative runs.
     pub energy: Option<EnergyCheck>,
+    /// Warnings found when the run ended, not yet shown: shown after the
+    /// report line with the energy check's.
+    pub ending: Vec<Warning>,
 }
 
 /// Show `message` as a `warning:` line on standard error (`--quiet` or
@@ -156,6 +183,7 @@ impl Verdict {
     /// value and threshold go into `summary` under `checks`.
     pub fn judge(&self, summary: &mut Value) -> Vec<Warning> {
         let mut all = self.warnings.clone();
+        all.extend(self.ending.iter().cloned());
         let failed = summary.get("status").and_then(Value::as_str) == Some("error");
         if let Some(check) = &self.energy {
             let measured = measured(check.conserved, summary);
@@ -258,6 +286,7 @@ mod tests {
                     also: "",
                 },
             }),
+            ending: Vec::new(),
         }
     }
 

@@ -93,6 +93,11 @@ pub struct Study {
     pub scale: f64,
     /// [`VerifyJob::interrupt`]: checked before each run of the study.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// Why the claimed order cannot be expected of this scenario, if the
+    /// kind knows (a variable-step start on the degeneracy set): said
+    /// instead of the generic advice when the order is not reached, and
+    /// written as `caveat` in `summary.json`.
+    pub caveat: Option<String>,
 }
 
 impl Study {
@@ -167,7 +172,9 @@ impl Study {
                         f.order,
                         f.used.len()
                     );
-                    if !reached {
+                    if let (false, Some(caveat)) = (reached, &self.caveat) {
+                        crate::say!("warning: the claimed order {order} is not reached: {caveat}");
+                    } else if !reached {
                         crate::say!(
                             "warning: the claimed order {order} is not reached; smaller steps may be needed to \
                              reach the asymptotic range (or the error is at its round-off floor)"
@@ -197,6 +204,7 @@ impl Study {
                 "errors": errs,
                 "reference": self.reference,
                 "t_end": self.t_end,
+                "caveat": self.caveat,
             }),
         )?;
         draw_convergence(&dir.join("convergence.svg"), &dts, &errs, order, fit.map(|f| f.order))?;

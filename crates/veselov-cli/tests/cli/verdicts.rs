@@ -214,3 +214,76 @@ fn a_failed_run_prints_no_success_line_before_its_error() {
     );
     assert_eq!(summary(&dir.join("out"))["status"], "error");
 }
+
+/// A `sem-leftpoint` Kepler scenario of eccentricity `e` and first step
+/// `dt`, over `t_end`, with `initial` (a TOML table, or empty for the
+/// pericentre start).
+fn left_point(e: f64, dt: f64, t_end: f64, initial: &str) -> String {
+    format!(
+        "[model]\nname = \"kepler\"\nparams = {{ eccentricity = {e} }}\n[method]\nname = \"sem-leftpoint\"\n\
+         dt = {dt}\n[time]\nt_end = {t_end}\n{initial}[output]\nplots = false\n"
+    )
+}
+
+#[test]
+fn a_left_point_run_from_a_turning_point_warns_of_its_start_and_its_runaway() {
+    for dt in [0.02, 0.005] {
+        let (w, stderr, s) = warned("verdict-left-point", &left_point(0.1, dt, std::f64::consts::TAU, ""));
+        let codes: Vec<&str> = w.iter().map(|(c, _)| c.as_str()).collect();
+        assert_eq!(codes, ["degenerate_start", "step_runaway"], "dt = {dt}: {stderr}");
+        assert!(w[0].1.contains("sem-midpoint or sem-averaged"), "{}", w[0].1);
+        // The energy's advice (a smaller dt) would not help: not given.
+        assert!(s.get("checks").is_none(), "{s}");
+        let growth = s["h_max"].as_f64().expect("h_max") / dt;
+        assert!(
+            w[1].1.contains(&format!("{}×", veselov_cli::output::approx(growth))),
+            "{}",
+            w[1].1
+        );
+    }
+}
+
+#[test]
+fn a_left_point_run_away_from_turning_points_or_on_a_circle_is_not_warned_about() {
+    // The e = 0.1 orbit at t = 1 (Kepler's equation), 1.5 before its apocentre.
+    let initial = "[initial]\nq = [0.3637281822405811, 0.8815365059178706]\n\
+                   p = [-0.9290606863040317, 0.4838407759124423]\n";
+    let (w, stderr, s) = warned("verdict-left-point-regular", &left_point(0.1, 0.005, 1.5, initial));
+    assert!(w.is_empty(), "{w:?}: {stderr}");
+    assert!(s["checks"]["energy_error"]["measured"].as_f64().is_some(), "{s}");
+    let (w, stderr, _) = warned(
+        "verdict-left-point-circle",
+        &left_point(0.0, 0.02, std::f64::consts::TAU, ""),
+    );
+    assert!(w.is_empty(), "{w:?}: {stderr}");
+}
+
+#[test]
+fn a_symmetric_rule_from_pericentre_is_not_warned_about() {
+    let text = example("kepler_sem.toml");
+    let (w, stderr, _) = warned(
+        "verdict-sem-averaged",
+        &with_time_table(&text, "t_end = 6.283185307179586\n"),
+    );
+    assert!(w.is_empty(), "{w:?}: {stderr}");
+}
+
+#[test]
+fn verify_of_a_left_point_run_from_a_turning_point_says_why_no_order_is_reached() {
+    let dir = crate::common::Scratch::new("verdict-left-point-verify");
+    let file = crate::common::scenario(&dir, &left_point(0.1, 0.01, std::f64::consts::TAU, ""));
+    let stdout = crate::common::succeeds(
+        crate::common::veselov()
+            .args(["verify", "--dt", "0.02,0.01,0.005", "--out"])
+            .arg(dir.join("v"))
+            .arg(&file),
+    );
+    assert!(
+        stdout.contains("the claimed order 1 is not reached: the start is on or near a turning point"),
+        "{stdout}"
+    );
+    let s = summary(&dir.join("v"));
+    let order = s["order_fitted"].as_f64().expect("a fitted order");
+    assert!(order.abs() < 0.1, "{s}");
+    assert!(s["caveat"].as_str().is_some_and(|c| c.contains("sem-midpoint")), "{s}");
+}

@@ -5,6 +5,7 @@
 pub mod action;
 mod bordered;
 pub mod bvp;
+pub mod degeneracy;
 mod predictor;
 pub mod run;
 mod separable;
@@ -13,6 +14,7 @@ mod variable_stepper;
 
 pub use action::{ActionDerivatives, SemAction, SemRule};
 pub use bvp::solve_lee_bvp;
+pub use degeneracy::StartExpansion;
 pub use run::{SemRun, run_sem};
 pub use stepper::{SemIntegrator, SemOptions, SemState, SemStepInfo, VariableStepMap};
 pub use variable_stepper::SemStepper;

@@ -161,6 +161,14 @@ pub trait VariableStepMap<const N: usize> {
     fn step(&mut self, index: usize, s: &SemState<N>) -> Result<(SemState<N>, SemStepInfo)>;
     /// See [`SemIntegrator::fixed_step`].
     fn fixed_step(&mut self, s: &SemState<N>, h: f64) -> Result<(SemState<N>, usize)>;
+    /// See [`SemIntegrator::start_expansion`].
+    fn start_expansion(
+        &self,
+        t0: f64,
+        q0: SVector<f64, N>,
+        p0: SVector<f64, N>,
+        h0: f64,
+    ) -> Result<super::StartExpansion>;
     /// Append what the next step depends on besides the state as checkpoint
     /// words; nothing by default.
     fn save_carry(&self, _out: &mut Vec<f64>) {}
@@ -188,6 +196,15 @@ impl<L: Lagrangian<N>, const N: usize> VariableStepMap<N> for SemIntegrator<L, N
     }
     fn fixed_step(&mut self, s: &SemState<N>, h: f64) -> Result<(SemState<N>, usize)> {
         SemIntegrator::fixed_step(self, s, h)
+    }
+    fn start_expansion(
+        &self,
+        t0: f64,
+        q0: SVector<f64, N>,
+        p0: SVector<f64, N>,
+        h0: f64,
+    ) -> Result<super::StartExpansion> {
+        SemIntegrator::start_expansion(self, t0, q0, p0, h0)
     }
     fn save_carry(&self, out: &mut Vec<f64>) {
         self.history.save(out);

@@ -19,6 +19,7 @@ mod mechanics_symplectic;
 mod readme_example;
 mod run_resume;
 mod sem;
+mod sem_left_point;
 mod sem_reference;
 mod sem_structure;
 mod separable_start;

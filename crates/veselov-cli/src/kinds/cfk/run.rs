@@ -270,6 +270,7 @@ fn open_session<const M: usize>(setup: &Setup, job: &RunJob) -> Result<(Session,
             limit: s.checks.energy_limit(&setup.path, ENERGY_ERROR_FIELDS)?,
             advice: StepAdvice::lattice(s.lattice.courant, setup.dt, also),
         }),
+        ending: Vec::new(),
     };
     let (session, resumed) = open_lattice_run::<4>(
         &setup.path,

@@ -7,17 +7,18 @@ use serde_json::json;
 use veselov::mechanics::PhaseState;
 use veselov::run::{Checkpoint, StopWhen, Words};
 use veselov::sem::SemStepper;
-use veselov::sem::{SemRule, SemState};
+use veselov::sem::{SemRule, SemState, VariableStepMap};
 
 use super::run::{resolve_initial, trajectory_header, trajectory_row};
 use super::schema::LoadedScenario;
 use super::systems::{SemFactory, System};
 use crate::error::CliError;
+use crate::output::{approx, number};
 use crate::pipeline::finish::{Totals, finish, open_table_session, totals};
 use crate::pipeline::stream::TableSink;
 use crate::pipeline::table::{Acc, TableObserver, Tracker};
 use crate::pipeline::{RunJob, Session, restore, summary, words_error};
-use crate::verdict::StepAdvice;
+use crate::verdict::{DEGENERATE_DOMINANCE, DEGENERATE_DRIFT, STEP_RUNAWAY_FACTOR, StepAdvice, Warning};
 
 /// The system's variable-step integrator factory, or (for a forced model,
 /// which no energy-conserving step can integrate) an error naming the key.
@@ -81,6 +82,12 @@ pub fn run_variable<const N: usize>(
     let system = &system;
     let (mut session, mut table, words) = open_variable(job, scenario, system, planned)?;
     session.verdict.energy = energy_check;
+    // On or near the degeneracy set, the steps do not follow `dt`: the
+    // energy check's advice (a smaller dt) would not help.
+    if let Some(message) = degenerate_start(map.as_ref(), &x0, dt, rule) {
+        session.verdict.warn("degenerate_start", message);
+        session.verdict.energy = None;
+    }
     let out = &s.output;
     let started = session.resumed.is_none().then(|| map.start(x0.t, x0.q, x0.p, dt));
     let mut stepper = SemStepper::new(map.as_mut(), None);
@@ -107,6 +114,22 @@ pub fn run_variable<const N: usize>(
     } = totals(&outcome);
     let wall = session.wall_seconds();
     let t_final = x.t;
+    let h_max = table.states.get(2).map_or(0.0, |(_, t)| t.value);
+    if rule == SemRule::LeftPoint && h_max > STEP_RUNAWAY_FACTOR * dt {
+        session.verdict.ending.push(Warning {
+            code: "step_runaway",
+            message: format!(
+                "the step grew from dt = {} to {} ({}×): started at or near a turning point, sem-leftpoint \
+                 follows the branch of its energy equation whose steps grow with the time since that point, \
+                 and a smaller dt does not bring the run closer to the solution; start away from a turning \
+                 point, or use sem-midpoint or sem-averaged, which do not have this degeneracy",
+                number(dt),
+                approx(h_max),
+                approx(h_max / dt)
+            ),
+        });
+        session.verdict.energy = None;
+    }
     finish(
         &scenario.scenario.output,
         &session,
@@ -146,6 +169,40 @@ pub fn run_variable<const N: usize>(
             )
         },
     )
+}
+
+/// The warning of a start from `x0` with first step `dt` on or near the
+/// degeneracy set of the energy equation (its leading term in the step no
+/// larger than [`DEGENERATE_DOMINANCE`] times the next:
+/// [`veselov::sem::StartExpansion`]), if it is one.
+pub(super) fn degenerate_start<const N: usize>(
+    map: &dyn VariableStepMap<N>,
+    x0: &PhaseState<N>,
+    dt: f64,
+    rule: SemRule,
+) -> Option<String> {
+    let expansion = map.start_expansion(x0.t, x0.q, x0.p, dt).ok()?;
+    let dominance = expansion.dominance();
+    (dominance < DEGENERATE_DOMINANCE && expansion.drift() > DEGENERATE_DRIFT).then(|| {
+        let why = if rule == SemRule::LeftPoint {
+            "a turning point (p·∇V = 0) or a critical point of V"
+        } else {
+            "a point where the energy equation's leading coefficient c(q, p) vanishes"
+        };
+        format!(
+            "the start is on or near {why}: in the first step's energy the term c·dt^{} that sets the steps \
+             is only {}× the next (below {}), so the steps will not follow dt and a smaller dt may not bring \
+             the run closer to the solution; start away from it{}",
+            rule.order(),
+            approx(dominance),
+            number(DEGENERATE_DOMINANCE),
+            if rule == SemRule::LeftPoint {
+                ", or use sem-midpoint or sem-averaged, which do not have this degeneracy at turning points"
+            } else {
+                ""
+            }
+        )
+    })
 }
 
 /// The session of a variable-step run of about `planned` steps, the

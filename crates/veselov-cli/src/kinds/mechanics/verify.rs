@@ -11,7 +11,7 @@ use veselov::sem::run_sem;
 
 use super::run::{resolve_choice, resolve_initial};
 use super::schema::LoadedScenario;
-use super::sem_run::sem_factory;
+use super::sem_run::{degenerate_start, sem_factory};
 use super::systems::{Job, System};
 use crate::catalog::Choice;
 use crate::error::CliError;
@@ -92,12 +92,21 @@ impl Job for VerifyJob {
             t_end,
             scale: reference.q.amax().max(reference.p.amax()).max(1.0),
             interrupt: self.interrupt.clone(),
+            caveat: None,
         };
         let options = scenario.scenario.method.newton_options();
         let error = |x: &PhaseState<N>| (x.q - reference.q).amax().max((x.p - reference.p).amax());
         match choice {
             Choice::Variable(rule) => {
                 let make = sem_factory(scenario, &system, rule)?;
+                // A start on the degeneracy set, even at the finest step:
+                // the steps do not follow dt, and no order is to be had.
+                let finest = dts.iter().copied().fold(f64::INFINITY, f64::min);
+                let map = make(rule).map_err(|e| CliError::Setup(e.to_string()))?;
+                let study = Study {
+                    caveat: degenerate_start(map.as_ref(), &x0, finest, rule),
+                    ..study
+                };
                 study.run(&dir, &dts, &steps, self.quiet, |n, h0| {
                     // `h0` is the first step; the steps follow from the discrete
                     // energy, and the last is shortened to land on t_end.

@@ -54,6 +54,7 @@ impl RigidJob for VerifyJob {
             t_end,
             scale: reference.mu.amax().max(1.0),
             interrupt: self.interrupt.clone(),
+            caveat: None,
         };
         let error = |x: &GroupState<G, N>| {
             let dr = (G::rotation(&x.g) - G::rotation(&reference.g)).amax();
