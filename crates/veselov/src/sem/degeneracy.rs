@@ -25,12 +25,6 @@
 //! at the start and again one step `h₀` later, so that a run can say when
 //! it starts on or near that set and crosses it.
 
-use nalgebra::SVector;
-
-use super::stepper::{SemIntegrator, SemState};
-use crate::error::Result;
-use crate::mechanics::Lagrangian;
-
 /// The leading and next terms of `E_d(h₀) − H` at a start (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StartExpansion {
@@ -87,42 +81,6 @@ fn terms(e: [f64; 3], r: usize) -> (f64, f64) {
     let (d1, d2) = (e[0] - e[1], e[1] - e[2]);
     let b = 2.0 * d1 - 2.0 * two_r * d2;
     ((d1 - b) / (1.0 - 1.0 / two_r), b / (1.0 - 0.5 / two_r))
-}
-
-impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
-    /// The expansion of the discrete energy at a start from `(t₀, q₀, p₀)`
-    /// with first step `h₀` (module docs): three first steps of the fixed
-    /// step map, `h₀`, `h₀/2` and `h₀/4`.
-    ///
-    /// # Errors
-    /// If a first step's momentum equation does not converge.
-    pub fn start_expansion(
-        &self,
-        t0: f64,
-        q0: SVector<f64, N>,
-        p0: SVector<f64, N>,
-        h0: f64,
-    ) -> Result<StartExpansion> {
-        let s0 = SemState {
-            t: t0,
-            q: q0,
-            p: p0,
-            energy: f64::NAN,
-            h: h0,
-        };
-        let energies = |s: &SemState<N>| -> Result<[f64; 3]> {
-            let mut e = [0.0; 3];
-            for (i, e) in e.iter_mut().enumerate() {
-                let h = h0 / f64::from(1u32 << i);
-                let (next, _) = self.fixed_step(s, h)?;
-                *e = self.action().leaving(s.t, &s.q, &next.q, h).2;
-            }
-            Ok(e)
-        };
-        let (s1, _) = self.fixed_step(&s0, h0)?;
-        let order = self.action().rule().order();
-        Ok(StartExpansion::from_energies(energies(&s0)?, energies(&s1)?, order))
-    }
 }
 
 #[cfg(test)]

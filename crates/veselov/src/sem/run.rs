@@ -43,13 +43,7 @@ pub fn run_sem<const N: usize, M: VariableStepMap<N> + ?Sized>(
     let (s0, s1) = match integrator.start(t0, q0, p0, h0) {
         Ok(x) => x,
         Err(e) => {
-            run.states.push(SemState {
-                t: t0,
-                q: q0,
-                p: p0,
-                energy: f64::NAN,
-                h: h0,
-            });
+            run.states.push(SemState::first(t0, q0, p0, h0));
             run.failure = Some(e);
             return run;
         }

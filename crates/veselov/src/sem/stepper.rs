@@ -47,6 +47,7 @@ use crate::solve::dense::solve_small;
 use crate::solve::{DenseLu, NewtonOptions};
 
 mod bracket;
+mod expansion;
 
 /// State of a variable-step run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,6 +62,20 @@ pub struct SemState<const N: usize> {
     pub energy: f64,
     /// Previous step `h_{k−1}` (predictor and bracket centre).
     pub h: f64,
+}
+
+impl<const N: usize> SemState<N> {
+    /// The state a run starts from: `(t₀, q₀, p₀)` with first step `h₀`, its
+    /// energy not yet set (the first step sets it).
+    pub fn first(t0: f64, q0: SVector<f64, N>, p0: SVector<f64, N>, h0: f64) -> Self {
+        Self {
+            t: t0,
+            q: q0,
+            p: p0,
+            energy: f64::NAN,
+            h: h0,
+        }
+    }
 }
 
 /// What a step reports.
@@ -326,13 +341,7 @@ impl<L: Lagrangian<N>, const N: usize> SemIntegrator<L, N> {
     ) -> Result<(SemState<N>, SemState<N>)> {
         check_finite("q0", q0.iter())?;
         check_finite("p0", p0.iter())?;
-        let s0 = SemState {
-            t: t0,
-            q: q0,
-            p: p0,
-            energy: f64::NAN,
-            h: h0,
-        };
+        let s0 = SemState::first(t0, q0, p0, h0);
         let (s1, _) = self.fixed_step(&s0, h0)?;
         let (_, _, e_minus) = self.action.leaving(t0, &q0, &s1.q, h0);
         Ok((SemState { energy: e_minus, ..s0 }, s1))

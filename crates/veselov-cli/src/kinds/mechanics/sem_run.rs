@@ -295,16 +295,7 @@ fn start_variable<const N: usize, St: Checkpoint>(
                 let first = u64::from(max_steps > 0);
                 (if first == 1 { s1 } else { s0 }, first, failure)
             }
-            Err(e) => {
-                let s0 = SemState {
-                    t: x0.t,
-                    q: x0.q,
-                    p: x0.p,
-                    energy: f64::NAN,
-                    h: dt,
-                };
-                (s0, 0, Some(e))
-            }
+            Err(e) => (SemState::first(x0.t, x0.q, x0.p, dt), 0, Some(e)),
         },
     })
 }
