@@ -98,6 +98,9 @@ impl Refinable {
                     .into(),
             ));
         }
+        let Some(&first) = self.nodes.first() else {
+            return Err(key(file, self.nodes_key, "the scenario gives no node count".into()));
+        };
         let ratios: Vec<f64> = match (job.refine, job.nodes.is_empty()) {
             (Some(_), false) => {
                 return Err(key(
@@ -137,10 +140,7 @@ impl Refinable {
                     return Err(key(file, "--nodes", "the node counts must increase".into()));
                 }
                 let d = usize::from(self.closed) as f64;
-                job.nodes
-                    .iter()
-                    .map(|&n| (n as f64 - d) / (self.nodes[0] as f64 - d))
-                    .collect()
+                job.nodes.iter().map(|&n| (n as f64 - d) / (first as f64 - d)).collect()
             }
         };
         let flag = if job.refine.is_some() { "--refine" } else { "--nodes" };
@@ -157,8 +157,7 @@ impl Refinable {
                             file,
                             flag,
                             format!(
-                                "{} nodes refined by {} is not a whole number of nodes (3 at least) on every axis",
-                                self.nodes[0],
+                                "{first} nodes refined by {} is not a whole number of nodes (3 at least) on every axis",
                                 crate::output::number(ratio)
                             ),
                         )
@@ -237,8 +236,19 @@ impl Refinable {
         }
         let table: toml::Table = crate::scenario::parse_toml(file, text)?;
         // Every run's scenario is valid before the first starts.
+        let flag = if job.refine.is_some() { "--refine" } else { "--nodes" };
         for level in &levels {
-            crate::route::check_text(file, &self.text(&table, level, None)?)?;
+            crate::route::check_text(file, &self.text(&table, level, None)?).map_err(|e| {
+                let why = match e {
+                    CliError::Key { key, message, .. } => format!("`{key}`: {message}"),
+                    other => other.to_string(),
+                };
+                key(
+                    file,
+                    flag,
+                    format!("the run with {:?} nodes is refused: {why}", level.nodes),
+                )
+            })?;
         }
         let default_dir = || {
             let stem = file

@@ -174,7 +174,8 @@ fn beam_cantilever_tip_displacement_is_first_order_with_a_warning() {
 /// Refusals name the flag at fault, before any run: `--dt` on a field,
 /// no runs asked for, both `--refine` and `--nodes`, too few refinements,
 /// an observable the kind lacks, a refinement whose finest run would exceed
-/// the limits of a run, and refinement options on a mechanics scenario.
+/// the limits of a run or that the kind refuses, and refinement options on a
+/// mechanics scenario.
 #[test]
 fn refinement_refusals_name_the_flag() {
     let dir = Scratch::new("refine-refusals");
@@ -208,8 +209,14 @@ fn refinement_refusals_name_the_flag() {
     assert!(e.contains("field, energy"), "{e}");
     let long = Scratch::new("refine-refusals-long");
     let file = scenario(&long, &example("wave.toml"));
-    let e = fails(&["--refine", "12"], &file, "--refine");
+    let e = fails(&["--refine", "10"], &file, "--refine");
     assert!(e.contains("limit"), "{e}");
+    // A refined run the kind refuses (more than 2²⁰ CFK nodes per level) is
+    // named before any run.
+    let cfk = Scratch::new("refine-refusals-cfk");
+    let file = scenario(&cfk, &example("sine_gordon_2d.toml"));
+    let e = fails(&["--refine", "7"], &file, "--refine");
+    assert!(e.contains("[1536, 1536] nodes is refused: `lattice.nodes`"), "{e}");
     let pendulum = dir.join("pendulum.toml");
     std::fs::write(
         &pendulum,
