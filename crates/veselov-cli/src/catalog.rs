@@ -283,7 +283,7 @@ pub const MODELS: &[ModelInfo] = &[
         params: &[],
         default_initial: "required: [initial] kind = kink-antikink | kink | breather",
         symmetries: &[],
-        reference: "breather and kink (test suite)",
+        reference: "the next finer run of a refinement (`--refine`, `--nodes`; Richardson estimate); test suite: breather and kink",
     },
     ModelInfo {
         name: "wave",
@@ -292,7 +292,7 @@ pub const MODELS: &[ModelInfo] = &[
         params: &[],
         default_initial: "required: [initial] kind = dalembert",
         symmetries: &["shift_charge (periodic lattices)"],
-        reference: "d'Alembert (test suite)",
+        reference: "the next finer run of a refinement (`--refine`, `--nodes`; Richardson estimate); test suite: d'Alembert",
     },
     ModelInfo {
         name: "klein-gordon-phi4",
@@ -301,7 +301,7 @@ pub const MODELS: &[ModelInfo] = &[
         params: &[],
         default_initial: "required: [initial] kind (breather or dalembert profiles as data)",
         symmetries: &[],
-        reference: "none",
+        reference: "the next finer run of a refinement (`--refine`, `--nodes`; Richardson estimate)",
     },
     ModelInfo {
         name: "klein-gordon-complex",
@@ -310,7 +310,7 @@ pub const MODELS: &[ModelInfo] = &[
         params: &[],
         default_initial: "required: [initial] kind = plane-wave (amplitude, mode): exact",
         symmetries: &["phase_charge (split Noether charge of the phase rotation)"],
-        reference: "exact plane wave (test suite)",
+        reference: "the next finer run of a refinement (`--refine`, `--nodes`; Richardson estimate); test suite: exact plane wave",
     },
     ModelInfo {
         name: "custom",

@@ -261,6 +261,7 @@ pub fn draw_convergence(
     err: &[f64],
     order: usize,
     fitted: Option<f64>,
+    (step_label, error_label): (&str, &str),
 ) -> Result<(), CliError> {
     // Reference line h^order through the smallest-h point with a usable error.
     let anchor = dt
@@ -279,8 +280,8 @@ pub fn draw_convergence(
     let slope = format!("slope {order}");
     let fig = Figure {
         title: "Convergence at the final time",
-        x_label: "time step dt",
-        y_label: "max error in (q, p)",
+        x_label: step_label,
+        y_label: error_label,
         x_scale: Scale::Log,
         y_scale: Scale::Log,
         series: vec![

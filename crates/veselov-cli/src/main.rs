@@ -67,12 +67,26 @@ enum Command {
         kind: String,
     },
     /// Convergence study of the scenario's method.
+    ///
+    /// Mechanics and rigid bodies: runs at the steps `--dt` against a
+    /// reference. Lattice fields, the beam and the rod: runs refining space
+    /// and time together (`--refine K` or `--nodes`), each error the
+    /// Richardson estimate from the next finer run.
     Verify {
         /// The scenario (TOML).
         scenario: PathBuf,
-        /// Comma-separated time steps, e.g. 0.1,0.05,0.025.
-        #[arg(long, value_delimiter = ',', required = true)]
+        /// Mechanics and rigid bodies: comma-separated time steps, e.g. 0.1,0.05,0.025.
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
         dt: Vec<f64>,
+        /// Lattice fields, beam, rod: the scenario's nodes and K refinements by a factor 2 (Δx halved, Δt with it at the scenario's Courant or step number).
+        #[arg(long, value_name = "K")]
+        refine: Option<usize>,
+        /// Lattice fields, beam, rod: comma-separated node counts of the runs, e.g. 21,41,81.
+        #[arg(long, value_delimiter = ',')]
+        nodes: Vec<usize>,
+        /// Lattice fields, beam, rod: what the runs compare: field, energy, tip-displacement or frequency (default: field for lattices; frequency for a free–free structure, else tip-displacement).
+        #[arg(long)]
+        observable: Option<String>,
         /// Output directory (default: the scenario's output directory + /verify).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -215,6 +229,9 @@ fn main() -> ExitCode {
         Command::Verify {
             scenario,
             dt,
+            refine,
+            nodes,
+            observable,
             out,
             force,
             quiet,
@@ -222,6 +239,9 @@ fn main() -> ExitCode {
             &scenario,
             verify::VerifyJob {
                 dts: dt,
+                refine,
+                nodes,
+                observable,
                 out,
                 force,
                 quiet,

@@ -138,7 +138,9 @@ fn redraw_verify(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErr
             .map(|a| a.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect())
             .ok_or_else(|| summary_key(dir, key, "a list of numbers"))
     };
-    let (dts, errors) = (list("dt")?, list("errors")?);
+    // The step of the study: `dt`, or `dx` for a refinement study.
+    let step = summary.get("step").and_then(Value::as_str).unwrap_or("dt");
+    let (dts, errors) = (list(step)?, list("errors")?);
     let order = summary
         .get("order_claimed")
         .and_then(Value::as_u64)
@@ -150,6 +152,16 @@ fn redraw_verify(dir: &Path, summary: &Value, format: &str) -> Result<(), CliErr
         &errors,
         order as usize,
         fitted,
+        (
+            summary
+                .get("step_label")
+                .and_then(Value::as_str)
+                .unwrap_or(crate::verify::TIME_STEP.label),
+            summary
+                .get("error_label")
+                .and_then(Value::as_str)
+                .unwrap_or(crate::verify::STATE_ERROR),
+        ),
     )
 }
 

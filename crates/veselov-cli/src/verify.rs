@@ -1,7 +1,12 @@
 //! `veselov verify`: convergence study of the scenario's method — the
-//! options, the step counts and the study itself, shared by the kinds that
-//! take one (mechanics: [`crate::kinds::mechanics::verify`], rigid bodies:
-//! [`crate::kinds::rigid::verify`]), each with its own reference.
+//! options, the step counts and the study itself (its table, fit, summary
+//! and plot), shared by every kind: a study in the time step against a
+//! reference for mechanics ([`crate::kinds::mechanics::verify`]) and rigid
+//! bodies ([`crate::kinds::rigid::verify`]), a refinement of space and time
+//! together for the lattice fields, the beam and the rod ([`refine`]).
+
+pub mod observe;
+pub mod refine;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -17,8 +22,16 @@ use crate::scenario::{landing_steps, note_step_length};
 
 /// Options of `veselov verify`.
 pub struct VerifyJob {
-    /// `--dt` list.
+    /// `--dt` list (mechanics and rigid bodies).
     pub dts: Vec<f64>,
+    /// `--refine K`: the scenario's grid and K refinements by a factor 2
+    /// (lattice fields, beam, rod).
+    pub refine: Option<usize>,
+    /// `--nodes N1,N2,…`: the node counts of the runs (lattice fields, beam,
+    /// rod).
+    pub nodes: Vec<usize>,
+    /// `--observable NAME`: what a refinement study compares.
+    pub observable: Option<String>,
     /// `--out`.
     pub out: Option<PathBuf>,
     /// `--force`.
@@ -29,6 +42,42 @@ pub struct VerifyJob {
     /// command): once set, the study stops before its next run, without
     /// writing its outputs.
     pub interrupt: Option<Arc<AtomicBool>>,
+}
+
+impl VerifyJob {
+    /// Check that the options are those of a study in the time step
+    /// (`--dt`, none of the refinement options), for the scenario `file`.
+    pub fn time_step_study(&self, file: &std::path::Path) -> Result<(), CliError> {
+        let bad = |key: &str, message: &str| CliError::Key {
+            file: file.to_path_buf(),
+            key: key.into(),
+            message: message.into(),
+        };
+        let refinement = "this kind is verified in its time step alone: give `--dt`, not";
+        if self.refine.is_some() {
+            return Err(bad(
+                "--refine",
+                &format!("{refinement} `--refine` (lattice fields, beam, rod)"),
+            ));
+        }
+        if !self.nodes.is_empty() {
+            return Err(bad(
+                "--nodes",
+                &format!("{refinement} `--nodes` (lattice fields, beam, rod)"),
+            ));
+        }
+        if self.observable.is_some() {
+            return Err(bad(
+                "--observable",
+                "this kind measures the error of the whole state (q, p) at t_end; `--observable` is for lattice \
+                 fields, the beam and the rod",
+            ));
+        }
+        if self.dts.is_empty() {
+            return Err(bad("--dt", "give the steps of the study, e.g. `--dt 0.1,0.05,0.025`"));
+        }
+        Ok(())
+    }
 }
 
 /// The most steps one `--dt` may ask for (a guard against `--dt 1e-300`).
@@ -93,12 +142,43 @@ pub struct Study {
     pub scale: f64,
     /// [`VerifyJob::interrupt`]: checked before each run of the study.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// What the error measures: the label of the plot's error axis.
+    pub error_label: String,
+    /// The step the order is fitted in.
+    pub step: Step,
+    /// Further entries of `summary.json` (an object; others are ignored).
+    pub extra: serde_json::Value,
     /// Why the claimed order cannot be expected of this scenario, if the
     /// kind knows (a variable-step start on the degeneracy set): said
     /// instead of the generic advice when the order is not reached, and
     /// written as `caveat` in `summary.json`.
     pub caveat: Option<String>,
 }
+
+/// The label of the error axis of a study of the whole state.
+pub const STATE_ERROR: &str = "max error in (q, p)";
+
+/// The step a study's order is fitted in: its key in `summary.json` (the
+/// list of steps and `fit_<key>_range`) and the plot's axis label.
+#[derive(Debug, Clone, Copy)]
+pub struct Step {
+    /// Key in `summary.json`.
+    pub key: &'static str,
+    /// Label of the plot's axis.
+    pub label: &'static str,
+}
+
+/// The time step of a study in time alone.
+pub const TIME_STEP: Step = Step {
+    key: "dt",
+    label: "time step dt",
+};
+
+/// The space step of a refinement study (the time step refined with it).
+pub const SPACE_STEP: Step = Step {
+    key: "dx",
+    label: "space step dx (dt refined with it)",
+};
 
 impl Study {
     /// For each `dt` (with `n` steps) measure `error(n, dt)` (an `Err` inside is a
@@ -153,9 +233,28 @@ impl Study {
         }
         let dts: Vec<f64> = table.rows.iter().map(|r| r[0]).collect();
         let errs: Vec<f64> = table.rows.iter().map(|r| r[2]).collect();
+        self.conclude(dir, &files, &table, &dts, &errs, quiet)
+    }
+
+    /// Fit the order of the errors `errs` at the steps `dts` (the study's
+    /// [`Step`]) over the asymptotic range, print it (with a warning when the
+    /// claimed order is not reached, or when coarser points are left out of
+    /// the fit as pre-asymptotic) and write `table` as `convergence.csv`, `summary.json`
+    /// and `convergence.svg` into `dir`, listing in its `outputs.json` what
+    /// is new there since `files`.
+    pub fn conclude(
+        &self,
+        dir: &std::path::Path,
+        files: &crate::pipeline::manifest::Snapshot,
+        table: &Table,
+        dts: &[f64],
+        errs: &[f64],
+        quiet: bool,
+    ) -> Result<(), CliError> {
+        let order = self.order;
         // The asymptotic range: the finest points above the round-off floor
         // whose local rates agree to within 0.25.
-        let fit = fit_order_auto(&dts, &errs, 1e-13 * self.scale, 0.25);
+        let fit = fit_order_auto(dts, errs, 1e-13 * self.scale, 0.25);
         let range = fit.as_ref().map(|f| {
             let used: Vec<f64> = f.used.iter().map(|&i| dts[i]).collect();
             (
@@ -164,14 +263,31 @@ impl Study {
             )
         });
         let reached = fit.as_ref().is_some_and(|f| f.order >= order as f64 - 0.25);
+        // Points above the round-off floor coarser than the fitted range.
+        let pre_asymptotic = match &range {
+            Some((coarse, _)) => dts
+                .iter()
+                .zip(errs)
+                .filter(|(h, e)| **h > *coarse && e.is_finite() && **e > 1e-13 * self.scale)
+                .count(),
+            None => 0,
+        };
         if !quiet {
             match (&fit, range) {
                 (Some(f), Some((coarse, fine))) => {
                     crate::say!(
-                        "fitted order {:.3} over {} points, dt from {coarse:.4e} to {fine:.4e} (claimed {order})",
+                        "fitted order {:.3} over {} points, {} from {coarse:.4e} to {fine:.4e} (claimed {order})",
                         f.order,
-                        f.used.len()
+                        f.used.len(),
+                        self.step.key
                     );
+                    if pre_asymptotic > 0 {
+                        crate::say!(
+                            "warning: pre-asymptotic range: the {pre_asymptotic} coarsest point(s), {} above \
+                             {coarse:.4e}, are left out of the fit (their local rates differ from the finer ones')",
+                            self.step.key
+                        );
+                    }
                     if let (false, Some(caveat)) = (reached, &self.caveat) {
                         crate::say!("warning: the claimed order {order} is not reached: {caveat}");
                     } else if !reached {
@@ -190,25 +306,42 @@ impl Study {
             }
         }
         table.write_csv(&dir.join("convergence.csv"))?;
-        let rates: Vec<f64> = local_rates(&dts, &errs).iter().map(|r| r.2).collect();
-        write_json(
-            &dir.join("summary.json"),
-            &json!({
+        let rates: Vec<f64> = local_rates(dts, errs).iter().map(|r| r.2).collect();
+        let mut summary = json!({
                 "method": self.method,
                 "order_claimed": order,
                 "order_fitted": fit.as_ref().map(|f| f.order),
                 "order_reached": reached,
-                "fit_dt_range": range.map(|(coarse, fine)| [coarse, fine]),
                 "local_rates": rates,
-                "dt": dts,
+                "pre_asymptotic_points": pre_asymptotic,
                 "errors": errs,
                 "reference": self.reference,
                 "t_end": self.t_end,
                 "caveat": self.caveat,
-            }),
+                "error_label": self.error_label,
+        });
+        if let Some(map) = summary.as_object_mut() {
+            map.insert(self.step.key.into(), json!(dts));
+            map.insert(
+                format!("fit_{}_range", self.step.key),
+                json!(range.map(|(coarse, fine)| [coarse, fine])),
+            );
+            map.insert("step".into(), json!(self.step.key));
+            map.insert("step_label".into(), json!(self.step.label));
+            if let Some(extra) = self.extra.as_object() {
+                map.extend(extra.clone());
+            }
+        }
+        write_json(&dir.join("summary.json"), &summary)?;
+        draw_convergence(
+            &dir.join("convergence.svg"),
+            dts,
+            errs,
+            order,
+            fit.map(|f| f.order),
+            (self.step.label, &self.error_label),
         )?;
-        draw_convergence(&dir.join("convergence.svg"), &dts, &errs, order, fit.map(|f| f.order))?;
-        crate::pipeline::manifest::record(dir, &files)?;
+        crate::pipeline::manifest::record(dir, files)?;
         if !quiet {
             crate::say!("outputs in {}", dir.display());
         }

@@ -52,9 +52,10 @@ fn ended(text: &str, result: Result<(), CliError>) -> Ended {
 }
 
 /// The name a caller from Python gives what the command line calls `key`:
-/// the step list of `veselov verify` (`--dt`) is the argument `dt`.
+/// an option of `veselov verify` (`--dt`, `--refine`, `--nodes`,
+/// `--observable`) is the argument of that name.
 fn python_key(key: &str) -> &str {
-    if key == "--dt" { "dt" } else { key }
+    key.strip_prefix("--").unwrap_or(key)
 }
 
 /// The message of `error` for a caller from Python: the command line's
@@ -83,6 +84,13 @@ fn python_message(error: &CliError) -> String {
 fn python_options(text: &str) -> String {
     text.replace("pass --force-large", "pass force_large=True")
         .replace("(--resume needs", "(veselov.resume needs")
+        .replace("`--refine K`", "`refine=K`")
+        .replace("`--nodes N1,N2,…`", "`nodes=[N1, N2, …]`")
+        .replace("`--dt 0.1,0.05,0.025`", "`dt=[0.1, 0.05, 0.025]`")
+        .replace("`--dt`", "`dt`")
+        .replace("`--refine`", "`refine`")
+        .replace("`--nodes`", "`nodes`")
+        .replace("`--observable`", "`observable`")
 }
 
 /// Run `work` on a scoped thread with the GIL released; meanwhile poll
@@ -297,19 +305,25 @@ fn run_many(
 /// text : str
 ///     The scenario, as TOML text.
 /// dts : list of float
-///     The steps of the study (``--dt``).
+///     The steps of the study (``--dt``; empty for a refinement).
 /// out : str
 ///     The output directory.
 /// force : bool, optional
 ///     Write into a non-empty ``out``. Default ``False``.
+/// refine : int, optional
+///     Refinements by a factor 2 (``--refine``).
+/// nodes : list of int, optional
+///     The node counts of the runs (``--nodes``).
+/// observable : str, optional
+///     What a refinement compares (``--observable``).
 ///
 /// Returns
 /// -------
 /// tuple of (str, str, str or None)
 ///     ``(outcome, message, key)`` as ``run_many`` gives them for one
 ///     member: ``"ok"``, ``"error"``, ``"scenario"`` (with ``key``, which
-///     is ``"dt"`` for a bad step) or ``"failure"`` (a field, beam or rod
-///     scenario; output directory, I/O).
+///     is ``"dt"``, ``"refine"``, ``"nodes"`` or ``"observable"`` for a bad
+///     option) or ``"failure"`` (output directory, I/O).
 ///
 /// Raises
 /// ------
@@ -319,12 +333,26 @@ fn run_many(
 ///     Whatever another Python signal handler raised (the study is
 ///     stopped first, in the same way).
 #[pyfunction]
-#[pyo3(signature = (label, text, dts, out, force=false))]
-fn verify(py: Python<'_>, label: &str, text: &str, dts: Vec<f64>, out: &str, force: bool) -> PyResult<Ended> {
+#[pyo3(signature = (label, text, dts, out, force=false, refine=None, nodes=Vec::new(), observable=None))]
+#[allow(clippy::too_many_arguments)]
+fn verify(
+    py: Python<'_>,
+    label: &str,
+    text: &str,
+    dts: Vec<f64>,
+    out: &str,
+    force: bool,
+    refine: Option<usize>,
+    nodes: Vec<usize>,
+    observable: Option<String>,
+) -> PyResult<Ended> {
     let interrupt = Arc::new(AtomicBool::new(false));
     let done = AtomicUsize::new(0);
     let job = VerifyJob {
         dts,
+        refine,
+        nodes,
+        observable,
         out: Some(PathBuf::from(out)),
         force,
         quiet: true,

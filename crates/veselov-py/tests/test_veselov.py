@@ -594,13 +594,29 @@ def test_verify_takes_one_step_or_many():
     many = veselov.verify(EXAMPLES / "harmonic.toml", np.array([0.1, 0.05]))
     assert same_bits(many["dt"][:1], one["dt"])
     assert veselov.verify(EXAMPLES / "harmonic.toml", (0.1, 0.05))["dt"].shape == (2,)
-    for bad in ("0.1", None, [0.1, "0.05"], [True]):
+    for bad in ("0.1", [0.1, "0.05"], [True]):
         with pytest.raises(TypeError) as e:
             veselov.verify(EXAMPLES / "harmonic.toml", bad)
         assert "dt: expected a number or a sequence of numbers" in str(e.value)
-    with pytest.raises(veselov.ScenarioError) as e:
-        veselov.verify(EXAMPLES / "harmonic.toml", [])
-    assert e.value.key == "dt"
+    for missing in ([], None):
+        with pytest.raises(veselov.ScenarioError) as e:
+            veselov.verify(EXAMPLES / "harmonic.toml", missing)
+        assert e.value.key == "dt"
+
+
+def test_verify_refines_a_lattice_field_with_the_options_of_the_command(tmp_path):
+    wave = (EXAMPLES / "wave.toml").read_text().replace("t_end = 50.0", "t_end = 2.0")
+    study = veselov.verify(wave, refine=3, out=tmp_path / "v")
+    assert study.summary["observable"] == "field"
+    assert study.summary["error_estimate"] == "richardson"
+    assert abs(study.summary["order_fitted"] - 2.0) < 0.3
+    assert study["dx"].shape == (4,)
+    energy = veselov.verify(wave, nodes=[200, 400, 800], observable="energy")
+    assert energy.summary["observable"] == "energy"
+    for options, key in (({}, "refine"), ({"refine": 2, "observable": "tip-displacement"}, "observable")):
+        with pytest.raises(veselov.ScenarioError) as e:
+            veselov.verify(wave, **options)
+        assert e.value.key == key and "--" not in str(e.value)
 
 
 def test_ctrl_c_stops_verify_and_is_raised(tmp_path):

@@ -22,3 +22,4 @@ mod shared;
 mod vectors;
 mod verdicts;
 mod verify;
+mod verify_refine;

@@ -75,9 +75,8 @@ class VeselovError(RuntimeError):
     Raised for an output directory that cannot be used (not empty without
     ``force=True``, a file, not writable), for I/O errors, for a checkpoint
     that :func:`resume` cannot continue, and for a scenario that a command
-    does not take (e.g. :func:`verify` of a field, beam or rod scenario). A
-    run that fails or is interrupted once started raises nothing: it
-    returns a :class:`Result` whose ``status`` says so.
+    does not take. A run that fails or is interrupted once started raises
+    nothing: it returns a :class:`Result` whose ``status`` says so.
 
     Parameters
     ----------
@@ -1201,32 +1200,54 @@ def _steps(dt: Any) -> list:
 
 def verify(
     scenario: Scenario,
-    dt: Union[float, Iterable[float]],
+    dt: Optional[Union[float, Iterable[float]]] = None,
     out: Optional[Union[str, os.PathLike]] = None,
     force: bool = False,
+    *,
+    refine: Optional[int] = None,
+    nodes: Optional[Iterable[int]] = None,
+    observable: Optional[str] = None,
 ) -> Result:
     """Convergence study of a scenario's method, as ``veselov verify`` does.
 
-    Runs the scenario's model and method once per step in ``dt`` and
-    measures each run's error at the final time against a reference (the
-    exact solution where the model has one, otherwise a fine run: see
-    ``verify_reference`` in :func:`models`), then fits the order. Takes
-    Lagrangian mechanics and rigid-body scenarios only.
+    Mechanics and rigid bodies: runs the scenario's model and method once
+    per step in ``dt`` and measures each run's error at the final time
+    against a reference (the exact solution where the model has one,
+    otherwise a fine run: see ``verify_reference`` in :func:`models`),
+    then fits the order.
+
+    Lattice fields, the beam and the rod: runs the scenario refined in
+    space and time together (``refine`` or ``nodes``), each run as
+    :func:`run` runs it, and measures the ``observable`` of each run
+    against the next finer one (a Richardson estimate of its error), then
+    fits the order in the space step.
 
     Parameters
     ----------
     scenario : str, os.PathLike or Mapping[str, Any]
         The scenario, as :func:`run` takes it.
-    dt : float or iterable of float
-        The steps to try, e.g. ``[0.1, 0.05, 0.025]`` (a list, tuple,
-        NumPy array, ...), or one step (a number). A fixed-step method
-        uses the nearest step that divides the run's time span in a whole
-        number of steps.
+    dt : float or iterable of float, optional
+        Mechanics and rigid bodies: the steps to try, e.g. ``[0.1, 0.05,
+        0.025]`` (a list, tuple, NumPy array, ...), or one step (a
+        number). A fixed-step method uses the nearest step that divides
+        the run's time span in a whole number of steps.
     out : str or os.PathLike, optional
         The directory to keep ``convergence.csv``, ``convergence.svg`` and
-        ``summary.json`` in. Default: a temporary directory, removed.
+        ``summary.json`` in (and the runs of a refinement, in
+        ``level-<k>``). Default: a temporary directory, removed.
     force : bool, optional
         Write into a non-empty ``out``. Default ``False``.
+    refine : int, optional
+        Lattice fields, beam, rod: the scenario's nodes and ``refine``
+        refinements by a factor 2 (``--refine``; 2 to 12).
+    nodes : iterable of int, optional
+        Lattice fields, beam, rod: the node counts of the runs instead
+        (``--nodes``; three at least, increasing).
+    observable : str, optional
+        Lattice fields, beam, rod: ``"field"``, ``"energy"``,
+        ``"tip-displacement"`` or ``"frequency"`` (``--observable``;
+        default: the field for lattices, the first frequency of a free–free
+        structure, else the tip displacement).
 
     Returns
     -------
@@ -1246,10 +1267,11 @@ def verify(
     ScenarioError
         If the scenario is invalid; or if ``dt`` is empty, or a step is not
         a finite number > 0 or asks for too many steps, with
-        ``e.key == "dt"``.
+        ``e.key == "dt"``; or if the refinement options are missing or
+        wrong for the kind, with ``e.key`` ``"refine"``, ``"nodes"``,
+        ``"observable"`` or ``"dt"``.
     VeselovError
-        If the scenario is a lattice field, the beam or the rod (not
-        taken), or ``out`` cannot be written.
+        If ``out`` cannot be written.
     TypeError
         If ``scenario`` is none of a path, a ``str`` or a mapping; or if
         ``dt`` is neither a number nor an iterable of numbers (a ``str``
@@ -1273,12 +1295,15 @@ def verify(
     >>> study["error"].shape, study.summary["order_claimed"]
     ((3,), 2)
     """
-    steps = _steps(dt)
+    steps = [] if dt is None else _steps(dt)
+    counts = [] if nodes is None else [int(n) for n in nodes]
     label, text = _scenario_text(scenario)
     keep = out is not None
     root = Path(out) if keep else Path(tempfile.mkdtemp(prefix="veselov-"))
     try:
-        status, message, key = _native.verify(label, text, steps, str(root), force)
+        status, message, key = _native.verify(
+            label, text, steps, str(root), force, refine, counts, observable
+        )
         if status == "scenario":
             raise ScenarioError(message, key)
         if status == "failure":

@@ -19,6 +19,7 @@ use super::ScenarioKind;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
 use crate::verify::VerifyJob;
+use crate::verify::refine::{Refinable, nodes_at, structure_observables, text_at};
 use schema::BEAM_MODEL;
 
 /// The beam kind.
@@ -56,11 +57,35 @@ impl ScenarioKind for BeamKind {
         run::run(path, text, job)
     }
 
-    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
-        Err(CliError::Setup(format!(
-            "{}: `veselov verify` does not take beam scenarios; the beam's convergence (Timoshenko's \
-             frequencies and deflection) is measured by the test suite (crates/veselov/tests/beam/)",
-            path.display()
-        )))
+    /// A refinement study of the nodes and the time step at the
+    /// scenario's step rule (its `time.dt` divided with the space step):
+    /// the tip displacement, or the first frequency of a free–free
+    /// vibration, by default.
+    fn verify(&self, path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
+        self.check(path, text)?;
+        let table: toml::Table = crate::scenario::parse_toml(path, text)?;
+        if text_at(&table, "method.evolution", "time") != "time" {
+            return Err(crate::scenario::key_error(
+                path,
+                "method.evolution",
+                "`veselov verify` refines time evolution; space evolution runs on the fixed time grid of its \
+                 prescribed columns",
+            ));
+        }
+        Refinable {
+            method: format!("beam, {} retraction", text_at(&table, "method.retraction", "cayley")),
+            order: 2,
+            nodes_key: "model.nodes",
+            nodes: nodes_at(&table, "model.nodes"),
+            closed: true,
+            scaled: &["time.dt"],
+            whole_steps: false,
+            outputs: vec![("output.plots", false.into())],
+            observables: structure_observables(
+                text_at(&table, "ends.start", "free"),
+                text_at(&table, "ends.end", "free"),
+            ),
+        }
+        .study(path, text, job)
     }
 }

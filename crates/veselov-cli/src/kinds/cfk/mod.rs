@@ -46,11 +46,12 @@ pub mod schema;
 use std::path::Path;
 
 use super::ScenarioKind;
-use super::lattice::no_verify;
 use super::lattice::schema::FIELD_MODELS;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
 use crate::verify::VerifyJob;
+use crate::verify::observe::Observable;
+use crate::verify::refine::{Refinable, nodes_at};
 
 /// Whether a field scenario (its TOML `table`) asks for a CFK lattice.
 pub fn is_cfk(table: &toml::Table) -> bool {
@@ -101,7 +102,23 @@ impl ScenarioKind for CfkKind {
         run::run(path, text, job)
     }
 
-    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
-        Err(no_verify(path))
+    /// A refinement study of both space axes and time at the scenario's
+    /// Courant number (or its `dt` divided with the spacing), the final
+    /// field by default.
+    fn verify(&self, path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
+        self.check(path, text)?;
+        let table: toml::Table = crate::scenario::parse_toml(path, text)?;
+        Refinable {
+            method: "CFK midpoint rule".into(),
+            order: 2,
+            nodes_key: "lattice.nodes",
+            nodes: nodes_at(&table, "lattice.nodes"),
+            closed: false,
+            scaled: &["lattice.dt", "lattice.spacing"],
+            whole_steps: true,
+            outputs: vec![("output.plots", false.into()), ("output.snapshot_every", 0.into())],
+            observables: vec![Observable::Field, Observable::Energy],
+        }
+        .study(path, text, job)
     }
 }

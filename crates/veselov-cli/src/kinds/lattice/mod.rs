@@ -38,6 +38,8 @@ use super::ScenarioKind;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
 use crate::verify::VerifyJob;
+use crate::verify::observe::Observable;
+use crate::verify::refine::{Refinable, nodes_at, text_at};
 use schema::FIELD_MODELS;
 
 /// The 1+1 lattice-field kind.
@@ -75,17 +77,23 @@ impl ScenarioKind for LatticeKind {
         run::run(path, text, job)
     }
 
-    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
-        Err(no_verify(path))
+    /// A refinement study at the scenario's Courant number (or its `dt`
+    /// divided with the space step), the final field by default.
+    fn verify(&self, path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
+        self.check(path, text)?;
+        let table: toml::Table = crate::scenario::parse_toml(path, text)?;
+        let boundary = text_at(&table, "lattice.boundary", "periodic");
+        Refinable {
+            method: format!("{} scheme", text_at(&table, "method.scheme", "triangle")),
+            order: 2,
+            nodes_key: "lattice.nodes",
+            nodes: nodes_at(&table, "lattice.nodes"),
+            closed: matches!(boundary, "dirichlet" | "free"),
+            scaled: &["lattice.dt"],
+            whole_steps: true,
+            outputs: vec![("output.plots", false.into()), ("output.snapshot_every", 0.into())],
+            observables: vec![Observable::Field, Observable::Energy],
+        }
+        .study(path, text, job)
     }
-}
-
-/// Why `veselov verify` takes no lattice-field scenario (of the 1+1 or the
-/// CFK lattice) from the file `path`.
-pub(crate) fn no_verify(path: &Path) -> CliError {
-    CliError::Setup(format!(
-        "{}: `veselov verify` does not take lattice-field scenarios; the convergence of the schemes \
-         is measured by the test suite (crates/veselov/tests/field/)",
-        path.display()
-    ))
 }

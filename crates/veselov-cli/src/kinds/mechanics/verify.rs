@@ -16,7 +16,7 @@ use super::systems::{Job, System};
 use crate::catalog::Choice;
 use crate::error::CliError;
 use crate::pipeline::manifest::prepare_dir;
-use crate::verify::{Study, VerifyJob, note_adjusted, study_steps};
+use crate::verify::{STATE_ERROR, Study, TIME_STEP, VerifyJob, note_adjusted, study_steps};
 
 fn run_to<const N: usize>(
     map: &mut dyn OneStepMap<N>,
@@ -36,6 +36,7 @@ const SEM_STEP_ALLOWANCE: usize = 100;
 
 impl Job for VerifyJob {
     fn run<const N: usize>(self, scenario: &LoadedScenario, system: System<N>) -> Result<(), CliError> {
+        self.time_step_study(&scenario.path)?;
         let choice = resolve_choice(scenario)?;
         let (name, order) = match choice {
             Choice::Fixed(method) => (
@@ -92,6 +93,9 @@ impl Job for VerifyJob {
             t_end,
             scale: reference.q.amax().max(reference.p.amax()).max(1.0),
             interrupt: self.interrupt.clone(),
+            error_label: STATE_ERROR.into(),
+            step: TIME_STEP,
+            extra: serde_json::Value::Null,
             caveat: None,
         };
         let options = scenario.scenario.method.newton_options();

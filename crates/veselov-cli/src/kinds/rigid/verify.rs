@@ -10,7 +10,7 @@ use super::schema::LoadedRigid;
 use crate::error::CliError;
 use crate::pipeline::manifest::prepare_dir;
 use crate::scenario::{output_dir, step_count};
-use crate::verify::{Study, VerifyJob, note_adjusted, study_steps};
+use crate::verify::{STATE_ERROR, Study, TIME_STEP, VerifyJob, note_adjusted, study_steps};
 
 impl RigidJob for VerifyJob {
     /// Convergence study against RK4 on the continuous Euler–Poincaré
@@ -29,6 +29,7 @@ impl RigidJob for VerifyJob {
         CayleyMap: Retraction<N, Family = G>,
         L: SplitReducedLagrangian<G, N> + Clone,
     {
+        self.time_step_study(&loaded.path)?;
         let s = &loaded.scenario;
         let t_end = match s.time.t_end {
             Some(t) => t,
@@ -54,6 +55,9 @@ impl RigidJob for VerifyJob {
             t_end,
             scale: reference.mu.amax().max(1.0),
             interrupt: self.interrupt.clone(),
+            error_label: STATE_ERROR.into(),
+            step: TIME_STEP,
+            extra: serde_json::Value::Null,
             caveat: None,
         };
         let error = |x: &GroupState<G, N>| {

@@ -23,6 +23,7 @@ use super::ScenarioKind;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
 use crate::verify::VerifyJob;
+use crate::verify::refine::{Refinable, nodes_at, structure_observables, text_at};
 use schema::ROD_MODEL;
 
 /// The Cosserat-rod kind.
@@ -60,11 +61,31 @@ impl ScenarioKind for RodKind {
         run::run(path, text, job)
     }
 
-    fn verify(&self, path: &Path, _text: &str, _job: VerifyJob) -> Result<(), CliError> {
-        Err(CliError::Setup(format!(
-            "{}: `veselov verify` does not take rod scenarios; the rod's convergence (Timoshenko's \
-             cantilever deflection at second order) is measured by the test suite (crates/veselov/tests/rod/rod_ends.rs)",
-            path.display()
-        )))
+    /// A refinement study of the nodes and the time step at the
+    /// scenario's step rule (its `time.dt` divided with the space step):
+    /// the tip displacement, or the first frequency of a free–free
+    /// vibration, by default.
+    fn verify(&self, path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
+        self.check(path, text)?;
+        let table: toml::Table = crate::scenario::parse_toml(path, text)?;
+        Refinable {
+            method: format!(
+                "rod, {} shear frame, {} quadrature",
+                text_at(&table, "method.shear_frame", "vertex"),
+                text_at(&table, "method.quadrature", "vertex")
+            ),
+            order: 2,
+            nodes_key: "model.nodes",
+            nodes: nodes_at(&table, "model.nodes"),
+            closed: true,
+            scaled: &["time.dt"],
+            whole_steps: false,
+            outputs: vec![("output.plots", false.into())],
+            observables: structure_observables(
+                text_at(&table, "ends.start", "free"),
+                text_at(&table, "ends.end", "free"),
+            ),
+        }
+        .study(path, text, job)
     }
 }
