@@ -35,6 +35,18 @@ pub trait Potential<const DIM: usize>: Send + Sync {
     }
 }
 
+/// `∇N(y)`, exact (one first-order dual pass over [`Potential::potential`]).
+pub fn potential_gradient<P: Potential<DIM>, const DIM: usize>(
+    potential: &P,
+    y: &SVector<f64, DIM>,
+) -> SVector<f64, DIM> {
+    num_dual::gradient(
+        |yd: SVector<num_dual::DualSVec64<DIM>, DIM>| potential.potential(&yd),
+        y,
+    )
+    .1
+}
+
 /// A scalar potential with the values the fast lattice paths need.
 pub trait ScalarPotential: Potential<1> {
     /// `(N(y), N′(y), N″(y))`. The default differentiates [`Potential`]
@@ -295,6 +307,23 @@ impl<const DIM: usize, P: Potential<DIM>> crate::spacetime::density::Density<DIM
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The exact gradient is the field equation's force: −sin φ for
+    /// sine-Gordon, −(m² + λ|φ|²)φ for the complex Klein–Gordon field.
+    #[test]
+    fn the_potential_gradient_is_the_force_of_the_field_equation() {
+        for phi in [-2.0, 0.0, 0.3, 1.7] {
+            let g = potential_gradient(&SineGordon, &SVector::<f64, 1>::new(phi));
+            assert!((g[0] + f64::sin(phi)).abs() <= 2.0 * f64::EPSILON, "{phi}: {g}");
+        }
+        let kg = ComplexKleinGordon { m2: 1.5, lambda: 0.7 };
+        let y = SVector::<f64, 2>::new(0.4, -1.1);
+        let expected = -y * (kg.m2 + kg.lambda * y.norm_squared());
+        assert!(
+            (potential_gradient(&kg, &y) - expected).amax() <= 4.0 * f64::EPSILON,
+            "{expected}"
+        );
+    }
 
     /// Sine-Gordon's batched derivatives are the bits of the dual passes
     /// the rules would otherwise make point by point (first order for the

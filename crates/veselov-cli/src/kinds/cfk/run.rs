@@ -237,17 +237,7 @@ fn start_march<P: Potential<M> + Copy + 'static, const M: usize>(
 where
     NonlinearWave<P>: SmoothDensity<Euclidean<M>, M, 3>,
 {
-    // ∇N by central differences (its error, about 1e-10, is multiplied by
-    // t² in the start).
-    let force = move |y: &SVector<f64, M>| -> SVector<f64, M> {
-        SVector::from_fn(|k, _| {
-            let h = 1e-5 * y[k].abs().max(1.0);
-            let (mut up, mut down) = (*y, *y);
-            up[k] += h;
-            down[k] -= h;
-            (potential.potential::<f64>(&up) - potential.potential::<f64>(&down)) / (2.0 * h)
-        })
-    };
+    let force = move |y: &SVector<f64, M>| veselov::spacetime::potential::potential_gradient(&potential, y);
     let field = initial::<M>(setup, dispersion, Box::new(force))?;
     let torus = CfkTorus::new(3, &setup.nodes).map_err(|e| setup.key("lattice.nodes", e.to_string()))?;
     let nodes = CfkNodes::<3>::space_time(setup.dx, setup.dt).map_err(|e| setup.key("lattice", e.to_string()))?;
