@@ -537,16 +537,30 @@ impl Refinable {
     }
 }
 
-/// The observables of a rod or a beam whose ends are `start` and `end`
-/// (`free` or held), the default first: the first frequency of a free–free
-/// vibration, the tip displacement of a structure with one free end, else
-/// the energy.
-pub fn structure_observables(start: &str, end: &str) -> Vec<Observable> {
-    use Observable::{Energy, Frequency, Tip};
-    match (start == "free", end == "free") {
-        (true, true) => vec![Frequency, Energy, Tip],
-        (false, false) => vec![Energy, Frequency, Tip],
-        _ => vec![Tip, Energy, Frequency],
+impl Refinable {
+    /// The study of a rod or a beam (`method` named) of scenario `table`:
+    /// its `model.nodes` refined with its `time.dt` (second order, landing
+    /// on `t_end`, no figures), observing by default the first frequency of
+    /// a free–free vibration, the tip displacement of a structure with one
+    /// free end, else the energy.
+    pub fn structure(method: String, table: &toml::Table) -> Self {
+        use Observable::{Energy, Frequency, Tip};
+        let free = |key: &str| text_at(table, key, "free") == "free";
+        Self {
+            method,
+            order: 2,
+            nodes_key: "model.nodes",
+            nodes: nodes_at(table, "model.nodes"),
+            closed: true,
+            scaled: &["time.dt"],
+            whole_steps: false,
+            outputs: vec![("output.plots", false.into())],
+            observables: match (free("ends.start"), free("ends.end")) {
+                (true, true) => vec![Frequency, Energy, Tip],
+                (false, false) => vec![Energy, Frequency, Tip],
+                _ => vec![Tip, Energy, Frequency],
+            },
+        }
     }
 }
 

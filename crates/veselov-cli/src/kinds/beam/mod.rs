@@ -19,7 +19,7 @@ use super::ScenarioKind;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
 use crate::verify::VerifyJob;
-use crate::verify::refine::{Refinable, nodes_at, structure_observables, text_at};
+use crate::verify::refine::{Refinable, text_at};
 use schema::BEAM_MODEL;
 
 /// The beam kind.
@@ -72,20 +72,7 @@ impl ScenarioKind for BeamKind {
                  prescribed columns",
             ));
         }
-        Refinable {
-            method: format!("beam, {} retraction", text_at(&table, "method.retraction", "cayley")),
-            order: 2,
-            nodes_key: "model.nodes",
-            nodes: nodes_at(&table, "model.nodes"),
-            closed: true,
-            scaled: &["time.dt"],
-            whole_steps: false,
-            outputs: vec![("output.plots", false.into())],
-            observables: structure_observables(
-                text_at(&table, "ends.start", "free"),
-                text_at(&table, "ends.end", "free"),
-            ),
-        }
-        .study(path, text, job)
+        let method = format!("beam, {} retraction", text_at(&table, "method.retraction", "cayley"));
+        Refinable::structure(method, &table).study(path, text, job)
     }
 }

@@ -23,7 +23,7 @@ use super::ScenarioKind;
 use crate::error::CliError;
 use crate::pipeline::RunJob;
 use crate::verify::VerifyJob;
-use crate::verify::refine::{Refinable, nodes_at, structure_observables, text_at};
+use crate::verify::refine::{Refinable, text_at};
 use schema::ROD_MODEL;
 
 /// The Cosserat-rod kind.
@@ -68,24 +68,11 @@ impl ScenarioKind for RodKind {
     fn verify(&self, path: &Path, text: &str, job: VerifyJob) -> Result<(), CliError> {
         self.check(path, text)?;
         let table: toml::Table = crate::scenario::parse_toml(path, text)?;
-        Refinable {
-            method: format!(
-                "rod, {} shear frame, {} quadrature",
-                text_at(&table, "method.shear_frame", "vertex"),
-                text_at(&table, "method.quadrature", "vertex")
-            ),
-            order: 2,
-            nodes_key: "model.nodes",
-            nodes: nodes_at(&table, "model.nodes"),
-            closed: true,
-            scaled: &["time.dt"],
-            whole_steps: false,
-            outputs: vec![("output.plots", false.into())],
-            observables: structure_observables(
-                text_at(&table, "ends.start", "free"),
-                text_at(&table, "ends.end", "free"),
-            ),
-        }
-        .study(path, text, job)
+        let method = format!(
+            "rod, {} shear frame, {} quadrature",
+            text_at(&table, "method.shear_frame", "vertex"),
+            text_at(&table, "method.quadrature", "vertex")
+        );
+        Refinable::structure(method, &table).study(path, text, job)
     }
 }
