@@ -2,21 +2,14 @@
 //! `summary.json` count the same time steps, whatever the number of
 //! lattice levels a time step computes, and messages print numbers short.
 
-use crate::common::{Scratch, example, scenario, summary, veselov};
+use crate::common::{example, run_loud, summary};
 use crate::shared::with_time_table;
 
 /// Runs `text` (not quiet) in a fresh directory `name`; returns the
 /// preflight count, the final line (standard output) and the summary.
 fn counted(name: &str, text: &str) -> (u64, String, serde_json::Value) {
-    let dir = Scratch::new(name);
-    let file = scenario(&dir, text);
+    let (o, dir) = run_loud(name, text);
     let out = dir.at("out");
-    let o = veselov()
-        .args(["run", "--out"])
-        .arg(&out)
-        .arg(&file)
-        .output()
-        .expect("run");
     let (stdout, stderr) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
     assert!(o.status.success(), "{stderr}");
     let preflight = stderr

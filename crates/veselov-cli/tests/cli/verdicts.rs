@@ -179,14 +179,7 @@ fn messages_speak_the_users_words() {
     assert!(!ok && stderr.contains("-1e308"), "{stderr}");
     // One step is a step.
     let one = with_time_table(&kepler, "steps = 1\n");
-    let dir = crate::common::Scratch::new("words-one-step");
-    let file = crate::common::scenario(&dir, &one);
-    let o = crate::common::veselov()
-        .args(["run", "--out"])
-        .arg(dir.join("out"))
-        .arg(&file)
-        .output()
-        .expect("run");
+    let (o, _dir) = crate::common::run_loud("words-one-step", &one);
     let said = String::from_utf8_lossy(&o.stdout);
     assert!(said.contains(": 1 step to t = 0.01"), "{said}");
 }
@@ -198,14 +191,7 @@ fn a_failed_run_prints_no_success_line_before_its_error() {
     let text = "[model]\nname = \"custom\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2 + exp(x^2)\"\n\
                 [method]\nname = \"midpoint\"\ndt = 0.1\n[time]\nsteps = 100\n[initial]\nq = [1.0]\np = [0.0]\n\
                 [output]\nplots = false\n";
-    let dir = crate::common::Scratch::new("words-failed");
-    let file = crate::common::scenario(&dir, text);
-    let o = crate::common::veselov()
-        .args(["run", "--out"])
-        .arg(dir.join("out"))
-        .arg(&file)
-        .output()
-        .expect("run");
+    let (o, dir) = crate::common::run_loud("words-failed", text);
     let (said, stderr) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
     assert!(!o.status.success() && stderr.contains("error: run failed"), "{stderr}");
     assert!(

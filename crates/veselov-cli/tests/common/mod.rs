@@ -106,6 +106,21 @@ pub fn run(name: &str, text: &str) -> (bool, String, Scratch) {
     (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned(), out)
 }
 
+/// Run the scenario `text` with its messages (not quiet) in a fresh
+/// directory `name`; returns the command's output and the directory (its
+/// outputs in `out`).
+pub fn run_loud(name: &str, text: &str) -> (std::process::Output, Scratch) {
+    let dir = Scratch::new(name);
+    let file = scenario(&dir, text);
+    let o = veselov()
+        .args(["run", "--out"])
+        .arg(dir.join("out"))
+        .arg(&file)
+        .output()
+        .expect("run");
+    (o, dir)
+}
+
 /// A CSV file's header names and rows.
 pub fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).expect("csv");
