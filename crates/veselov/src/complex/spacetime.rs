@@ -60,6 +60,9 @@ pub struct SpacetimeLattice {
     kind: SpacetimeKind,
     space: Axis,
     time_cells: usize,
+    /// Added to every cell's (space, time) origin: a window of a larger
+    /// lattice reports its cells' coordinates in the larger one.
+    offset: (i64, i64),
 }
 
 impl SpacetimeLattice {
@@ -98,6 +101,7 @@ impl SpacetimeLattice {
             kind,
             space,
             time_cells,
+            offset: (0, 0),
         };
         let too_large = || invalid("space.cells", space.cells, "the lattice is too large");
         l.space_nodes().checked_mul(time_cells + 1).ok_or_else(too_large)?;
@@ -111,6 +115,15 @@ impl SpacetimeLattice {
     /// As [`SpacetimeLattice::new`].
     pub fn seed000(n: usize, a: usize) -> Result<Self> {
         Self::new(SpacetimeKind::Seed000Triangle, Axis::open(a), n)
+    }
+    /// Places this lattice as a window of a larger one: the cells report
+    /// their [`TopCell::origin`] shifted by (`space`, `time`) (vertex and
+    /// cell indices stay the window's). A marcher rolling a window along a
+    /// lattice moves it level by level, so that cell Lagrangians that depend
+    /// on a cell's position (loads in time, weights at the ends) see the
+    /// lattice's coordinates.
+    pub fn set_origin_offset(&mut self, space: i64, time: i64) {
+        self.offset = (space, time);
     }
     /// The cell kind.
     pub fn kind(&self) -> SpacetimeKind {
@@ -155,6 +168,7 @@ impl SpacetimeLattice {
         Some(time as usize * self.space.cells + x as usize)
     }
     fn origin(&self, space: i64, time: i64) -> [i64; MAX_LATTICE_DIMENSION] {
+        let (space, time) = (space + self.offset.0, time + self.offset.1);
         let mut o = [0; MAX_LATTICE_DIMENSION];
         if self.kind.space_first() {
             o[0] = space;

@@ -25,6 +25,13 @@
 //!   constraint D₃ℒ = 0 (zero traction; λ = 0 for the beam) or D₂ℒ = 0 (zero
 //!   momentum; μ = 0) fixes it from (ℓ, C − 1) alone; it is solved as soon as
 //!   its level is complete. Prescribed: Dirichlet data.
+//!   [`EndCondition::EndCell`] (time evolution): natural too, but the last
+//!   node carries inertia of its own through an end cell (ℓ, C) of the
+//!   Lagrangian, a boundary term of the discrete action (for example the
+//!   half cell of mass of a trapezoid rule in s); the node is then an
+//!   ordinary node of the march. The end cell's third vertex (ℓ, C + 1) is a
+//!   placeholder the Lagrangian must not depend on; it is kept equal to the
+//!   last node and is not part of [`Evolution000::cross`].
 //!
 //! The evolution momentum maps (note 000 §11, eqs. (56)–(57), (94)) of the
 //! cell level between the previous and the current level are
@@ -32,8 +39,11 @@
 //! the infinitesimal generators X(y): 𝔤 → T_yM in the fibre's chart
 //! (left translations of SE(3): X(g) = Ad_{g⁻¹}, giving (77)).
 //!
-//! Window-local cells carry window coordinates in [`TopCell::origin`]; cell
-//! Lagrangians that depend on the cell's position are not supported here.
+//! The window's cells report the lattice's coordinates in
+//! [`TopCell::origin`] ((j, a), with j = 0 the first given level in time
+//! evolution, a = 0 the first given column in space evolution): a cell
+//! Lagrangian may depend on the cell's position (loads in time, weights at
+//! the ends).
 
 use nalgebra::{SMatrix, SVector};
 
@@ -66,6 +76,11 @@ pub enum EndCondition<P> {
     /// Dirichlet data: the value at every level ℓ ≥ 2 (the first two levels
     /// are the initial data).
     Prescribed(EndData<P>),
+    /// The far end of a time evolution, natural, its node an ordinary node
+    /// of the Lagrangian's end cell (ℓ, C) (module documentation). The
+    /// Lagrangian must declare that no vertex's gradient in the end cell
+    /// depends on its third vertex ([`DiscreteLagrangian::depends`]).
+    EndCell,
 }
 
 impl<P> EndCondition<P> {
@@ -88,7 +103,11 @@ pub struct EvolutionMomentum<const K: usize> {
 /// Time or space evolution on seed 000's lattice in a three-level window.
 pub struct Evolution000<F: Fibre<M>, L, const M: usize> {
     direction: Direction,
+    /// The last cross index of the window: C, or C + 1 with an end cell
+    /// (its placeholder node).
     cross: usize,
+    /// Whether the far end is an [`EndCondition::EndCell`].
+    end_cell: bool,
     near: EndCondition<F::Point<f64>>,
     far: EndCondition<F::Point<f64>>,
     marcher: FlowMarcher<SpacetimeLattice, F, L, M>,
@@ -137,6 +156,23 @@ where
                 got: second.len(),
             });
         }
+        let end_cell = matches!(far, EndCondition::EndCell);
+        if end_cell && (direction != Direction::Time || matches!(near, EndCondition::EndCell)) {
+            return Err(Error::InvalidParameter {
+                name: "far end".into(),
+                value: "end cell".into(),
+                reason: "an end cell closes the far end of a time evolution only".into(),
+            });
+        }
+        // The end cell's placeholder node: the last node again.
+        let extended = |level: &[F::Point<f64>]| {
+            let mut v = level.to_vec();
+            if end_cell {
+                v.push(level[level.len() - 1]);
+            }
+            v
+        };
+        let (first, second) = (&extended(first)[..], &extended(second)[..]);
         let cross = first.len() - 1;
         // Neighbouring values must be joined by a chart step: a rotation at
         // the cut locus is refused here, naming the node, rather than
@@ -183,12 +219,29 @@ where
         if far.is_natural() {
             known[Self::index(direction, cross, 1, cross)] = false;
         }
+        if end_cell {
+            for w in 0..2 {
+                known[Self::index(direction, cross, w, cross)] = true;
+            }
+            let cell = window.cell(cross - 1);
+            if (0..2).any(|l| lag.depends(&cell, l, 2)) {
+                return Err(Error::InvalidParameter {
+                    name: "far end".into(),
+                    value: "end cell".into(),
+                    reason: format!(
+                        "the Lagrangian's cell at cross index {} depends on its third vertex: it has no end cell",
+                        cross - 1
+                    ),
+                });
+            }
+        }
         let marcher = FlowMarcher::new(window, lag, values, known, options)?;
         let slaved = Self::index(direction, cross, 1, cross);
         let slaved_pair = far.is_natural().then(|| marcher.check(slaved, slaved)).transpose()?;
         let mut evolution = Self {
             direction,
             cross,
+            end_cell,
             near,
             far,
             marcher,
@@ -205,7 +258,7 @@ where
         // prescribed ends and the nodes solved before it (lower c).
         let mut marked: Vec<usize> = [(0, &evolution.near), (cross, &evolution.far)]
             .into_iter()
-            .filter(|(_, end)| !end.is_natural())
+            .filter(|(_, end)| matches!(end, EndCondition::Prescribed(_)))
             .map(|(c, _)| evolution.vertex(2, c))
             .collect();
         let mark = |evolution: &mut Self, v: usize, known: bool| {
@@ -270,6 +323,8 @@ where
         };
         let role = if c == self.cross && self.far.is_natural() {
             "slaved node"
+        } else if c == self.cross() && self.end_cell {
+            "end node"
         } else {
             "node"
         };
@@ -296,7 +351,25 @@ where
 
     /// The last cross index C (A in time evolution, N in space evolution).
     pub fn cross(&self) -> usize {
-        self.cross
+        self.cross - usize::from(self.end_cell)
+    }
+
+    /// Whether the far end is closed by an end cell ([`EndCondition::EndCell`]):
+    /// then [`for_each_cell`](Self::for_each_cell) visits C + 1 cells.
+    pub fn has_end_cell(&self) -> bool {
+        self.end_cell
+    }
+
+    /// Keeps the window's cells at the lattice's coordinates: the cells
+    /// between the previous and the current level are the lattice's cell
+    /// row ℓ − 1 (time) or column ℓ − 1 (space).
+    fn place_window(&mut self) {
+        let behind = self.level as i64 - 1;
+        let lattice = self.marcher.complex_mut();
+        match self.direction {
+            Direction::Time => lattice.set_origin_offset(0, behind),
+            Direction::Space => lattice.set_origin_offset(behind, 0),
+        }
     }
 
     /// The index ℓ of the current (latest complete) level.
@@ -317,7 +390,7 @@ where
 
     /// Copies the current (`back` = 0) or previous (`back` = 1) level into `out` (C + 1 values).
     pub fn copy_level(&self, back: usize, out: &mut [F::Point<f64>]) {
-        for (c, slot) in out.iter_mut().enumerate().take(self.cross + 1) {
+        for (c, slot) in out.iter_mut().enumerate().take(self.cross() + 1) {
             *slot = self.value(back, c);
         }
     }
@@ -363,6 +436,11 @@ where
             let solved = self.marcher.solve_checked(pair, &mut self.jacobians[c]);
             add(solved.map_err(|e| self.name_node(e, self.level, c))?);
         }
+        if self.end_cell {
+            let last = self.marcher.values()[self.vertex(2, cross - 1)];
+            let v = self.vertex(2, cross);
+            self.marcher.set(v, last, true);
+        }
         // Roll the window: levels ℓ, ℓ + 1 become the previous and current ones.
         let slaved = self.far.is_natural();
         for c in 0..=cross {
@@ -373,6 +451,7 @@ where
             self.marcher.set(v2, y2, false);
         }
         self.level = next;
+        self.place_window();
         if slaved {
             add(self.solve_slaved()?);
         }
@@ -380,7 +459,8 @@ where
     }
 
     /// Calls `f(c, cell, y)` for the cells c = 0..C − 1 between the previous
-    /// and the current level, with their vertex values in seed 000's order
+    /// and the current level (and the end cell c = C, if the far end has one),
+    /// with their vertex values in seed 000's order
     /// (vertex 1 = (j, a), 2 = (j + 1, a), 3 = (j, a + 1)).
     pub fn for_each_cell(&self, mut f: impl FnMut(usize, &TopCell, &[F::Point<f64>; 3])) {
         let lattice = self.marcher.complex();
@@ -520,6 +600,7 @@ where
         }
         self.jacobians = jacobians;
         self.level = level as usize;
+        self.place_window();
         Ok(())
     }
 }
@@ -560,7 +641,7 @@ where
         e.level() as f64 * self.step_length
     }
     fn non_finite(&self, e: &Evolution000<F, L, M>) -> Option<String> {
-        (0..=e.cross())
+        (0..=e.cross)
             .any(|c| !F::is_finite(&e.value(0, c)))
             .then(|| format!("level {}", e.level()))
     }

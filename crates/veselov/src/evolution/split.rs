@@ -38,7 +38,12 @@ use crate::lie::{LieError, Retraction, SE3};
 use crate::solve::SmallLu;
 use crate::{Error, Result};
 
+mod quadrature;
 mod solve;
+mod start;
+
+pub(crate) use quadrature::CellWeights;
+pub use quadrature::KineticQuadrature;
 
 /// How two vertex values give a (dimensionless) increment x with y₂ = y₁·τ(x).
 pub trait Increment<F: Fibre<M>, const M: usize>: Send + Sync + 'static {
@@ -189,6 +194,17 @@ pub trait SplitDensity<F: Fibre<M>, const M: usize>: Send + Sync {
     fn damping_jacobian(&self, xi: &SVector<f64, M>) -> SMatrix<f64, M, M> {
         num_dual::jacobian(|x| self.damping(&x), xi).1
     }
+    /// Whether [`end_load`](Self::end_load) is non-zero (default `false`).
+    fn has_end_load(&self) -> bool {
+        false
+    }
+    /// A load on the last node of a level at time t, in the fibre's chart
+    /// at `y` (a generalised force: its pairing with the chart's ε is the
+    /// virtual work); applied by the end cell of
+    /// [`KineticQuadrature::Trapezoid`]. Default 0.
+    fn end_load<D: Scalar>(&self, _y: &F::Point<D>, _t: f64) -> SVector<D, M> {
+        SVector::from_element(D::zero())
+    }
 }
 
 /// ℒ_d = ΔsΔt [K(ξ) − Φ(η) − ½(Π(y₁) + Π(y₃))] on seed 000's triangles.
@@ -205,6 +221,10 @@ pub struct SplitLagrangian<I, S> {
     density: S,
     dt: f64,
     ds: f64,
+    quadrature: KineticQuadrature,
+    /// The time of the lattice's level 0 (cell row j spans
+    /// [t₀ + jΔt, t₀ + (j + 1)Δt]): for time-dependent loads.
+    time_origin: f64,
     increment: PhantomData<fn() -> I>,
 }
 
@@ -227,20 +247,31 @@ impl<I, S> SplitLagrangian<I, S> {
             density,
             dt,
             ds,
+            quadrature: KineticQuadrature::FirstNode,
+            time_origin: 0.0,
             increment: PhantomData,
         })
     }
-    /// The density.
-    pub fn density(&self) -> &S {
-        &self.density
+    /// The same Lagrangian with the kinetic energy spread over a level by
+    /// `quadrature` ([`KineticQuadrature`]; cells are told apart by their
+    /// lattice coordinate a, [`TopCell::origin`]`[1]`).
+    pub fn with_quadrature(self, quadrature: KineticQuadrature) -> Self {
+        Self { quadrature, ..self }
     }
-    /// Δt.
-    pub fn dt(&self) -> f64 {
-        self.dt
+    /// The same Lagrangian with level 0 of the lattice at time `t0`.
+    pub fn with_time_origin(self, t0: f64) -> Self {
+        Self {
+            time_origin: t0,
+            ..self
+        }
     }
-    /// Δs.
-    pub fn ds(&self) -> f64 {
-        self.ds
+    /// The kinetic quadrature.
+    pub fn quadrature(&self) -> KineticQuadrature {
+        self.quadrature
+    }
+    /// The time of the lattice's level `j` (t₀ + jΔt).
+    pub fn level_time(&self, j: i64) -> f64 {
+        self.time_origin + j as f64 * self.dt
     }
 }
 
@@ -249,7 +280,7 @@ pub type Jet<D, const M: usize> = (SVector<D, M>, SVector<D, M>);
 
 impl<I, S> SplitLagrangian<I, S> {
     /// ½(Π(y₁) + Π(y₃)), the potential of the cell's space edge.
-    fn cell_potential<F: Fibre<M>, D: Scalar, const M: usize>(&self, y: &[F::Point<D>]) -> D
+    pub(crate) fn cell_potential<F: Fibre<M>, D: Scalar, const M: usize>(&self, y: &[F::Point<D>]) -> D
     where
         S: SplitDensity<F, M>,
     {
@@ -274,8 +305,27 @@ impl<I, S> SplitLagrangian<I, S> {
     }
 
     /// The energy densities (e_𝖫, e_𝖭) of the triangle with vertex values `y`
-    /// (module documentation); NaN at the cut locus.
+    /// (module documentation), every term at unit weight; NaN at the cut locus.
     pub fn energy_densities<F: Fibre<M>, const M: usize>(&self, y: &[F::Point<f64>]) -> (f64, f64)
+    where
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        self.weighted_energy_densities::<F, M>(CellWeights::UNIT, y)
+    }
+
+    /// The energy densities of `cell`, its kinetic and stored terms weighed
+    /// by the kinetic quadrature ([`KineticQuadrature`]): summed over a
+    /// level (and its end cell) they give the level's energy.
+    pub fn cell_energy_densities<F: Fibre<M>, const M: usize>(&self, cell: &TopCell, y: &[F::Point<f64>]) -> (f64, f64)
+    where
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
+        self.weighted_energy_densities::<F, M>(self.weights(cell), y)
+    }
+
+    fn weighted_energy_densities<F: Fibre<M>, const M: usize>(&self, w: CellWeights, y: &[F::Point<f64>]) -> (f64, f64)
     where
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
@@ -286,7 +336,12 @@ impl<I, S> SplitLagrangian<I, S> {
         let (k, dk) = (self.density.kinetic(&xi), self.density.kinetic_gradient(&xi));
         let (phi, dphi) = (self.density.stored(&eta), self.density.stored_gradient(&eta));
         let pi = self.cell_potential::<F, f64, M>(y);
-        (dk.dot(&xi) - k + phi + pi, -dphi.dot(&eta) - k + phi + pi)
+        let kinetic = (dk.dot(&xi) - k, -k);
+        let stored = (phi + pi, -dphi.dot(&eta) + phi + pi);
+        (
+            w.kinetic * kinetic.0 + w.stored * stored.0,
+            w.kinetic * kinetic.1 + w.stored * stored.1,
+        )
     }
 }
 
@@ -309,18 +364,36 @@ impl<I, S> SplitLagrangian<I, S> {
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
     {
+        self.weighted_gradients::<F, D, M>(CellWeights::UNIT, y)
+    }
+
+    /// [`closed_gradients`](Self::closed_gradients) with the kinetic and
+    /// stored terms weighed by `w`.
+    pub(crate) fn weighted_gradients<F: Fibre<M>, D: Scalar, const M: usize>(
+        &self,
+        w: CellWeights,
+        y: &[F::Point<D>],
+    ) -> Option<[SVector<D, M>; 3]>
+    where
+        I: Increment<F, M>,
+        S: SplitDensity<F, M>,
+    {
         if y.len() != 3 {
             return None;
         }
-        let (xt, pt) = self.time_edge::<F, D, M>(&y[0], &y[1])?;
-        let (xs, ps) = self.space_edge::<F, D, M>(&y[0], &y[2])?;
-        let mut first = I::first_transpose_mul(&xt, &pt) + I::first_transpose_mul(&xs, &ps);
+        let (xt, pt) = self.time_edge::<F, D, M>(w, &y[0], &y[1])?;
+        let mut first = I::first_transpose_mul(&xt, &pt);
         let second = I::second_transpose_mul(&xt, &pt);
-        let mut third = I::second_transpose_mul(&xs, &ps);
-        if self.density.has_potential() {
-            let half = D::from(0.5 * self.ds * self.dt);
-            first -= self.potential_gradient::<F, D, M>(&y[0]) * half;
-            third -= self.potential_gradient::<F, D, M>(&y[2]) * half;
+        let mut third = SVector::from_element(D::zero());
+        if w.stored != 0.0 {
+            let (xs, ps) = self.space_edge::<F, D, M>(w, &y[0], &y[2])?;
+            first += I::first_transpose_mul(&xs, &ps);
+            third = I::second_transpose_mul(&xs, &ps);
+            if self.density.has_potential() {
+                let half = D::from(0.5 * self.ds * self.dt * w.stored);
+                first -= self.potential_gradient::<F, D, M>(&y[0]) * half;
+                third -= self.potential_gradient::<F, D, M>(&y[2]) * half;
+            }
         }
         Some([first, second, third])
     }
@@ -328,8 +401,9 @@ impl<I, S> SplitLagrangian<I, S> {
     /// The time edge (y₁, y₂): its increment x = τ⁻¹(y₁⁻¹y₂) and the momentum
     /// p = Δs∇K(x/Δt) whose pull-backs A₁,ₜᵀp and A₂,ₜᵀp are its terms of
     /// ∂ℒ/∂y₁ and ∂ℒ/∂y₂ (each caller pulls back only the one it needs).
-    fn time_edge<F: Fibre<M>, D: Scalar, const M: usize>(
+    pub(crate) fn time_edge<F: Fibre<M>, D: Scalar, const M: usize>(
         &self,
+        w: CellWeights,
         y1: &F::Point<D>,
         y2: &F::Point<D>,
     ) -> Option<(SVector<D, M>, SVector<D, M>)>
@@ -341,15 +415,16 @@ impl<I, S> SplitLagrangian<I, S> {
         let dk = self
             .density
             .kinetic_gradient(&x.map(|v| v * (1.0 / self.dt)))
-            .map(|v| v * self.ds);
+            .map(|v| v * (self.ds * w.kinetic));
         Some((x, dk))
     }
 
     /// The space edge (y₁, y₃): its increment x and the momentum
     /// p = −Δt∇Φ(x/Δs), pulled back by A₁,ₛᵀ and A₂,ₛᵀ into ∂ℒ/∂y₁ and
     /// ∂ℒ/∂y₃.
-    fn space_edge<F: Fibre<M>, D: Scalar, const M: usize>(
+    pub(crate) fn space_edge<F: Fibre<M>, D: Scalar, const M: usize>(
         &self,
+        w: CellWeights,
         y1: &F::Point<D>,
         y3: &F::Point<D>,
     ) -> Option<(SVector<D, M>, SVector<D, M>)>
@@ -361,32 +436,54 @@ impl<I, S> SplitLagrangian<I, S> {
         let dphi = self
             .density
             .stored_gradient(&x.map(|v| v * (1.0 / self.ds)))
-            .map(|v| -(v * self.dt));
+            .map(|v| -(v * (self.dt * w.stored)));
         Some((x, dphi))
     }
 
     /// ∂ℒ/∂y_l alone, from the one edge it needs for l = 1 (time) and
     /// l = 2 (space): the bits of [`closed_gradients`](Self::closed_gradients).
-    fn closed_gradient<F: Fibre<M>, const M: usize>(&self, y: &[F::Point<f64>], l: usize) -> Option<SVector<f64, M>>
+    fn closed_gradient<F: Fibre<M>, const M: usize>(
+        &self,
+        w: CellWeights,
+        y: &[F::Point<f64>],
+        l: usize,
+    ) -> Option<SVector<f64, M>>
     where
         I: Increment<F, M>,
         S: SplitDensity<F, M>,
     {
         match l {
             1 => {
-                let (x, p) = self.time_edge::<F, f64, M>(&y[0], &y[1])?;
+                let (x, p) = self.time_edge::<F, f64, M>(w, &y[0], &y[1])?;
                 Some(I::second_transpose_mul(&x, &p))
             }
+            2 if w.stored == 0.0 => Some(SVector::zeros()),
             2 => {
-                let (x, p) = self.space_edge::<F, f64, M>(&y[0], &y[2])?;
+                let (x, p) = self.space_edge::<F, f64, M>(w, &y[0], &y[2])?;
                 let mut third = I::second_transpose_mul(&x, &p);
                 if self.density.has_potential() {
-                    third -= self.potential_gradient::<F, f64, M>(&y[2]) * (0.5 * self.ds * self.dt);
+                    third -= self.potential_gradient::<F, f64, M>(&y[2]) * (0.5 * self.ds * self.dt * w.stored);
                 }
                 Some(third)
             }
-            _ => Some(self.closed_gradients::<F, f64, M>(y)?[0]),
+            _ => Some(self.weighted_gradients::<F, f64, M>(w, y)?[0]),
         }
+    }
+
+    /// The end load's force on vertex `l` (0 or 1) of an end cell: the
+    /// trapezoid rule of the virtual work over the time step,
+    /// F¹ = ½Δt f(y₁, t_j), F² = ½Δt f(y₂, t_{j+1}).
+    pub(crate) fn end_force<F: Fibre<M>, D: Scalar, const M: usize>(
+        &self,
+        cell: &TopCell,
+        y: &F::Point<D>,
+        l: usize,
+    ) -> SVector<D, M>
+    where
+        S: SplitDensity<F, M>,
+    {
+        let t = self.level_time(cell.origin[0] + l as i64);
+        self.density.end_load(y, t).map(|f| f * (0.5 * self.dt))
     }
 
     /// ∇Π(y) in the fibre's chart y·ρ(ε) ([`SplitDensity::potential_gradient`]).
@@ -427,21 +524,30 @@ where
 {
     /// ΔsΔt [K(ξ) − Φ(η) − ½(Π(y₁) + Π(y₃))]; NaN at the cut locus (the vertex solves
     /// report it as a non-finite residual).
-    fn cell_lagrangian<D: Scalar>(&self, _cell: &TopCell, y: &[F::Point<D>]) -> D {
+    fn cell_lagrangian<D: Scalar>(&self, cell: &TopCell, y: &[F::Point<D>]) -> D {
+        let w = self.weights(cell);
+        if w.stored == 0.0 {
+            // The end cell: its kinetic term alone.
+            return match I::increment(&y[0], &y[1]) {
+                Ok(x) => self.density.kinetic(&x.map(|v| v * (1.0 / self.dt))) * (self.ds * self.dt * w.kinetic),
+                Err(_) => D::from(f64::NAN),
+            };
+        }
         match self.jet::<F, D, M>(y) {
             Ok((xi, eta)) => {
-                (self.density.kinetic(&xi) - self.density.stored(&eta) - self.cell_potential::<F, D, M>(y))
+                (self.density.kinetic(&xi) * w.kinetic
+                    - (self.density.stored(&eta) + self.cell_potential::<F, D, M>(y)) * w.stored)
                     * (self.ds * self.dt)
             }
             Err(_) => D::from(f64::NAN),
         }
     }
     /// The exact gradients in closed form ([`SplitLagrangian::closed_gradients`]).
-    fn analytic_gradients(&self, _cell: &TopCell, y: &[F::Point<f64>], out: &mut [SVector<f64, M>]) -> bool {
+    fn analytic_gradients(&self, cell: &TopCell, y: &[F::Point<f64>], out: &mut [SVector<f64, M>]) -> bool {
         if y.len() != 3 || out.len() < 3 {
             return false;
         }
-        match self.closed_gradients::<F, f64, M>(y) {
+        match self.weighted_gradients::<F, f64, M>(self.weights(cell), y) {
             Some(g) => out[..3].copy_from_slice(&g),
             None => out[..3].fill(SVector::from_element(f64::NAN)),
         }
@@ -449,12 +555,12 @@ where
     }
     /// ∂ℒ/∂y_l from the edges it needs ([`SplitLagrangian::closed_gradients`]'s
     /// bits; NaN at the cut locus).
-    fn analytic_gradient(&self, _cell: &TopCell, y: &[F::Point<f64>], l: usize) -> Option<SVector<f64, M>> {
+    fn analytic_gradient(&self, cell: &TopCell, y: &[F::Point<f64>], l: usize) -> Option<SVector<f64, M>> {
         if y.len() != 3 || l > 2 {
             return None;
         }
         Some(
-            self.closed_gradient::<F, M>(y, l)
+            self.closed_gradient::<F, M>(self.weights(cell), y, l)
                 .unwrap_or(SVector::from_element(f64::NAN)),
         )
     }
@@ -462,7 +568,7 @@ where
     /// M directions over the closed-form gradients, y_b·exp(ζ) seeded.
     fn analytic_block(
         &self,
-        _cell: &TopCell,
+        cell: &TopCell,
         y: &[F::Point<f64>],
         a: usize,
         b: usize,
@@ -478,7 +584,7 @@ where
                 F::lift(&y[l])
             }
         });
-        let Some(g) = self.closed_gradients::<F, DualSVec64<M>, M>(&values) else {
+        let Some(g) = self.weighted_gradients::<F, DualSVec64<M>, M>(self.weights(cell), &values) else {
             return Some((SVector::from_element(f64::NAN), SMatrix::from_element(f64::NAN)));
         };
         let ga = &g[a];
@@ -492,7 +598,7 @@ where
     #[allow(clippy::too_many_arguments)]
     fn solve_cell_vertex(
         &self,
-        _cell: &TopCell,
+        cell: &TopCell,
         y: &[F::Point<f64>],
         equation: usize,
         position: usize,
@@ -501,13 +607,18 @@ where
         options: &CauchyOptions,
         kept: &mut Option<SmallLu<M>>,
     ) -> Option<(F::Point<f64>, VertexOutcome)> {
-        self.solve_increment::<F, M>(y, equation, position, mu, mu_scale, options, kept)
+        self.solve_increment::<F, M>(cell, y, equation, position, mu, mu_scale, options, kept)
     }
-    fn depends(&self, _cell: &TopCell, l: usize, k: usize) -> bool {
+    /// ∂ℒ/∂y₂ does not depend on y₃ nor ∂ℒ/∂y₃ on y₂; in the end cell
+    /// nothing depends on y₃.
+    fn depends(&self, cell: &TopCell, l: usize, k: usize) -> bool {
+        if self.weights(cell).stored == 0.0 && (l == 2 || k == 2) {
+            return false;
+        }
         !matches!((l, k), (1, 2) | (2, 1))
     }
     fn has_forces(&self) -> bool {
-        self.density.is_damped()
+        self.density.is_damped() || (self.density.has_end_load() && self.quadrature != KineticQuadrature::FirstNode)
     }
     /// The Lagrange–d'Alembert discretisation of the force density f(ξ)
     /// over the cell's rectangle, split between the two ends of its time
@@ -515,17 +626,30 @@ where
     /// (h/2) f of discrete mechanics; on SE(3) both in the body frame of ξ,
     /// an O(Δt) choice of transport at vertex 2). With f = −Cξ, C ≥ 0, it
     /// dissipates E_𝖫 (tested).
-    fn cell_force<D: Scalar>(&self, _cell: &TopCell, y: &[F::Point<D>], l: usize) -> SVector<D, M> {
+    ///
+    /// The damping is weighed as the kinetic energy; the end cell of a
+    /// trapezoid rule adds the end load ([`SplitDensity::end_load`]).
+    fn cell_force<D: Scalar>(&self, cell: &TopCell, y: &[F::Point<D>], l: usize) -> SVector<D, M> {
         if l == 2 {
             return SVector::from_element(D::zero());
         }
-        match I::increment(&y[0], &y[1]) {
-            Ok(x) => {
-                let xi = x.map(|v| v * (1.0 / self.dt));
-                self.density.damping(&xi).map(|f| f * (0.5 * self.ds * self.dt))
-            }
-            Err(_) => SVector::from_element(D::from(f64::NAN)),
+        let w = self.weights(cell);
+        let mut force = SVector::from_element(D::zero());
+        if self.density.is_damped() {
+            force = match I::increment(&y[0], &y[1]) {
+                Ok(x) => {
+                    let xi = x.map(|v| v * (1.0 / self.dt));
+                    self.density
+                        .damping(&xi)
+                        .map(|f| f * (0.5 * self.ds * self.dt * w.kinetic))
+                }
+                Err(_) => SVector::from_element(D::from(f64::NAN)),
+            };
         }
+        if w.end && self.density.has_end_load() {
+            force += self.end_force::<F, D, M>(cell, &y[l], l);
+        }
+        force
     }
 }
 

@@ -147,6 +147,12 @@ where
         &self.complex
     }
 
+    /// The complex, to move a window along a larger lattice (its vertices
+    /// and cells must stay as they are: the checked schedules refer to them).
+    pub fn complex_mut(&mut self) -> &mut C {
+        &mut self.complex
+    }
+
     /// The cell Lagrangian.
     pub fn lagrangian(&self) -> &L {
         &self.lag

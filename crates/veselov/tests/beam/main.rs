@@ -19,5 +19,6 @@ mod beam_forces;
 mod beam_increment_solve;
 mod beam_lagrangian;
 mod beam_paper;
+mod beam_start;
 mod beam_symplectic;
 mod beam_vibration;

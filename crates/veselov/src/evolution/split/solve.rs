@@ -31,7 +31,8 @@ use nalgebra::{SMatrix, SVector};
 use num_dual::DualSVec64;
 
 use crate::ad::Scalar;
-use crate::evolution::split::{Increment, SplitDensity, SplitLagrangian};
+use crate::complex::TopCell;
+use crate::evolution::split::{CellWeights, Increment, SplitDensity, SplitLagrangian};
 use crate::field::fibre::{Euclidean, Fibre};
 use crate::field::legendre::{CauchyOptions, Failure, LegendreNewton, VertexOutcome};
 use crate::solve::SmallLu;
@@ -43,6 +44,7 @@ impl<I, S> SplitLagrangian<I, S> {
     /// documentation.
     fn moving_terms<F, D, const M: usize>(
         &self,
+        w: CellWeights,
         y0: &F::Point<f64>,
         x: &SVector<D, M>,
         equation: usize,
@@ -64,19 +66,21 @@ impl<I, S> SplitLagrangian<I, S> {
         };
         if position == 1 {
             let xi = x.map(|v| v * (1.0 / dt));
-            let mut terms = pull_back(&self.density.kinetic_gradient(&xi).map(|v| v * ds));
+            let mut terms = pull_back(&self.density.kinetic_gradient(&xi).map(|v| v * (ds * w.kinetic)));
             // F¹ = F² = ½ΔsΔt f(ξ).
             if self.density.is_damped() {
-                terms += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt));
+                terms += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt * w.kinetic));
             }
             terms
         } else {
             let eta = x.map(|v| v * (1.0 / ds));
-            let mut terms = pull_back(&self.density.stored_gradient(&eta).map(|v| -(v * dt)));
+            let mut terms = pull_back(&self.density.stored_gradient(&eta).map(|v| -(v * (dt * w.stored))));
             // The slaved end of the space edge carries half the potential.
             if equation == 2 && self.density.has_potential() {
                 let y2 = I::advance(&F::lift::<D>(y0), x);
-                terms -= self.potential_gradient::<F, D, M>(&y2).map(|v| v * (0.5 * ds * dt));
+                terms -= self
+                    .potential_gradient::<F, D, M>(&y2)
+                    .map(|v| v * (0.5 * ds * dt * w.stored));
             }
             terms
         }
@@ -86,8 +90,9 @@ impl<I, S> SplitLagrangian<I, S> {
     /// closed form from the density's Hessians: ∂(Aᵀp)/∂x at fixed p plus
     /// Aᵀ∂p/∂x, column by column. `None` where the moving terms hold the
     /// potential (a slaved space end): its Jacobian is then one dual pass.
-    fn moving_jacobian<F, const M: usize>(
+    pub(super) fn moving_jacobian<F, const M: usize>(
         &self,
+        w: CellWeights,
         x: &SVector<f64, M>,
         equation: usize,
         position: usize,
@@ -110,11 +115,11 @@ impl<I, S> SplitLagrangian<I, S> {
             }
         };
         let (p, dp) = if position == 1 {
-            let xi = x.map(|v| v * (1.0 / dt));
+            let (ds, xi) = (ds * w.kinetic, x.map(|v| v * (1.0 / dt)));
             let p = self.density.kinetic_gradient(&xi).map(|v| v * ds);
             (p, self.density.kinetic_hessian(&xi) * (ds / dt))
         } else {
-            let eta = x.map(|v| v * (1.0 / ds));
+            let (dt, eta) = (dt * w.stored, x.map(|v| v * (1.0 / ds)));
             let p = self.density.stored_gradient(&eta).map(|v| -(v * dt));
             (p, self.density.stored_hessian(&eta) * (-dt / ds))
         };
@@ -131,8 +136,8 @@ impl<I, S> SplitLagrangian<I, S> {
         }
         if position == 1 && self.density.is_damped() {
             let xi = x.map(|v| v * (1.0 / dt));
-            terms += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt));
-            jacobian += self.density.damping_jacobian(&xi) * (0.5 * ds);
+            terms += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt * w.kinetic));
+            jacobian += self.density.damping_jacobian(&xi) * (0.5 * ds * w.kinetic);
         }
         Some((terms, jacobian))
     }
@@ -141,6 +146,7 @@ impl<I, S> SplitLagrangian<I, S> {
     /// `position` moves (none for a slaved vertex, `equation` = `position`).
     fn fixed_terms<F, const M: usize>(
         &self,
+        (cell, w): (&TopCell, CellWeights),
         y: &[F::Point<f64>],
         equation: usize,
         position: usize,
@@ -155,19 +161,26 @@ impl<I, S> SplitLagrangian<I, S> {
         }
         let (ds, dt) = (self.ds, self.dt);
         let mut terms = if position == 1 {
-            let (x, p) = self.space_edge::<F, f64, M>(&y[0], &y[2])?;
-            I::first_transpose_mul(&x, &p)
+            if w.stored == 0.0 {
+                SVector::zeros()
+            } else {
+                let (x, p) = self.space_edge::<F, f64, M>(w, &y[0], &y[2])?;
+                I::first_transpose_mul(&x, &p)
+            }
         } else {
-            let (x, p) = self.time_edge::<F, f64, M>(&y[0], &y[1])?;
+            let (x, p) = self.time_edge::<F, f64, M>(w, &y[0], &y[1])?;
             let mut t = I::first_transpose_mul(&x, &p);
             if self.density.is_damped() {
                 let xi = x.map(|v| v * (1.0 / dt));
-                t += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt));
+                t += self.density.damping(&xi).map(|f| f * (0.5 * ds * dt * w.kinetic));
             }
             t
         };
-        if self.density.has_potential() {
-            terms -= self.potential_gradient::<F, f64, M>(&y[0]) * (0.5 * ds * dt);
+        if self.density.has_potential() && w.stored != 0.0 {
+            terms -= self.potential_gradient::<F, f64, M>(&y[0]) * (0.5 * ds * dt * w.stored);
+        }
+        if w.end && self.density.has_end_load() {
+            terms += self.end_force::<F, f64, M>(cell, &y[0], 0);
         }
         Some(terms)
     }
@@ -183,6 +196,7 @@ impl<I, S> SplitLagrangian<I, S> {
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn solve_increment<F, const M: usize>(
         &self,
+        cell: &TopCell,
         y: &[F::Point<f64>],
         equation: usize,
         position: usize,
@@ -199,27 +213,28 @@ impl<I, S> SplitLagrangian<I, S> {
         if y.len() != 3 || !(1..=2).contains(&position) || !(equation == 0 || equation == position) {
             return None;
         }
-        let fixed = self.fixed_terms::<F, M>(y, equation, position)?;
+        let w = self.weights(cell);
+        let fixed = self.fixed_terms::<F, M>((cell, w), y, equation, position)?;
         let start = I::increment(&y[0], &y[position]).ok()?;
         // The size of the terms as the chart solve measures it: the cell's
         // ∂ℒ/∂y₁ + F¹ as a whole (plus μ's terms), so both stop alike.
         let evaluate = |x: &SVector<f64, M>, jacobian: Option<&mut SMatrix<f64, M, M>>| {
             let value = match jacobian {
-                Some(j) => match self.moving_jacobian::<F, M>(x, equation, position) {
+                Some(j) => match self.moving_jacobian::<F, M>(w, x, equation, position) {
                     Some((value, closed)) => {
                         *j = closed;
                         value
                     }
                     None => {
                         let (value, by_duals) = num_dual::jacobian(
-                            |s| self.moving_terms::<F, DualSVec64<M>, M>(&y[0], &s, equation, position),
+                            |s| self.moving_terms::<F, DualSVec64<M>, M>(w, &y[0], &s, equation, position),
                             x,
                         );
                         *j = by_duals;
                         value
                     }
                 },
-                None => self.moving_terms::<F, f64, M>(&y[0], x, equation, position),
+                None => self.moving_terms::<F, f64, M>(w, &y[0], x, equation, position),
             };
             let leg = value + fixed;
             (leg, leg.amax())
@@ -295,6 +310,13 @@ mod tests {
     use crate::lie::{CayleyMap, ExpMap, Retraction};
     use crate::models::beam::{BeamDensity, BeamProperties};
 
+    /// Weights other than 1, so that a weight dropped anywhere shows.
+    const W: CellWeights = CellWeights {
+        kinetic: 0.5,
+        stored: 0.75,
+        end: false,
+    };
+
     /// The closed-form Jacobian against one dual pass over the moving terms,
     /// for every (equation, position) the solve takes.
     fn check<F, I, S, const M: usize>(lag: &SplitLagrangian<I, S>, y0: &F::Point<f64>, x: &SVector<f64, M>)
@@ -305,15 +327,15 @@ mod tests {
     {
         for (equation, position) in [(0, 1), (0, 2), (1, 1), (2, 2)] {
             let by_duals = num_dual::jacobian(
-                |s| lag.moving_terms::<F, DualSVec64<M>, M>(y0, &s, equation, position),
+                |s| lag.moving_terms::<F, DualSVec64<M>, M>(W, y0, &s, equation, position),
                 x,
             )
             .1;
-            let Some((value, closed)) = lag.moving_jacobian::<F, M>(x, equation, position) else {
+            let Some((value, closed)) = lag.moving_jacobian::<F, M>(W, x, equation, position) else {
                 assert!(equation == 2, "only the slaved space end with a potential takes duals");
                 continue;
             };
-            assert_eq!(value, lag.moving_terms::<F, f64, M>(y0, x, equation, position));
+            assert_eq!(value, lag.moving_terms::<F, f64, M>(W, y0, x, equation, position));
             let size = by_duals.amax();
             assert!(
                 (closed - by_duals).amax() <= 1e-14 * size,

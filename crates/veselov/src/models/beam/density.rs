@@ -15,6 +15,7 @@ use crate::error::Result;
 use crate::evolution::split::{DiagonalQuadratic, GroupIncrement, SplitDensity, SplitLagrangian};
 use crate::field::fibre::RigidMotions;
 use crate::lie::{CayleyMap, ExpMap, LieGroup, SE3};
+use crate::models::end_load::EndLoad;
 
 /// K(ξ) = ½⟨𝕁ξ, ξ⟩, Φ(η) = ½⟨ℂ(η − E6), η − E6⟩, Π(g) = −ρA⟨𝐠, r⟩.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +27,10 @@ pub struct BeamDensity {
     /// Viscous damping per unit length, diag(c) ≥ 0: force density −cₖξₖ in
     /// the body frame (angular first).
     pub damping: [f64; 6],
+    /// A force and a torque on the last node (spatial frame), applied by
+    /// the end cell of the trapezoid rule
+    /// ([`KineticQuadrature::Trapezoid`](crate::evolution::split::KineticQuadrature)).
+    pub end_load: EndLoad,
 }
 
 impl BeamDensity {
@@ -35,7 +40,17 @@ impl BeamDensity {
             properties,
             gravity: [0.0; 3],
             damping: [0.0; 6],
+            end_load: EndLoad::default(),
         }
+    }
+    /// The same beam with a load on its last node.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidParameter`] naming the load's part at fault
+    /// ([`EndLoad::validate`]).
+    pub fn with_end_load(self, end_load: EndLoad) -> Result<Self> {
+        end_load.validate()?;
+        Ok(Self { end_load, ..self })
     }
     /// The same beam with viscous damping diag(c).
     ///
@@ -126,6 +141,14 @@ impl SplitDensity<RigidMotions, 6> for BeamDensity {
     /// −diag(c).
     fn damping_jacobian(&self, _xi: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
         SMatrix::from_diagonal(&SVector::from(self.damping.map(|c| -c)))
+    }
+    fn has_end_load(&self) -> bool {
+        !self.end_load.is_zero()
+    }
+    /// (Λᵀτ; ΛᵀF) at time t ([`EndLoad::body`]), angular first.
+    fn end_load<D: Scalar>(&self, g: &SE3<D>, t: f64) -> SVector<D, 6> {
+        let (force, torque) = self.end_load.body(g.rotation().matrix(), t);
+        SVector::from_fn(|k, _| if k < 3 { torque[k] } else { force[k - 3] })
     }
 }
 

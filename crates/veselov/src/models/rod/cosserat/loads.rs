@@ -195,12 +195,6 @@ impl RodLoads {
     /// The fraction of the end load applied at time t:
     /// clamp((t − start)/ramp, 0, 1) (a step at `start` without a ramp).
     pub fn ramp_factor(&self, t: f64) -> f64 {
-        if t < self.start {
-            0.0
-        } else if self.ramp > 0.0 {
-            ((t - self.start) / self.ramp).clamp(0.0, 1.0)
-        } else {
-            1.0
-        }
+        crate::models::end_load::ramp_factor(t, self.start, self.ramp)
     }
 }
