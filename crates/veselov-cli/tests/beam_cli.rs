@@ -45,7 +45,14 @@ fn paper_space_evolution_well_posed_reaches_the_end_and_literal_stops_cleanly() 
     let (header, m) = csv(&out.join("momentum.csv"));
     assert!(header.join(",").starts_with("level,s,"));
     assert!((m[m.len() - 1][1] - 0.8).abs() < 1e-12);
-    assert_eq!(npy_shape(&out.join("frames.npy")), [m.len(), 52, 12]);
+    // Frames from column 0: one row more than the momentum map, whose rows
+    // need a band of cells below them. Column 0 starts at the origin, column
+    // 1 one Δs along E3 (the paper's prescribed columns at j = 0).
+    assert_eq!(npy_shape(&out.join("frames.npy")), [m.len() + 1, 52, 12]);
+    let frames = npy_data(&out.join("frames.npy"));
+    let node0 = |row: usize| &frames[row * 52 * 12 + 9..row * 52 * 12 + 12];
+    assert_eq!(node0(0), [0.0, 0.0, 0.0]);
+    assert!((node0(1)[2] - 0.02).abs() < 1e-15, "{:?}", node0(1));
     let (ok, err, out) = run("literal", &example("beam_paper_space.toml"));
     assert!(!ok && err.starts_with("error: ") && err.contains("(j, a)"), "{err}");
     assert!(!err.contains("panicked"));

@@ -354,6 +354,11 @@ where
         self.cross - usize::from(self.end_cell)
     }
 
+    /// The cells of a band between two levels: C, or C + 1 with an end cell.
+    pub fn cells(&self) -> usize {
+        self.cross
+    }
+
     /// Whether the far end is closed by an end cell ([`EndCondition::EndCell`]):
     /// then [`for_each_cell`](Self::for_each_cell) visits C + 1 cells.
     pub fn has_end_cell(&self) -> bool {
@@ -606,10 +611,12 @@ where
 }
 
 /// Drives an [`Evolution000`] on the run pipeline: one level per step, the
-/// level ℓ at time (or arc length) ℓ·`step_length`.
+/// level ℓ at time (or arc length) (ℓ − origin)·`step_length`.
 pub struct EvolutionStepper<F, L, const M: usize> {
     /// Δt in time evolution, Δs in space evolution.
     pub step_length: f64,
+    /// The level at time (or arc length) 0.
+    pub origin: f64,
     _evolution: std::marker::PhantomData<fn() -> (F, L)>,
 }
 
@@ -618,8 +625,14 @@ impl<F, L, const M: usize> EvolutionStepper<F, L, M> {
     pub fn new(step_length: f64) -> Self {
         Self {
             step_length,
+            origin: 0.0,
             _evolution: std::marker::PhantomData,
         }
+    }
+    /// The same stepper with level `origin` at time 0 (1 when the first
+    /// given level is one step before the start).
+    pub fn with_origin(self, origin: f64) -> Self {
+        Self { origin, ..self }
     }
 }
 
@@ -638,7 +651,7 @@ where
         })
     }
     fn time(&self, e: &Evolution000<F, L, M>) -> f64 {
-        e.level() as f64 * self.step_length
+        (e.level() as f64 - self.origin) * self.step_length
     }
     fn non_finite(&self, e: &Evolution000<F, L, M>) -> Option<String> {
         (0..=e.cross)

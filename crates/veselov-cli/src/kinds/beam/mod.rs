@@ -12,6 +12,7 @@ pub mod observer;
 pub mod run;
 pub mod schema;
 pub mod setup;
+pub mod start;
 
 use std::path::Path;
 

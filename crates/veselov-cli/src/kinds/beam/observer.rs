@@ -45,7 +45,8 @@ impl DomainCurrent {
     pub(super) fn add_band<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(&mut self, e: &Beam<R>) {
         let generators = |g: &SE3<f64>| -> SMatrix<f64, 6, 6> { left_generators(g) };
         let first = e.cell_currents::<6>(0, generators);
-        let last = e.cell_currents::<6>(e.cross() - 1, generators);
+        // With an end cell, its placeholder column closes the band (zero currents).
+        let last = e.cell_currents::<6>(e.cells() - 1, generators);
         if !self.started {
             let m = e.evolution_momentum::<6>(generators);
             let bottom = -m.minus - first[0] - last[2];
@@ -221,11 +222,11 @@ impl BeamObserver<'_> {
         e: &Beam<R>,
     ) -> Result<(), veselov::Error> {
         let level = e.level();
-        let x = level as f64 * if self.setup.space { self.setup.ds } else { self.setup.dt };
+        let x = self.setup.coordinate(level);
         let j = e.evolution_momentum::<6>(|g: &SE3<f64>| -> SMatrix<f64, 6, 6> { left_generators(g) });
         let mut energy = 0.0;
-        e.for_each_cell(|_, _, y| {
-            let (el, en) = e.lagrangian().energy_densities::<RigidMotions, 6>(y);
+        e.for_each_cell(|_, cell, y| {
+            let (el, en) = e.lagrangian().cell_energy_densities::<RigidMotions, 6>(cell, y);
             energy += if self.setup.space { en } else { el };
         });
         energy *= if self.setup.space { self.setup.dt } else { self.setup.ds };
@@ -258,7 +259,7 @@ impl BeamObserver<'_> {
         tip_frame.copy_from_slice(&self.row[12 * tip..12 * tip + 9]);
         self.shape.record(&self.line, tip_frame);
         let domain = self.domain.value(e, &j.plus, j.scale);
-        let mut m = vec![level as f64, x];
+        let mut m = vec![self.setup.steps_at(level) as f64, x];
         m.extend_from_slice(j.plus.as_slice());
         m.extend_from_slice(domain.as_slice());
         let line = &self.line;
@@ -267,7 +268,25 @@ impl BeamObserver<'_> {
             .row(&self.row)
             .and_then(|()| self.centerline.as_mut().map_or(Ok(()), |c| c.row(line)))
             .and_then(|()| self.momentum.row(&m))
-            .and_then(|()| self.energy.row(&[level as f64, x, energy]));
+            .and_then(|()| self.energy.row(&[self.setup.steps_at(level) as f64, x, energy]));
+        self.io(r);
+        Ok(())
+    }
+
+    /// The first given column of a space evolution, as the first row of
+    /// `frames.npy` (its momentum and energy need a band below it: their
+    /// rows start at column 1).
+    pub(super) fn record_previous<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
+        &mut self,
+        e: &Beam<R>,
+    ) -> Result<(), veselov::Error> {
+        self.row.clear();
+        let mut c = [0.0; 12];
+        for node in 0..=e.cross() {
+            <RigidMotions as veselov::field::fibre::Fibre<6>>::write(&e.value(1, node), &mut c);
+            self.row.extend_from_slice(&c);
+        }
+        let r = self.frames.row(&self.row);
         self.io(r);
         Ok(())
     }

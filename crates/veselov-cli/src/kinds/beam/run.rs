@@ -18,18 +18,18 @@
 
 use std::path::Path;
 
-use nalgebra::SVector;
 use serde_json::json;
 use veselov::evolution::marcher::{Direction, EndCondition, EvolutionStepper};
+use veselov::evolution::split::KineticQuadrature;
 use veselov::field::fibre::RigidMotions;
-use veselov::lie::{CayleyMap, ExpMap, LieGroup, Retraction, SE3};
-use veselov::models::beam::paper::{DS, DT, LAST_TIME_NODE, XI0, prescribed_columns};
-use veselov::models::beam::{BeamDensity, BeamLagrangian, beam_lagrangian, straight};
+use veselov::lie::{CayleyMap, ExpMap, Retraction, SE3};
+use veselov::models::beam::{BeamDensity, BeamLagrangian, beam_lagrangian};
 use veselov::run::{Outcome, Status, StopWhen};
 
 use super::figures::draw_beam;
 use super::observer::{Beam, BeamObserver, DomainCurrent, SupportImpulse};
-use super::setup::{BeamSetup, BeamStart};
+use super::setup::{BeamEnd, BeamSetup};
+use super::start::{band, held_value};
 use crate::centerline::{Reaction, ShapeChange, centerline_stream, single_support};
 use crate::error::CliError;
 use crate::pipeline::finish::{Ending, close_run};
@@ -47,43 +47,6 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
     }
 }
 
-/// The first two levels: time evolution, the beam at rest (straight, or bent
-/// with curvature κ about E1: g_{a+1} = g_a τ(Δs(κe₁ + E6))); space
-/// evolution, the paper's prescribed columns (or, well posed, column 1 the
-/// rigid transport of column 0 with a 10⁻³ perturbation of its velocity).
-fn initial<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
-    setup: &BeamSetup,
-) -> (Vec<SE3<f64>>, Vec<SE3<f64>>) {
-    let nodes = setup.scenario.model.nodes;
-    match setup.start {
-        BeamStart::Straight => {
-            let g: Vec<_> = (0..nodes).map(|a| straight(setup.ds, a)).collect();
-            (g.clone(), g)
-        }
-        BeamStart::Bent(kappa) => {
-            let step = R::tau(&(SVector::<f64, 6>::from([kappa, 0.0, 0.0, 0.0, 0.0, 1.0]) * setup.ds));
-            let mut g = vec![SE3::identity(); nodes];
-            for a in 0..nodes - 1 {
-                g[a + 1] = g[a].compose(&step);
-            }
-            (g.clone(), g)
-        }
-        BeamStart::Paper => prescribed_columns::<R>(LAST_TIME_NODE + 1),
-        BeamStart::PaperWellPosed => {
-            let last = LAST_TIME_NODE + 1;
-            let (c0, _) = prescribed_columns::<R>(last);
-            let h = SE3::from_translation(nalgebra::Vector3::new(0.0, 0.0, DS));
-            let xi1 = h.inverse().adjoint() * SVector::from(XI0) + SVector::from([1e-3, 0.0, -1e-3, 0.0, 0.0, 0.0]);
-            let step = R::tau(&(xi1 * DT));
-            let mut c1 = vec![h; last + 1];
-            for j in 0..last {
-                c1[j + 1] = c1[j].compose(&step);
-            }
-            (c0, c1)
-        }
-    }
-}
-
 fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     setup: &BeamSetup,
     job: RunJob,
@@ -97,7 +60,7 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
             "note: dt = {} adjusted to {} = t_end/{} so that the run ends at t_end",
             crate::output::number(requested),
             crate::output::number(setup.dt),
-            setup.levels + 1
+            setup.levels
         );
     }
     let (evolution, cross) = start_evolution::<R>(setup)?;
@@ -106,13 +69,21 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     let x = if setup.space { "s" } else { "t" };
     let mut state = evolution;
     let step_length = if setup.space { setup.ds } else { setup.dt };
-    let mut stepper = EvolutionStepper::<RigidMotions, BeamLagrangian<R>, 6>::new(step_length);
+    let mut stepper =
+        EvolutionStepper::<RigidMotions, BeamLagrangian<R>, 6>::new(step_length).with_origin(setup.level_origin());
     let (first_step, start) = match &resumed {
         Some(r) => (r.restore_run(&dir, |w| obs.restore(w), &mut state)?, Ok(())),
         None => {
             obs.domain.add_band(&state);
             obs.support.add_band(&state);
-            (0, obs.record(&state))
+            // Space evolution: the first given column too (in time evolution
+            // the first level recorded is t = 0).
+            let first = if setup.space {
+                obs.record_previous(&state)
+            } else {
+                Ok(())
+            };
+            (0, first.and_then(|()| obs.record(&state)))
         }
     };
     let outcome = session.execute(
@@ -149,12 +120,12 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
         }
     });
     let own = summary(setup, &outcome, (level, cross), &obs, reaction.as_ref());
-    let t_final = level as f64 * step_length;
+    let t_final = setup.coordinate(level);
     let ending = Ending {
         status: outcome.status,
-        // Time (or space) steps from the first level: the stepper counts
-        // from the second.
-        steps: level as u64,
+        // Time steps from t = 0 (the second given level), or space steps
+        // from the first column.
+        steps: setup.steps_at(level),
         t_final,
         iterations: outcome.iterations,
     };
@@ -171,9 +142,9 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
                 "beam, {} evolution: {} to {x} = {}, max change of the momentum map {} of its terms{}{}",
                 if setup.space { "space" } else { "time" },
                 if setup.space {
-                    crate::output::count(level as u64, "space step", "space steps")
+                    crate::output::count(setup.steps_at(level), "space step", "space steps")
                 } else {
-                    crate::output::count(level as u64, "time step", "time steps")
+                    crate::output::count(setup.steps_at(level), "time step", "time steps")
                 },
                 crate::output::number(t_final),
                 crate::output::approx(obs.drift),
@@ -185,32 +156,50 @@ fn march<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
 }
 
 /// The evolution of the scenario's beam from its first two levels, with
-/// the ends clamped or free, and the number of nodes across a level.
+/// its ends held or free, and the number of nodes across a level. Time
+/// evolution takes the trapezoid rule in s, its free end an ordinary node
+/// of the end cell ([`KineticQuadrature::Trapezoid`]), with level ℓ at
+/// t = (ℓ − 1)Δt; space evolution seed 000's rule.
 fn start_evolution<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     setup: &BeamSetup,
 ) -> Result<(Beam<R>, usize), CliError> {
     let density = BeamDensity::new(setup.properties)
         .with_damping(setup.damping)
         .map_err(|e| setup.key("loads.damping", e.to_string()))?
-        .with_gravity(setup.gravity);
-    let lag = beam_lagrangian::<R>(density, setup.dt, setup.ds).map_err(|e| setup.key("model", e.to_string()))?;
-    let (first, second) = initial::<R>(setup);
-    let end = |clamped: bool, value: SE3<f64>| -> EndCondition<SE3<f64>> {
-        if clamped {
-            EndCondition::Prescribed(Box::new(move |_| value))
-        } else {
-            EndCondition::Natural
+        .with_gravity(setup.gravity)
+        .with_end_load(setup.end_load)
+        .map_err(|e| setup.key("loads", e.to_string()))?;
+    let mut lag = beam_lagrangian::<R>(density, setup.dt, setup.ds).map_err(|e| setup.key("model", e.to_string()))?;
+    let nodes = setup.scenario.model.nodes;
+    if !setup.space {
+        lag = lag
+            .with_quadrature(KineticQuadrature::Trapezoid { last: nodes - 1 })
+            .with_time_origin(-setup.dt);
+    }
+    let (first, second) = band::<R>(setup, &lag)?;
+    let dt = setup.dt;
+    let end = |which: usize, rest: SE3<f64>| -> EndCondition<SE3<f64>> {
+        match &setup.ends[which] {
+            BeamEnd::Free if which == 1 && !setup.space => EndCondition::EndCell,
+            BeamEnd::Free => EndCondition::Natural,
+            BeamEnd::Clamped => EndCondition::Prescribed(Box::new(move |_| rest)),
+            held => {
+                let held = held.clone();
+                EndCondition::Prescribed(Box::new(move |level| {
+                    held_value(&held, &rest, (level as f64 - 1.0) * dt).unwrap_or(rest)
+                }))
+            }
         }
     };
-    let last = first.len() - 1;
+    let last = second.len() - 1;
     let direction = if setup.space { Direction::Space } else { Direction::Time };
     let evolution = Beam::<R>::new(
         direction,
         lag,
         &first,
         &second,
-        end(setup.clamped[0], first[0]),
-        end(setup.clamped[1], first[last]),
+        end(0, second[0]),
+        end(1, second[last]),
         setup.options,
     )
     .map_err(|e| setup.key("initial", e.to_string()))?;
@@ -227,15 +216,16 @@ fn open_observer<'a>(
     cross: usize,
 ) -> Result<(Session, Option<Resumed<4>>, BeamObserver<'a>), CliError> {
     let s = &setup.scenario;
-    let rows = setup.levels / setup.every + 2;
+    let rows = setup.levels / setup.every + 3;
     let plan = Plan {
         steps: setup.levels as f64,
         steps_key: "time.t_end",
         bytes: rows as f64 * (cross as f64 * 15.0 * 8.0 + 17.0 * CSV_BYTES_PER_VALUE),
         bytes_key: "output.every",
         levels_per_step: 1,
-        // The stepper counts from the second initial level.
-        given_steps: 1,
+        // Space evolution: the stepper counts from the second given column;
+        // time evolution from t = 0.
+        given_steps: u64::from(setup.space),
         unit: if setup.space { "space steps" } else { "time steps" },
         step: Some(setup.dt),
         t_end: None,
@@ -247,10 +237,14 @@ fn open_observer<'a>(
             format!("{reason}; running because [method] allow_unstable = true"),
         );
     }
-    // A time evolution without damping conserves the energy; a space
-    // evolution marches in s, where the energy is no invariant.
+    // A time evolution without damping, end load or driven end conserves
+    // the energy; a space evolution marches in s, where the energy is no
+    // invariant.
     let limit = s.checks.energy_limit(&setup.path, ENERGY_ERROR_FIELDS)?;
-    verdict.energy = (!setup.space && setup.damping.iter().all(|d| *d == 0.0)).then_some(EnergyCheck {
+    let conservative = setup.damping.iter().all(|d| *d == 0.0)
+        && setup.end_load.is_zero()
+        && !setup.ends.iter().any(|e| matches!(e, BeamEnd::Driven(_)));
+    verdict.energy = (!setup.space && conservative).then_some(EnergyCheck {
         conserved: Conserved::EnergyRange,
         limit,
         advice: StepAdvice {
@@ -273,7 +267,11 @@ fn open_observer<'a>(
     let x = if setup.space { "s" } else { "t" };
     let names = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
     // Space evolution marches across the time nodes: nothing is held.
-    let held = if setup.space { [false; 2] } else { setup.clamped };
+    let held = if setup.space {
+        [false; 2]
+    } else {
+        [setup.ends[0].is_clamped(), setup.ends[1].is_clamped()]
+    };
     let obs = BeamObserver {
         setup,
         every: setup.every,
@@ -340,12 +338,15 @@ fn summary(
         "dt": setup.dt,
         "dt_requested": setup.dt_requested,
         "courant": setup.courant,
-        "levels": level,
+        "levels": setup.steps_at(level),
         "node_solves": outcome.last_step * cross as u64,
         "newton_iterations_per_node": outcome.iterations as f64 / (outcome.last_step.max(1) * cross as u64) as f64,
         "ends": if setup.space { json!(["natural", "natural"]) } else {
-            json!(setup.clamped.map(|c| if c { "clamped" } else { "free" }))
+            json!([setup.ends[0].name(), setup.ends[1].name()])
         },
+        "kinetic_quadrature": if setup.space { "first-node" } else { "trapezoid" },
+        "end_force": setup.end_load.force.as_slice(),
+        "end_torque": setup.end_load.torque.as_slice(),
         "momentum_map_drift": obs.drift,
         "domain_current_max": obs.domain.worst,
         "energy_min": obs.energy_range[0],

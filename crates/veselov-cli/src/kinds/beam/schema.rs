@@ -20,14 +20,21 @@
 //! max_iterations = 30
 //! allow_unstable = false        # march above the step limit (it will blow up)
 //! [ends]                        # time evolution
-//! start = "clamped"             # free (zero traction) | clamped (held at its initial pose)
-//! end = "free"
+//! start = "clamped"             # free (zero traction) | clamped (held at its initial pose) | driven
+//! end = "free"                  # (driven: [ends.start_motion] / [ends.end_motion], as for the rod)
 //! [loads]
 //! gravity = [0.0, -9.81, 0.0]   # m/s²
 //! damping = [0, 0, 0, 0, 0, 0]  # viscous, on the body velocity (angular first)
+//! end_force = [0.0, -1.0, 0.0]  # N, at the last node, spatial frame (needs a free end)
+//! end_torque = [0.0, 0.0, 0.0]  # N·m
+//! ramp = 0.01                   # s: the end load grows linearly from 0
 //! [initial]
-//! shape = "bent"                # straight | bent (curvature about E1), released at rest;
+//! shape = "bent"                # straight | bent (curvature about E1);
 //! curvature = 0.5               # space evolution: paper | paper-well-posed (seed 000 §5)
+//! velocity = ["0", "0.1*s", "0"]        # m/s, numbers or expressions in s (spatial frame)
+//! angular_velocity = [0, 0, 0]          # rad/s
+//! # position = ["0", "0.01*sin(s)*cos(t)", "s"]   # instead of shape: r(s, t) and θ(s, t)
+//! # rotation_vector = ["0.01*cos(s)*cos(t)", "0", "0"]  # sampled at t = −Δt and 0
 //! [time]
 //! t_end = 1e-3                  # s (time evolution); dt defaults to 0.8 of the step limit
 //! dt = 1e-6
@@ -42,6 +49,8 @@
 
 use serde::Deserialize;
 
+use crate::kinds::rod::motion::MotionSpec;
+use crate::kinds::rod::schema::Along;
 use crate::scenario::{Array, RowsOutputSpec};
 
 /// The model name of the beam kind.
@@ -155,17 +164,25 @@ pub(crate) struct BeamMethodSpec {
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamEndsSpec {
-    /// The start (s = 0): `free` (zero traction) or `clamped` (held at its
-    /// initial pose).
-    #[schemars(extend("default" = "free", "enum" = ["free", "clamped"]))]
+    /// The start (s = 0): `free` (zero traction), `clamped` (held at its
+    /// initial pose) or `driven` (moved as `[ends.start_motion]` prescribes).
+    #[schemars(extend("default" = "free", "enum" = ["free", "clamped", "driven"]))]
     pub start: Option<String>,
-    /// The end (s = length): `free` (zero traction) or `clamped` (held at
-    /// its initial pose).
-    #[schemars(extend("default" = "free", "enum" = ["free", "clamped"]))]
+    /// The end (s = length): `free` (zero traction), `clamped` (held at
+    /// its initial pose) or `driven` (moved as `[ends.end_motion]`
+    /// prescribes). An end force or torque needs it free.
+    #[schemars(extend("default" = "free", "enum" = ["free", "clamped", "driven"]))]
     pub end: Option<String>,
+    /// The motion of a driven start (`start = "driven"`, and only then),
+    /// from its initial pose: expressions in the run's time `t`.
+    pub start_motion: Option<MotionSpec>,
+    /// The motion of a driven end (`end = "driven"`, and only then), from
+    /// its initial pose: expressions in the run's time `t`.
+    pub end_motion: Option<MotionSpec>,
 }
 
-/// Gravity and viscous damping.
+/// Gravity, viscous damping, and a force and torque at the beam's end
+/// (s = length), in time evolution.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamLoadsSpec {
@@ -177,11 +194,24 @@ pub(crate) struct BeamLoadsSpec {
     /// linear (along E1, E2, E3, in N·s/m²).
     #[schemars(extend("default" = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]))]
     pub damping: Option<Array<f64, 6>>,
+    /// A force at the last node, in the spatial frame (x, y, z), applied by
+    /// the trapezoid rule over each step; it needs `[ends] end` free.
+    #[schemars(extend("unit" = "N", "default" = [0.0, 0.0, 0.0]))]
+    pub end_force: Option<Array<f64, 3>>,
+    /// A torque at the last node, in the spatial frame (x, y, z); it needs
+    /// `[ends] end` free.
+    #[schemars(extend("unit" = "N·m", "default" = [0.0, 0.0, 0.0]))]
+    pub end_torque: Option<Array<f64, 3>>,
+    /// The time over which the end force and torque grow linearly from zero
+    /// to their full value (≥ 0); 0 applies them in full from the start.
+    #[schemars(extend("unit" = "s", "default" = 0.0))]
+    pub ramp: Option<f64>,
 }
 
-/// The first two levels of the march. In time evolution the
-/// beam starts at rest, straight or bent; in space evolution its first two
-/// columns are prescribed.
+/// The beam's state at t = 0 (time evolution) or its first two
+/// columns (space evolution). In time evolution give a `shape` and,
+/// optionally, velocity fields, or the whole motion near t = 0 as
+/// `position` and `rotation_vector` (not both).
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct BeamInitialSpec {
@@ -196,6 +226,28 @@ pub(crate) struct BeamInitialSpec {
     /// stay below π.
     #[schemars(extend("unit" = "1/m", "default" = 1.0))]
     pub curvature: Option<f64>,
+    /// The velocity of the centreline at t = 0, in the spatial frame
+    /// (x, y, z): each a number or an expression in the arc length `s`
+    /// (0 … length). With `shape`; the run starts from it at second order.
+    #[schemars(extend("unit" = "m/s", "default" = [0.0, 0.0, 0.0]))]
+    pub velocity: Option<Array<Along, 3>>,
+    /// The angular velocity of the cross-sections at t = 0, in the spatial
+    /// frame (x, y, z): each a number or an expression in `s`. With `shape`.
+    #[schemars(extend("unit" = "rad/s", "default" = [0.0, 0.0, 0.0]))]
+    pub angular_velocity: Option<Array<Along, 3>>,
+    /// The centreline r(s, t) near t = 0, instead of `shape`: three
+    /// expressions (x, y, z) in the arc length `s` and the time `t`,
+    /// sampled at t = −Δt and t = 0 (the march's first two levels; the
+    /// velocities follow from them). With `rotation_vector`, or alone for
+    /// frames that do not turn (the identity).
+    #[schemars(extend("unit" = "m"))]
+    pub position: Option<Array<String, 3>>,
+    /// The rotation of the cross-sections θ(s, t) near t = 0, a rotation
+    /// vector in the spatial frame (R = exp(θ̂), taking E1, E2, E3 to the
+    /// section's axes): three expressions in `s` and `t`, sampled as
+    /// `position`. Needs `position`.
+    #[schemars(extend("unit" = "rad"))]
+    pub rotation_vector: Option<Array<String, 3>>,
 }
 
 /// How long a time evolution runs and its step. Space evolution

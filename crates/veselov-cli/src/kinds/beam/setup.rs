@@ -6,31 +6,45 @@
 use std::path::{Path, PathBuf};
 
 use veselov::field::cauchy::CauchyOptions;
+use veselov::models::EndLoad;
 use veselov::models::beam::paper;
 use veselov::models::beam::{BeamProperties, CrossSection, Material, StepLimit};
 
 use super::schema::{
-    BEAM_MODEL, BeamEndsSpec, BeamInitialSpec, BeamLoadsSpec, BeamMethodSpec, BeamModelSpec, BeamScenario, BeamTimeSpec,
+    BEAM_MODEL, BeamEndsSpec, BeamLoadsSpec, BeamMethodSpec, BeamModelSpec, BeamScenario, BeamTimeSpec,
 };
+use super::start::BeamInitial;
 use crate::error::CliError;
-use crate::scenario::{
-    Array, adjusted_step_note, finite_value, key_error, parse_toml, positive_value, shear_from_keys,
-};
+use crate::kinds::rod::motion::{EndMotion, MotionSpec};
+use crate::scenario::{Array, adjusted_step_note, key_error, parse_toml, positive_value, shear_from_keys};
 
 /// Largest number of nodes across a level.
 const MAX_NODES: usize = 100_000;
 
-/// The initial data.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum BeamStart {
-    /// Straight along E3 at rest (time evolution).
-    Straight,
-    /// Bent with curvature κ about E1, at rest (time evolution).
-    Bent(f64),
-    /// The paper's prescribed columns (space evolution).
-    Paper,
-    /// The paper's column 0 with column 1 its rigid transport, perturbed.
-    PaperWellPosed,
+/// How an end of the beam is held in time evolution.
+#[derive(Debug, Clone)]
+pub(crate) enum BeamEnd {
+    /// Zero traction.
+    Free,
+    /// Held at its initial pose.
+    Clamped,
+    /// Moved from its initial pose.
+    Driven(EndMotion),
+}
+
+impl BeamEnd {
+    /// Whether the end is clamped.
+    pub fn is_clamped(&self) -> bool {
+        matches!(self, BeamEnd::Clamped)
+    }
+    /// Its name in `summary.json`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            BeamEnd::Free => "free",
+            BeamEnd::Clamped => "clamped",
+            BeamEnd::Driven(_) => "driven",
+        }
+    }
 }
 
 /// The validated beam scenario.
@@ -44,13 +58,15 @@ pub(crate) struct BeamSetup {
     pub dt: f64,
     /// The `[time] dt` given, if any (adjusted to land on t_end).
     pub dt_requested: Option<f64>,
-    /// Levels to march beyond the first two.
+    /// Levels to march beyond the first two (time steps from t = 0 in time
+    /// evolution; columns beyond the second in space evolution).
     pub levels: u64,
     pub every: u64,
-    pub clamped: [bool; 2],
-    pub start: BeamStart,
+    pub ends: [BeamEnd; 2],
+    pub initial: BeamInitial,
     pub gravity: [f64; 3],
     pub damping: [f64; 6],
+    pub end_load: EndLoad,
     pub options: CauchyOptions,
     /// Courant number of the marching direction and whether it is above 1.
     pub courant: f64,
@@ -62,19 +78,36 @@ impl BeamSetup {
         key_error(&self.path, key, message)
     }
 
+    /// The index of the march's level at t = 0 (time evolution: the second
+    /// given level) or s = 0 (space evolution: the first column).
+    pub fn level_origin(&self) -> f64 {
+        if self.space { 0.0 } else { 1.0 }
+    }
+
+    /// The time (or arc length, in space evolution) of the march's level `level`.
+    pub fn coordinate(&self, level: usize) -> f64 {
+        let step = if self.space { self.ds } else { self.dt };
+        (level as f64 - self.level_origin()) * step
+    }
+
+    /// The time (or space) steps from t = 0 (s = 0) to level `level`.
+    pub fn steps_at(&self, level: usize) -> u64 {
+        (level as u64).saturating_sub(self.level_origin() as u64)
+    }
+
     /// Parse scenario text attributed to `path` and validate it, section
     /// by section (in this order, the first error found is reported).
     pub fn parse(path: &Path, text: &str) -> Result<Self, CliError> {
         let scenario: BeamScenario = parse_toml(path, text)?;
         let (properties, length, ds) = model(path, &scenario.model)?;
         let (space, cayley) = method(path, &scenario.method)?;
-        let start = start(path, &scenario.initial, space, length)?;
+        let initial = super::start::parse(path, &scenario.initial, space, (length, scenario.model.nodes))?;
         let (dt, dt_requested, levels) = steps(path, &scenario.time, &properties, (ds, scenario.model.nodes), space)?;
         let step = (dt, ds, dt_requested);
         let (courant, unstable) = check_step(path, &scenario, &properties, step, space)?;
         let every = scenario.output.rows_every(path, levels)?;
-        let clamped = ends(path, &scenario.ends, space)?;
-        let (gravity, damping) = loads(path, &scenario.loads)?;
+        let ends = ends(path, &scenario.ends, space)?;
+        let (gravity, damping, end_load) = loads(path, &scenario.loads, &ends, space)?;
         let options = options(path, &scenario.method)?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -87,10 +120,11 @@ impl BeamSetup {
             dt_requested,
             levels,
             every,
-            clamped,
-            start,
+            ends,
+            initial,
             gravity,
             damping,
+            end_load,
             options,
             courant,
             unstable,
@@ -173,45 +207,6 @@ fn method(path: &Path, me: &BeamMethodSpec) -> Result<(bool, bool), CliError> {
     Ok((space, cayley))
 }
 
-/// `[initial]`: the first two levels, for the evolution in `space` or time
-/// of a beam of `length`.
-fn start(path: &Path, initial: &BeamInitialSpec, space: bool, length: f64) -> Result<BeamStart, CliError> {
-    let key = |k: &str, m: String| key_error(path, k, m);
-    let start = match (initial.shape.as_deref(), space) {
-        (None | Some("straight"), false) => BeamStart::Straight,
-        (Some("bent"), false) => BeamStart::Bent(finite_value(
-            path,
-            "initial.curvature",
-            initial.curvature.unwrap_or(1.0),
-        )?),
-        (None | Some("paper"), true) => BeamStart::Paper,
-        (Some("paper-well-posed"), true) => BeamStart::PaperWellPosed,
-        (Some(other), _) => {
-            return Err(key(
-                "initial.shape",
-                format!(
-                    "`{other}` is not a {} evolution start ({})",
-                    if space { "space" } else { "time" },
-                    if space {
-                        "paper | paper-well-posed"
-                    } else {
-                        "straight | bent"
-                    }
-                ),
-            ));
-        }
-    };
-    if let BeamStart::Bent(k) = start
-        && (k * length).abs() >= std::f64::consts::PI
-    {
-        return Err(key(
-            "initial.curvature",
-            format!("|curvature|·length = {:e} must stay below π", (k * length).abs()),
-        ));
-    }
-    Ok(start)
-}
-
 /// `[time]`: the step, the `dt` asked for (if any) and the levels to march
 /// beyond the first two, for `nodes` nodes `ds` apart; in `space`, the
 /// paper's time grid.
@@ -251,16 +246,16 @@ fn steps(
             None => None,
         };
         let limit = properties.max_time_step(ds);
-        // Levels 0 and 1 (t = 0, Δt) are the initial data; the run marches
-        // round(t_end/dt) − 1 more (at least one) to end at t_end.
+        // The levels at t = −Δt and 0 are the initial data; the run marches
+        // round(t_end/dt) steps (at least one) to end at t_end.
         let steps = match requested {
-            Some(dt) => (t_end / dt).round().max(2.0),
-            None => (t_end / (0.8 * limit)).ceil().max(2.0),
+            Some(dt) => (t_end / dt).round().max(1.0),
+            None => (t_end / (0.8 * limit)).ceil().max(1.0),
         };
         if steps > 1e12 {
             return Err(key("time.t_end", format!("{steps:e} levels are too many")));
         }
-        (t_end / steps, requested, steps as u64 - 1)
+        (t_end / steps, requested, steps as u64)
     })
 }
 
@@ -298,25 +293,58 @@ fn check_step(
     })
 }
 
-/// `[ends]`: whether each end is clamped (time evolution only).
-fn ends(path: &Path, ends: &BeamEndsSpec, space: bool) -> Result<[bool; 2], CliError> {
+/// `[ends]`: how each end is held (time evolution only).
+fn ends(path: &Path, ends: &BeamEndsSpec, space: bool) -> Result<[BeamEnd; 2], CliError> {
     let key = |k: &str, m: String| key_error(path, k, m);
-    let end = |k: &str, v: &Option<String>| -> Result<bool, CliError> {
-        match (v.as_deref().unwrap_or("free"), space) {
-            ("free", _) => Ok(false),
-            ("clamped", false) => Ok(true),
-            (other, false) => Err(key(k, format!("unknown end condition `{other}` (free | clamped)"))),
-            (_, true) => Err(key(
-                k,
-                "space evolution takes the paper's natural ends; remove [ends]".into(),
-            )),
+    let end = |which: &str, v: &Option<String>, motion: &Option<MotionSpec>| -> Result<BeamEnd, CliError> {
+        let k = format!("ends.{which}");
+        let condition = match (v.as_deref().unwrap_or("free"), space) {
+            ("free", _) => BeamEnd::Free,
+            ("clamped", false) => BeamEnd::Clamped,
+            ("driven", false) => match motion {
+                Some(m) => BeamEnd::Driven(EndMotion::parse(path, which, m)?),
+                None => {
+                    return Err(key(
+                        &format!("ends.{which}_motion"),
+                        format!("`{which} = \"driven\"` needs [ends.{which}_motion] (displacement, rotation)"),
+                    ));
+                }
+            },
+            (other, false) => {
+                return Err(key(
+                    &k,
+                    format!("unknown end condition `{other}` (free | clamped | driven)"),
+                ));
+            }
+            (_, true) => {
+                return Err(key(
+                    &k,
+                    "space evolution takes the paper's natural ends; remove [ends]".into(),
+                ));
+            }
+        };
+        if motion.is_some() && !matches!(condition, BeamEnd::Driven(_)) {
+            return Err(key(
+                &format!("ends.{which}_motion"),
+                format!("given for an end that is not driven (set `{which} = \"driven\"`)"),
+            ));
         }
+        Ok(condition)
     };
-    Ok([end("ends.start", &ends.start)?, end("ends.end", &ends.end)?])
+    Ok([
+        end("start", &ends.start, &ends.start_motion)?,
+        end("end", &ends.end, &ends.end_motion)?,
+    ])
 }
 
-/// `[loads]`: gravity and the viscous damping of the body velocity.
-fn loads(path: &Path, loads: &BeamLoadsSpec) -> Result<([f64; 3], [f64; 6]), CliError> {
+/// `[loads]`: gravity, the viscous damping of the body velocity and the end
+/// load (time evolution, a free end).
+fn loads(
+    path: &Path,
+    loads: &BeamLoadsSpec,
+    ends: &[BeamEnd; 2],
+    space: bool,
+) -> Result<([f64; 3], [f64; 6], EndLoad), CliError> {
     let key = |k: &str, m: String| key_error(path, k, m);
     let gravity = Array::or(&loads.gravity, path, "loads.gravity", [0.0; 3])?;
     let damping = Array::or(&loads.damping, path, "loads.damping", [0.0; 6])?;
@@ -328,7 +356,41 @@ fn loads(path: &Path, loads: &BeamLoadsSpec) -> Result<([f64; 3], [f64; 6]), Cli
             ));
         }
     }
-    Ok((gravity, damping))
+    let end_load = EndLoad {
+        force: Array::or(&loads.end_force, path, "loads.end_force", [0.0; 3])?.into(),
+        torque: Array::or(&loads.end_torque, path, "loads.end_torque", [0.0; 3])?.into(),
+        ramp: match loads.ramp {
+            Some(r) if r.is_finite() && r >= 0.0 => r,
+            Some(r) => {
+                return Err(key(
+                    "loads.ramp",
+                    format!("must be ≥ 0, got {}", crate::output::number(r)),
+                ));
+            }
+            None => 0.0,
+        },
+        start: 0.0,
+    };
+    if !end_load.is_zero() {
+        let k = if end_load.force.iter().any(|&f| f != 0.0) {
+            "loads.end_force"
+        } else {
+            "loads.end_torque"
+        };
+        if space {
+            return Err(key(k, "an end load is for time evolution".into()));
+        }
+        if !matches!(ends[1], BeamEnd::Free) {
+            return Err(key(
+                k,
+                format!(
+                    "the end is {}: an end load needs `[ends] end = \"free\"`",
+                    ends[1].name()
+                ),
+            ));
+        }
+    }
+    Ok((gravity, damping, end_load))
 }
 
 /// `[method]`: the options of the level solves.

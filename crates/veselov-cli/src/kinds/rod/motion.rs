@@ -84,6 +84,56 @@ fn evaluate(v: &Option<[Expr; 3]>, t: f64) -> Vector3<f64> {
     }
 }
 
+/// The motion of a driven end from its initial pose, parsed from a
+/// [`MotionSpec`] and checked to vanish at t = 0: one reading for the rod
+/// and the beam.
+#[derive(Debug, Clone)]
+pub(crate) struct EndMotion {
+    displacement: Option<[Expr; 3]>,
+    rotation: Option<[Expr; 3]>,
+}
+
+impl EndMotion {
+    /// The motion of end `which` (`start` or `end`) from `spec`, its errors
+    /// naming `ends.{which}_motion` and its keys.
+    pub fn parse(file: &Path, which: &str, spec: &MotionSpec) -> Result<Self, CliError> {
+        let key = format!("ends.{which}_motion");
+        let displacement = parse_vector(file, &format!("{key}.displacement"), &spec.displacement)?;
+        let rotation = parse_vector(file, &format!("{key}.rotation"), &spec.rotation)?;
+        if displacement.is_none() && rotation.is_none() {
+            return Err(key_error(
+                file,
+                &key,
+                "a driven end needs `displacement` or `rotation` (three expressions in t each)",
+            ));
+        }
+        for (name, v) in [("displacement", &displacement), ("rotation", &rotation)] {
+            let at_start = evaluate(v, 0.0);
+            if at_start.iter().any(|v| !v.is_finite()) || at_start.amax() > START_TOLERANCE {
+                return Err(key_error(
+                    file,
+                    &format!("{key}.{name}"),
+                    format!(
+                        "must vanish at t = 0 (the end starts at its initial pose), got {:?}",
+                        at_start.as_slice()
+                    ),
+                ));
+            }
+        }
+        Ok(Self { displacement, rotation })
+    }
+
+    /// The pose at time `t` of an end whose initial pose is `rest`:
+    /// (r₀ + Δr(t), exp(θ(t)) R₀).
+    pub fn pose(&self, rest: &Pose<f64>, t: f64) -> Pose<f64> {
+        let q = so3::exp(&evaluate(&self.rotation, t));
+        Pose::new(
+            rest.position + evaluate(&self.displacement, t),
+            q.compose(&rest.rotation),
+        )
+    }
+}
+
 /// The driven end `which` (`start` or `end`) from `spec`, starting at `rest`;
 /// the march's lattice time `t_lattice` is the run's `t_lattice − offset`.
 pub(crate) fn driven_end(
@@ -93,33 +143,9 @@ pub(crate) fn driven_end(
     rest: Pose<f64>,
     offset: f64,
 ) -> Result<EndCondition, CliError> {
-    let key = format!("ends.{which}_motion");
-    let displacement = parse_vector(file, &format!("{key}.displacement"), &spec.displacement)?;
-    let rotation = parse_vector(file, &format!("{key}.rotation"), &spec.rotation)?;
-    if displacement.is_none() && rotation.is_none() {
-        return Err(key_error(
-            file,
-            &key,
-            "a driven end needs `displacement` or `rotation` (three expressions in t each)",
-        ));
-    }
-    for (name, v) in [("displacement", &displacement), ("rotation", &rotation)] {
-        let at_start = evaluate(v, 0.0);
-        if at_start.iter().any(|v| !v.is_finite()) || at_start.amax() > START_TOLERANCE {
-            return Err(key_error(
-                file,
-                &format!("{key}.{name}"),
-                format!(
-                    "must vanish at t = 0 (the end starts at the rod's initial pose), got {:?}",
-                    at_start.as_slice()
-                ),
-            ));
-        }
-    }
+    let motion = EndMotion::parse(file, which, spec)?;
     Ok(EndCondition::Driven(Arc::new(move |t_lattice| {
-        let t = t_lattice - offset;
-        let q = so3::exp(&evaluate(&rotation, t));
-        Pose::new(rest.position + evaluate(&displacement, t), q.compose(&rest.rotation))
+        motion.pose(&rest, t_lattice - offset)
     })))
 }
 

@@ -162,6 +162,22 @@ impl<'de> Deserialize<'de> for Along {
     }
 }
 
+/// An entry of an array of `Along` values (the beam's velocity fields).
+impl crate::scenario::Entry for Along {
+    const PLURAL: &'static str = "numbers or expressions in s";
+    fn entry_schema() -> serde_json::Value {
+        serde_json::json!({ "anyOf": [{ "type": "number" }, { "type": "string" }] })
+    }
+    fn entry(v: &toml::Value) -> Result<Self, String> {
+        match v {
+            toml::Value::Integer(i) => Ok(Along::Value(*i as f64)),
+            toml::Value::Float(x) if x.is_finite() => Ok(Along::Value(*x)),
+            toml::Value::String(s) => Ok(Along::Expression(s.clone())),
+            other => Err(format!("expected a number or an expression in s, got {other}")),
+        }
+    }
+}
+
 /// A number, or an expression in the material coordinate s.
 impl schemars::JsonSchema for Along {
     fn schema_name() -> std::borrow::Cow<'static, str> {
@@ -199,6 +215,22 @@ impl Along {
                     })
                     .collect()
             }
+        }
+    }
+
+    /// The values at the points `points` (positive or not), each finite, or
+    /// an error naming `key` (and the point).
+    pub(crate) fn finite_at(&self, path: &Path, key: &str, points: &[f64]) -> Result<Vec<f64>, CliError> {
+        let values = match self {
+            Along::Value(v) => vec![*v; points.len()],
+            Along::Expression(source) => {
+                let e = parse_expression(path, key, source, "s")?;
+                points.iter().map(|&s| e.eval(&[s])).collect()
+            }
+        };
+        match values.iter().zip(points).find(|(v, _)| !v.is_finite()) {
+            Some((v, s)) => Err(key_error(path, key, format!("at s = {s}: {v}, must be finite"))),
+            None => Ok(values),
         }
     }
 }
