@@ -41,6 +41,7 @@ use veselov::models::rod::{CosseratCell, CosseratDensity, ShearFrame, Weight};
 use veselov::run::{Checkpoint, Outcome, Status, StopWhen};
 
 use super::figures::draw_rod;
+use super::initial::FIRST_CUT;
 use super::observer::{Cell, Rod, RodObserver};
 use super::schema::LONG_RUN_STEP_NUMBER;
 use super::setup::{RodSetup, shear_frame_name, step_number_text};
@@ -377,6 +378,7 @@ fn summary(
         "dt_requested": setup.dt_requested,
         "dt_stability_limit": setup.dt_limit,
         "step_number": setup.courant,
+        "t_start": setup.time_at(FIRST_CUT),
         "time_steps": outcome.last_step / 2,
         "levels": outcome.last_step,
         "vertex_solves": outcome.last_step * (nodes as u64).div_ceil(2),

@@ -13,6 +13,11 @@
 //! young = 1e6                   # Pa
 //! poisson = 0.5                 # or shear_modulus = … (Pa)
 //! shear_coefficient = 0.9       # κ (default: Cowper's, 6(1+ν)/(7+6ν) circle, 10(1+ν)/(12+11ν) rectangle)
+//! # Or, instead of the section and material, the rod's own data of (6.1) (all four, uniform):
+//! # mass_per_length = 1.0                   # ρ, kg/m
+//! # inertia_density = [0.1, 0.1, 0.2]       # J, kg·m: the diagonal, or 9 entries row by row (symmetric, > 0)
+//! # shear_stiffness = [1.0, 1.0, 10.0]      # C₁ = diag(shear, shear, extension), N
+//! # bending_stiffness = [1.0, 1.0, 0.5]     # C₂ = diag(bending, bending, torsion), N·m²
 //! [ends]
 //! start = "clamped"             # free | clamped (held at its initial pose) | driven
 //! end = "free"                  # (driven: [ends.start_motion], see `motion`)
@@ -30,9 +35,14 @@
 //! helix_pitch = 0.2
 //! velocity = [0.0, 0.0, 0.0]    # a rigid motion: translation velocity …
 //! angular_velocity = [0.0, 0.0, 0.0]  # … and spin about the origin
+//! # Or any motion, instead of the keys above: expressions in s and t, sampled on the lattice's
+//! # first four levels at t = 0, Δt/2, Δt, 3Δt/2 (the run's clock; its first output is at t = Δt):
+//! # position = ["0.05*sin(3*s) + 0.2*t", "0.1*t*cos(2*s)", "s + 0.01*t"]   # r(s, t), m
+//! # rotation_vector = ["0.3*s", "0.5*t", "0.2*s^2 + 0.4*t"]               # θ(s, t), R = exp(θ̂), rad
 //! [time]
 //! t_end = 2.0
-//! dt = 1e-4                     # adjusted to 2·t_end/round(2·t_end/dt) (half steps); default: at most half the stability limit
+//! dt = 1e-4                     # adjusted to 2·t_end/round(2·t_end/dt) (levels are half steps);
+//!                               # default: at most half the stability limit
 //! # step_number = 0.9           # instead of dt: the fewest steps with step number ≤ this (default 0.5)
 //! [method]
 //! tolerance = 1e-14             # vertex solves (relative)
@@ -334,10 +344,10 @@ pub(crate) struct RodInitialSpec {
     pub position: Option<Array<String, 3>>,
     /// The motion of the frames, with `position` (both needed, and neither
     /// `shape`, `velocity` nor `angular_velocity`): three expressions θ(s, t)
-    /// in `s` and `t`, the rotation vector of the frame in the spatial
-    /// frame, R = exp(θ̂) (Rodrigues' formula (6.8)), sampled at the times of
+    /// in `s` and `t`, the frame's rotation vector (axis θ/|θ|, angle |θ|):
+    /// R = exp(θ̂) by Rodrigues' formula (6.8), sampled at the times of
     /// `position`. The frame's third axis R e₃ is the rod's unstressed
-    /// tangent: R = I along e₃.
+    /// tangent: θ = 0 for a rod along e₃.
     #[schemars(extend("unit" = "rad"))]
     pub rotation_vector: Option<Array<String, 3>>,
 }

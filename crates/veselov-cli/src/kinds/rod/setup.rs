@@ -56,7 +56,7 @@ pub(crate) struct RodSetup {
     pub shear_frame: ShearFrame,
     /// The worst shear-locking number κGA·δ²/EI along the rod
     /// (`models::rod::resolution`) and the fewest material points that
-    /// bring its bending stiffening to [`BENDING_STIFFENING_ADVISED`].
+    /// bring its bending stiffening to [`super::body::BENDING_STIFFENING_ADVISED`].
     pub locking: f64,
     pub nodes_for_bending: usize,
 }
@@ -71,9 +71,6 @@ pub fn shear_frame_name(frame: ShearFrame) -> &'static str {
         .find(|(_, f)| *f == frame)
         .map_or("vertex", |(name, _)| name)
 }
-
-/// The bending stiffening from shear locking that a run's advice aims at: 1 %.
-pub const BENDING_STIFFENING_ADVISED: f64 = 0.01;
 
 /// The vector key `key` (zero when not given): 3 finite numbers.
 fn vector(path: &Path, key: &str, v: &Option<Array<f64, 3>>) -> Result<Vector3<f64>, CliError> {
