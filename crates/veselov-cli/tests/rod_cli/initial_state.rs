@@ -367,3 +367,30 @@ fn a_whole_number_of_half_steps_keeps_the_step_and_ends_there() {
         assert_eq!(err.contains("adjusted to"), t_end != 0.4025, "{err}");
     }
 }
+
+#[test]
+fn a_clamped_start_holds_the_pose_of_the_motion_at_t_0() {
+    // The motion moves the start point, r(0, t) = (0.2t, 0.1t, 0.01t); a
+    // clamped start holds it at r(0, 0) = 0 (the band's first level, the
+    // run's t = 0), in every row, through the run.
+    let text = SECTION_6
+        .replace("[time]", "[ends]\nstart = \"clamped\"\n\n[time]")
+        .replace("t_end = 0.4025", "t_end = 0.05");
+    let (ok, err, out) = run("section6-clamped", &text);
+    assert!(ok, "{err}");
+    let s = summary(&out);
+    assert_eq!(s["ends"][0], "clamped", "{s}");
+    let line = npy_data(&out.join("centerline.npy"));
+    let rows = line.len() / (21 * 3);
+    assert!(rows >= 10, "{rows} rows");
+    let worst = (0..rows)
+        .flat_map(|row| (0..3).map(move |k| row * 63 + k))
+        .map(|i| line[i].abs())
+        .fold(0.0, f64::max);
+    assert_eq!(worst, 0.0, "the clamped start moved by {worst:e}");
+    // The free end moves with the motion.
+    let end = (0..3)
+        .map(|k| (line[(rows - 1) * 63 + 60 + k] - line[60 + k]).abs())
+        .fold(0.0, f64::max);
+    assert!(end > 1e-3, "{end:e}");
+}
