@@ -3,6 +3,8 @@
 //! errors naming the key.
 
 mod common;
+#[path = "rod_cli/initial_state.rs"]
+mod initial_state;
 use common::{csv, example, npy_data, npy_shape, run, set, summary};
 
 #[test]

@@ -216,6 +216,47 @@ def test_a_signal_interrupts_a_run(signum, tmp_path):
     assert np.all(np.isfinite(r["energy"]))
 
 
+SECTION_6_ROD = {
+    "model": {
+        "name": "cosserat-rod",
+        "length": 1.0,
+        "nodes": 21,
+        "mass_per_length": 1.0,
+        "inertia_density": [0.1, 0.1, 0.2],
+        "shear_stiffness": [1.0, 1.0, 10.0],
+        "bending_stiffness": [1.0, 1.0, 0.5],
+    },
+    "initial": {
+        "position": ["0.05*sin(3*s) + 0.2*t", "0.1*t*cos(2*s)", "s + 0.01*t"],
+        "rotation_vector": ["0.3*s", "0.5*t", "0.2*s^2 + 0.4*t"],
+    },
+    "time": {"t_end": 0.4025, "dt": 0.005},
+}
+
+
+def test_a_rod_from_raw_data_and_an_initial_motion_keeps_the_reference_momenta():
+    # Seed 003 §6 through the same parser as the command: the final momenta
+    # of an independent implementation of the march, to 1e-9.
+    r = veselov.run(SECTION_6_ROD)
+    assert r.status == "ok"
+    momentum = r.tables["momentum"]
+    reference = {
+        "P_x": 0.200427242086534,
+        "P_y": 0.0448994415466,
+        "P_z": 0.010470853044042,
+        "L_x": -0.010241443704355,
+        "L_y": 0.141408132575811,
+        "L_z": 0.080355900419697,
+    }
+    for name, value in reference.items():
+        assert abs(momentum[name][-1] - value) <= 1e-9, name
+    assert abs(momentum["t"][0] - 0.005) < 1e-15 and abs(momentum["t"][-1] - 0.4025) < 1e-15
+    bad = {**SECTION_6_ROD, "model": {**SECTION_6_ROD["model"], "inertia_density": [0.1, 0, 0, 0, 0.1, 0.01, 0, 0.02, 0.2]}}
+    with pytest.raises(veselov.ScenarioError) as e:
+        veselov.run(bad)
+    assert e.value.key == "model.inertia_density[7]"
+
+
 def test_catalogues_and_verify():
     names = {m["name"] for m in veselov.models()}
     assert {"kepler", "van-der-pol", "rigid-body"} <= names

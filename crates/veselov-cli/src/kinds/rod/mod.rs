@@ -5,11 +5,15 @@
 //!
 //! [`schema`] holds the scenario's tables (with [`motion`], the expressions
 //! of a centreline and of driven ends) and [`setup`] validates them into the
-//! rod, its lattice, ends and loads, from the initial [`shape`]; [`run`]
+//! rod ([`body`]: its parameters), its lattice, ends and loads, from the
+//! initial motion ([`initial`]: a [`shape`] moved rigidly, or expressions in
+//! s and t); [`run`]
 //! marches it with the observer of [`observer`]; [`figures`] draws the
 //! centreline, the momenta and the energy.
 
+pub mod body;
 pub mod figures;
+pub mod initial;
 pub mod motion;
 pub mod observer;
 pub mod run;

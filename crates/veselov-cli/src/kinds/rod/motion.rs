@@ -1,6 +1,7 @@
 //! Expressions in a rod scenario: an initial centreline `r(s)` in the
 //! material coordinate `s` (`Centreline`, `[initial] shape = "curve"`),
-//! and driven ends in the run's time `t`.
+//! driven ends in the run's time `t`, and the parsing that these and the
+//! initial field `r(s, t)`, `θ(s, t)` of [`super::initial`] share.
 //!
 //! Driven rod ends from the command line: `[ends] start = "driven"` (or
 //! `end`) with `[ends.start_motion]` giving the end's motion as expressions in
@@ -55,25 +56,34 @@ const START_TOLERANCE: f64 = 1e-12;
 /// other than 3) or `key[i]`.
 fn parse_vector(file: &Path, key: &str, sources: &Option<Array<String, 3>>) -> Result<Option<[Expr; 3]>, CliError> {
     match sources {
-        Some(sources) => parse_in(file, key, sources, "t").map(Some),
+        Some(sources) => parse_in(file, key, sources, &["t"]).map(Some),
         None => Ok(None),
     }
 }
 
-/// Three expressions in the variable `variable`, parsed with errors naming
-/// `key` (a length other than 3) or `key[i]`.
-fn parse_in(file: &Path, key: &str, sources: &Array<String, 3>, variable: &str) -> Result<[Expr; 3], CliError> {
+/// Three expressions in `variables` (evaluated with their values in that
+/// order), parsed with errors naming `key` (a length other than 3) or
+/// `key[i]` (a syntax error, an unknown name).
+pub(crate) fn parse_in(
+    file: &Path,
+    key: &str,
+    sources: &Array<String, 3>,
+    variables: &[&str],
+) -> Result<[Expr; 3], CliError> {
     let sources = sources.values(file, key)?;
-    let parse = |i: usize| parse_expression(file, &format!("{key}[{i}]"), &sources[i], variable);
+    let parse = |i: usize| parse_expression(file, &format!("{key}[{i}]"), &sources[i], variables);
     Ok([parse(0)?, parse(1)?, parse(2)?])
 }
 
-/// One expression in the single variable `variable`, its errors naming `key`.
-pub(crate) fn parse_expression(file: &Path, key: &str, source: &str, variable: &str) -> Result<Expr, CliError> {
+/// One expression in `variables` (evaluated with their values in that
+/// order), its errors naming `key`.
+pub(crate) fn parse_expression(file: &Path, key: &str, source: &str, variables: &[&str]) -> Result<Expr, CliError> {
     let mut table = SymbolTable::new();
-    table
-        .variable(variable)
-        .map_err(|e| key_error(file, key, e.to_string()))?;
+    for variable in variables {
+        table
+            .variable(variable)
+            .map_err(|e| key_error(file, key, e.to_string()))?;
+    }
     Expr::parse(source, &table).map_err(|e| key_error(file, key, format!("\n{e}")))
 }
 
@@ -163,7 +173,7 @@ impl Centreline {
     /// Parse `[initial] position` and check it at the material points
     /// `points` (finite, with a non-zero tangent), naming `key`.
     pub fn new(file: &Path, key: &str, sources: &Array<String, 3>, points: &[f64]) -> Result<Self, CliError> {
-        let position = parse_in(file, key, sources, "s")?;
+        let position = parse_in(file, key, sources, &["s"])?;
         let curve = Self {
             position: Arc::new(position),
         };

@@ -13,6 +13,7 @@ use veselov::models::rod::{CosseratCell, Weight};
 use veselov::models::rod::{energy, load_impulse};
 use veselov::run::{Control, Observer, StepStats, Words};
 
+use super::initial::FIRST_CUT;
 use super::setup::RodSetup;
 use crate::centerline::{Reaction, ShapeChange};
 use crate::error::CliError;
@@ -22,14 +23,6 @@ use crate::pipeline::{Resumable, after_recording};
 /// Prop. 6.5's cell of the rod.
 pub(super) type Cell = CosseratCell<Weight>;
 
-/// The level of the march's first cut (Cauchy data on levels 0 … 3): the
-/// run's t = 0.
-pub(super) const FIRST_CUT: i64 = 2;
-
-/// The run's time of the cut below the marcher's level: (level − 2)Δt/2.
-pub(super) fn run_time<L: DiscreteLagrangian<PositionRotation, 6>>(m: &Rod<L>, dt: f64) -> f64 {
-    (m.level() - FIRST_CUT) as f64 * 0.5 * dt
-}
 pub(super) type Rod<L> = CauchyMarcher<PositionRotation, L, 6>;
 
 /// Writes the rows and keeps the balances.
@@ -250,7 +243,7 @@ impl<L: DiscreteLagrangian<PositionRotation, 6>> Observer<Rod<L>> for RodObserve
             }
         }
         let recorded = if step.is_multiple_of(self.every_levels) {
-            self.record(state, run_time(state, self.setup.dt))
+            self.record(state, self.setup.time_at(state.level()))
         } else {
             if self.support.is_some() && step as f64 == self.support_before_step() {
                 self.support_before = self.support_impulse(step as f64, &Self::momenta(state));
@@ -308,7 +301,7 @@ impl RodObserver<'_> {
     /// The step one time step (two levels) before the planned end, at which
     /// the support's impulse is kept for the reaction over the last step.
     fn support_before_step(&self) -> f64 {
-        (2 * self.setup.steps) as f64 - 2.0
+        self.setup.levels as f64 - 2.0
     }
 
     /// The support's impulse since the start, at `step` where the momenta are
@@ -328,7 +321,7 @@ impl RodObserver<'_> {
     /// single held end or before the run has reached its planned end.
     pub(super) fn reaction(&self) -> Option<Reaction> {
         let end = self.support?;
-        let total = (2 * self.setup.steps) as f64;
+        let total = self.setup.levels as f64;
         let (before, last) = (&self.support_before, &self.support_last);
         if before[0] != total - 2.0 || last[0] != total {
             return None;

@@ -41,7 +41,8 @@ use veselov::models::rod::{CosseratCell, CosseratDensity, ShearFrame, Weight};
 use veselov::run::{Checkpoint, Outcome, Status, StopWhen};
 
 use super::figures::draw_rod;
-use super::observer::{Cell, FIRST_CUT, Rod, RodObserver, run_time};
+use super::initial::FIRST_CUT;
+use super::observer::{Cell, Rod, RodObserver};
 use super::schema::LONG_RUN_STEP_NUMBER;
 use super::setup::{RodSetup, shear_frame_name, step_number_text};
 use crate::centerline::{Reaction, ShapeChange, centerline_stream, single_support};
@@ -144,10 +145,11 @@ pub fn run(path: &Path, text: &str, job: RunJob) -> Result<(), CliError> {
         && !job.quiet
     {
         eprintln!(
-            "note: dt = {} adjusted to {} = t_end/{} so that the run ends at t_end",
+            "note: dt = {} adjusted to {} = 2·t_end/{} so that the run ends at t_end (levels are half a step \
+             apart)",
             number(requested),
             number(setup.dt),
-            setup.steps
+            setup.half_steps
         );
     }
     let p = setup.parameters;
@@ -212,11 +214,13 @@ where
     let (mut session, resumed, mut obs) = open_observer(setup, &job, lag)?;
     let dir = session.dir.clone();
     let mut state = marcher;
-    let mut stepper = CauchyStepper::<PositionRotation, L, 6>::new(0.5 * setup.dt, FIRST_CUT);
+    // The driver's step 0 is the first cut; its clock reads 0 at the
+    // initial motion's level (the first cut, or level 0 for expressions).
+    let mut stepper = CauchyStepper::<PositionRotation, L, 6>::new(0.5 * setup.dt, setup.initial.level_at_zero());
     let (first, start) = match &resumed {
         Some(r) => (r.restore_run(&dir, |w| obs.restore(w), &mut state)?, Ok(())),
         None => {
-            let t = run_time(&state, setup.dt);
+            let t = setup.time_at(state.level());
             (0, obs.record(&state, t))
         }
     };
@@ -225,11 +229,11 @@ where
         &mut stepper,
         &mut state,
         first,
-        StopWhen::steps(2 * setup.steps),
+        StopWhen::steps(setup.levels),
         &mut obs,
     )?;
     if !outcome.last_step.is_multiple_of(obs.every_levels) && matches!(outcome.status, Status::Completed) {
-        let t = run_time(&state, setup.dt);
+        let t = setup.time_at(state.level());
         if let Err(e) = obs.record(&state, t) {
             obs.io(Err(CliError::Run {
                 error: e,
@@ -241,7 +245,7 @@ where
     obs.frames.position()?;
     obs.energy.position()?;
     let rows_out = obs.momentum.position()?.rows;
-    let t_final = run_time(&state, setup.dt);
+    let t_final = setup.time_at(state.level());
     let free = setup.ends.start.is_free() && setup.ends.end.is_free();
     let reaction = obs.reaction();
     let own = summary(setup, &outcome, &obs, reaction.as_ref());
@@ -271,7 +275,7 @@ where
             };
             format!(
                 "cosserat-rod, {nodes} nodes: {} of {} to t = {}{balance}{}{}",
-                crate::output::count(outcome.last_step / 2, "time step", "time steps"),
+                time_steps(outcome.last_step),
                 number(setup.dt),
                 number(t_final),
                 obs.shape.report(),
@@ -292,9 +296,9 @@ fn open_observer<'a>(
     let s = &setup.scenario;
     let lattice = &setup.lattice;
     let nodes = lattice.nodes();
-    let rows = setup.steps / setup.every + 2;
+    let rows = setup.levels / (2 * setup.every) + 2;
     let plan = Plan {
-        steps: 2.0 * setup.steps as f64,
+        steps: setup.levels as f64,
         levels_per_step: 2,
         given_steps: 0,
         steps_key: "time.t_end",
@@ -374,6 +378,7 @@ fn summary(
         "dt_requested": setup.dt_requested,
         "dt_stability_limit": setup.dt_limit,
         "step_number": setup.courant,
+        "t_start": setup.time_at(FIRST_CUT),
         "time_steps": outcome.last_step / 2,
         "levels": outcome.last_step,
         "vertex_solves": outcome.last_step * (nodes as u64).div_ceil(2),
@@ -401,6 +406,16 @@ fn summary(
         own.extend(Reaction::keys(reaction));
     }
     own
+}
+
+/// The time steps of `levels` levels, two per step: "80 time steps", or
+/// "79.5 time steps" when the run ends half a step after a whole one.
+fn time_steps(levels: u64) -> String {
+    if levels.is_multiple_of(2) {
+        crate::output::count(levels / 2, "time step", "time steps")
+    } else {
+        format!("{} time steps", levels as f64 / 2.0)
+    }
 }
 
 fn end_name(e: &EndCondition) -> &'static str {

@@ -13,6 +13,11 @@
 //! young = 1e6                   # Pa
 //! poisson = 0.5                 # or shear_modulus = … (Pa)
 //! shear_coefficient = 0.9       # κ (default: Cowper's, 6(1+ν)/(7+6ν) circle, 10(1+ν)/(12+11ν) rectangle)
+//! # Or, instead of the section and material, the rod's own data of (6.1) (all four, uniform):
+//! # mass_per_length = 1.0                   # ρ, kg/m
+//! # inertia_density = [0.1, 0.1, 0.2]       # J, kg·m: the diagonal, or 9 entries row by row (symmetric, > 0)
+//! # shear_stiffness = [1.0, 1.0, 10.0]      # C₁ = diag(shear, shear, extension), N
+//! # bending_stiffness = [1.0, 1.0, 0.5]     # C₂ = diag(bending, bending, torsion), N·m²
 //! [ends]
 //! start = "clamped"             # free | clamped (held at its initial pose) | driven
 //! end = "free"                  # (driven: [ends.start_motion], see `motion`)
@@ -30,9 +35,14 @@
 //! helix_pitch = 0.2
 //! velocity = [0.0, 0.0, 0.0]    # a rigid motion: translation velocity …
 //! angular_velocity = [0.0, 0.0, 0.0]  # … and spin about the origin
+//! # Or any motion, instead of the keys above: expressions in s and t, sampled on the lattice's
+//! # first four levels at t = 0, Δt/2, Δt, 3Δt/2 (the run's clock; its first output is at t = Δt):
+//! # position = ["0.05*sin(3*s) + 0.2*t", "0.1*t*cos(2*s)", "s + 0.01*t"]   # r(s, t), m
+//! # rotation_vector = ["0.3*s", "0.5*t", "0.2*s^2 + 0.4*t"]               # θ(s, t), R = exp(θ̂), rad
 //! [time]
 //! t_end = 2.0
-//! dt = 1e-4                     # adjusted to t_end/round(t_end/dt); default: at most half the stability limit
+//! dt = 1e-4                     # adjusted to 2·t_end/round(2·t_end/dt) (levels are half steps);
+//!                               # default: at most half the stability limit
 //! # step_number = 0.9           # instead of dt: the fewest steps with step number ≤ this (default 0.5)
 //! [method]
 //! tolerance = 1e-14             # vertex solves (relative)
@@ -50,7 +60,7 @@ use serde::Deserialize;
 
 use super::motion::{MotionSpec, parse_expression};
 use crate::error::CliError;
-use crate::scenario::{Array, RowsOutputSpec, key_error, positive_value};
+use crate::scenario::{Array, List, RowsOutputSpec, key_error, positive_value};
 
 /// The model name of the rod kind.
 pub const ROD_MODEL: &str = "cosserat-rod";
@@ -77,10 +87,15 @@ pub(crate) struct RodScenario {
     pub checks: crate::verdict::ChecksSpec,
 }
 
-/// The rod's length, its material points, its cross-section and
-/// its material. The cross-section and the material (`radius`, `width`,
-/// `height`, `density`, `young`) may vary along the rod: give an expression
-/// in the material coordinate `s` (0 … length) as a string.
+/// The rod's length, its material points, and its parameters in (6.1)
+/// of Casimiro and Rodrigo, in one of two styles (not both): a
+/// cross-section and a material (`radius` or `width` and `height`,
+/// `density`, `young`, `poisson` or `shear_modulus`, `shear_coefficient`),
+/// which may vary along the rod (give `radius`, `width`, `height`,
+/// `density` or `young` as an expression in the material coordinate `s`,
+/// 0 … length, as a string); or the rod's own data, uniform along it:
+/// `mass_per_length` (ρ), `inertia_density` (J), `shear_stiffness` (C₁) and
+/// `bending_stiffness` (C₂), all four.
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodModelSpec {
@@ -109,13 +124,14 @@ pub(crate) struct RodModelSpec {
     /// `width` (instead of `radius`). A number, or an expression in `s`.
     #[schemars(extend("unit" = "m"))]
     pub height: Option<Along>,
-    /// The mass density of the material. A number, or an expression in `s`;
-    /// gravity follows the local mass.
+    /// The mass density of the material (with a cross-section). A number,
+    /// or an expression in `s`; gravity follows the local mass.
     #[schemars(extend("unit" = "kg/m³"))]
-    pub density: Along,
-    /// Young's modulus E. A number, or an expression in `s`.
+    pub density: Option<Along>,
+    /// Young's modulus E (with a cross-section). A number, or an expression
+    /// in `s`.
     #[schemars(extend("unit" = "Pa"))]
-    pub young: Along,
+    pub young: Option<Along>,
     /// Poisson's ratio ν, in (−1, 0.5], giving the shear modulus
     /// E/(2(1 + ν)); exactly one of `poisson` and `shear_modulus`.
     pub poisson: Option<f64>,
@@ -127,6 +143,29 @@ pub(crate) struct RodModelSpec {
     /// Cowper's for the section and Poisson's ratio, 6(1 + ν)/(7 + 6ν) for a
     /// circle and 10(1 + ν)/(12 + 11ν) for a rectangle.
     pub shear_coefficient: Option<f64>,
+    /// The rod's mass per unit length ρ of (6.1) (> 0), instead of a
+    /// cross-section and a material: with `inertia_density`,
+    /// `shear_stiffness` and `bending_stiffness`. The kinetic energy density
+    /// is ½ρ|∂ₜr|² + ½ωᵀJω.
+    #[schemars(extend("unit" = "kg/m"))]
+    pub mass_per_length: Option<f64>,
+    /// The rotational inertia per unit length J of (6.1), in the body frame
+    /// (d₁, d₂, d₃ = the tangent): 3 numbers, the diagonal (I₁, I₂, I₃), or 9,
+    /// the full tensor row by row; symmetric and positive definite. With
+    /// `mass_per_length`. (A circular section of radius a in a material of
+    /// density ρ₀ has J = ρ₀πa⁴/4·(1, 1, 2).)
+    #[schemars(extend("unit" = "kg·m"))]
+    pub inertia_density: Option<List<f64>>,
+    /// The stiffness C₁ of the linear strain ε = Rᵀ∂ₛr − e₃ in (6.1),
+    /// diagonal: (shear along d₁, shear along d₂, extension), each > 0
+    /// (κGA, κGA, EA for a section of area A). With `mass_per_length`.
+    #[schemars(extend("unit" = "N"))]
+    pub shear_stiffness: Option<Array<f64, 3>>,
+    /// The stiffness C₂ of the angular strain Ω (Ω̂ = Rᵀ∂ₛR) in (6.1),
+    /// diagonal: (bending about d₁, bending about d₂, torsion), each > 0
+    /// (EI₁, EI₂, GK for a section). With `mass_per_length`.
+    #[schemars(extend("unit" = "N·m²"))]
+    pub bending_stiffness: Option<Array<f64, 3>>,
 }
 
 /// A material quantity: one number for the whole rod, or an expression in
@@ -198,7 +237,7 @@ impl Along {
         match self {
             Along::Value(v) => Ok(vec![positive_value(path, key, *v)?; points.len()]),
             Along::Expression(source) => {
-                let e = parse_expression(path, key, source, "s")?;
+                let e = parse_expression(path, key, source, &["s"])?;
                 points
                     .iter()
                     .map(|&s| {
@@ -288,9 +327,14 @@ pub(crate) struct LoadsSpec {
     pub ramp: Option<f64>,
 }
 
-/// The rod's shape at t = 0 and a rigid motion it starts
-/// with (at rest by default). Its unstressed shape is always straight: a
-/// rod started bent or coiled springs back.
+/// The rod's initial state, in one of two styles. A shape at t = 0 and a
+/// rigid motion it starts with (at rest by default): `shape` with its keys,
+/// `velocity`, `angular_velocity`. Or any motion, given as expressions in
+/// the material coordinate `s` and the time `t`: `position` and
+/// `rotation_vector` (both, without the keys of the first style), sampled
+/// on the first four levels of the rod's lattice, which fix the positions
+/// and velocities. Its unstressed shape is always straight: a rod started
+/// bent or coiled springs back.
 #[derive(Debug, Clone, Default, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodInitialSpec {
@@ -316,12 +360,28 @@ pub(crate) struct RodInitialSpec {
     /// (x, y, z), with `velocity` a rigid motion.
     #[schemars(extend("unit" = "rad/s", "default" = [0.0, 0.0, 0.0]))]
     pub angular_velocity: Option<Array<f64, 3>>,
-    /// The initial centreline for `shape = "curve"` (needed there, refused
-    /// otherwise): three expressions x, y, z in the material coordinate
-    /// `s`, finite with a non-zero tangent at every material point; where
-    /// |dr/ds| ≠ 1 the rod starts stretched or compressed.
+    /// With `shape = "curve"`: the initial centreline, three expressions x,
+    /// y, z in the material coordinate `s`, finite with a non-zero tangent
+    /// at every material point; where |dr/ds| ≠ 1 the rod starts stretched
+    /// or compressed. With `rotation_vector` instead (no `shape`): the
+    /// motion r(s, t) of the centreline, three expressions in `s` and `t`
+    /// sampled as (6.4), y_v = (r, R)(s, t) at the vertex's node (6.2): the
+    /// lattice starts from four levels w = 0, 1, 2, 3 at t = w·Δt/2, Δt the
+    /// time step, each holding every other material point (the even ones,
+    /// s = 0, 2δ, …, at t = 0 and Δt; the odd ones at t = Δt/2 and 3Δt/2), so
+    /// each point's velocity is that of the motion over Δt. The run's clock
+    /// is the one of these expressions: its first output, the cut at level 2,
+    /// is at t = Δt, and it ends at `t_end`.
     #[schemars(extend("unit" = "m"))]
     pub position: Option<Array<String, 3>>,
+    /// The motion of the frames, with `position` (both needed, and neither
+    /// `shape`, `velocity` nor `angular_velocity`): three expressions θ(s, t)
+    /// in `s` and `t`, the frame's rotation vector (axis θ/|θ|, angle |θ|):
+    /// R = exp(θ̂) by Rodrigues' formula (6.8), sampled at the times of
+    /// `position`. The frame's third axis R e₃ is the rod's unstressed
+    /// tangent: θ = 0 for a rod along e₃.
+    #[schemars(extend("unit" = "rad"))]
+    pub rotation_vector: Option<Array<String, 3>>,
 }
 
 /// How long the run lasts and its time step, given as `dt` or as
@@ -331,14 +391,18 @@ pub(crate) struct RodInitialSpec {
 #[derive(Debug, Clone, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RodTimeSpec {
-    /// The time at which the run ends (> 0); it starts at 0 and ends at
-    /// `t_end` exactly.
+    /// The time at which the run ends (> 0); it starts at 0 (at Δt when
+    /// `[initial]` gives the motion as expressions in `s` and `t`) and ends
+    /// at `t_end` exactly.
     #[schemars(extend("unit" = "s"))]
     pub t_end: f64,
-    /// The time step, instead of `step_number`: the run takes
-    /// round(t_end/dt) steps (at least one), dt adjusted to land on `t_end`;
-    /// a dt above the stability limit is refused unless `allow_unstable`.
-    /// Without it the step follows from `step_number`.
+    /// The time step, instead of `step_number`. The lattice advances by
+    /// levels half a step apart (each material point by dt every two
+    /// levels), so the run's clock reaches `t_end` after round(2·t_end/dt)
+    /// half steps (at least one whole step of the march), dt adjusted to
+    /// 2·t_end divided by that count: a `t_end` of a whole number of half
+    /// steps keeps dt as given. A dt above the stability limit is refused unless
+    /// `allow_unstable`. Without it the step follows from `step_number`.
     #[schemars(extend("unit" = "s"))]
     pub dt: Option<f64>,
     /// The step as a fraction of the stability limit, instead of `dt`: the

@@ -1,33 +1,23 @@
 //! The validation of a rod scenario ([`super::schema`]) into the library's
-//! rod ([`veselov::models::rod`]), section by section: the material and
-//! section at the material points, the step against the stability limit,
-//! the initial shape, the ends, the loads and the method.
+//! rod ([`veselov::models::rod`]), section by section: the parameters at
+//! the material points ([`super::body`]), the step against the stability
+//! limit and the levels that land on `t_end`, the initial motion
+//! ([`super::initial`]), the ends, the loads and the method.
 
 use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::fibre::Pose;
-use veselov::lie::so3;
-use veselov::models::rod::{
-    BENDING_STIFFENING_PER_LOCKING, CrossSection, EndCondition, Material, RodEnds, RodLattice, courant_number,
-    largest_step, locking_number, rod_parameters, spacing_for_locking,
-};
+use veselov::models::rod::{EndCondition, RodEnds, RodLattice, courant_number, largest_step};
 use veselov::models::rod::{RodLoads, RodParameters, ShearFrame};
 
-use super::motion::{Centreline, MotionSpec, driven_end};
-use super::schema::{
-    Along, DEFAULT_STEP_NUMBER, EndsSpec, LoadsSpec, ROD_MODEL, RodInitialSpec, RodMethodSpec, RodModelSpec,
-    RodScenario,
-};
-use super::shape::Shape;
+use super::body::{RodBody, body};
+use super::initial::{FIRST_CUT, Initial, level_at_zero};
+use super::motion::{MotionSpec, driven_end};
+use super::schema::{DEFAULT_STEP_NUMBER, EndsSpec, LoadsSpec, RodMethodSpec, RodScenario};
 use crate::error::CliError;
-use crate::scenario::{
-    Array, adjusted_step_note, finite_value, key_error, parse_toml, positive_value, shear_from_keys,
-};
-
-/// Largest number of material points.
-const MAX_NODES: usize = 100_000;
+use crate::scenario::{Array, adjusted_step_note, finite_value, key_error, parse_toml, positive_value};
 
 /// The validated rod scenario.
 pub(crate) struct RodSetup {
@@ -44,14 +34,18 @@ pub(crate) struct RodSetup {
     /// Damping and end load (None when all are zero).
     pub loads: Option<RodLoads>,
     pub gravity: Vector3<f64>,
-    pub shape: Shape,
-    pub velocity: Vector3<f64>,
-    pub spin: Vector3<f64>,
+    /// The initial motion, which also sets the run's clock.
+    pub initial: Initial,
     pub options: CauchyOptions,
     pub dt: f64,
     /// The `[time] dt` given, if any (dt is adjusted to land on t_end).
     pub dt_requested: Option<f64>,
-    pub steps: u64,
+    /// The levels (half steps) the run marches from its first cut to t_end.
+    pub levels: u64,
+    /// The half steps from the lattice's time 0 (level 0) to t_end, whose
+    /// count sets dt = 2·t_end/half_steps.
+    pub half_steps: u64,
+    /// Time steps between output rows.
     pub every: u64,
     /// Step number √((cΔt/Δs)² + (ωΔt/2)²) and the largest stable Δt.
     pub courant: f64,
@@ -62,7 +56,7 @@ pub(crate) struct RodSetup {
     pub shear_frame: ShearFrame,
     /// The worst shear-locking number κGA·δ²/EI along the rod
     /// (`models::rod::resolution`) and the fewest material points that
-    /// bring its bending stiffening to [`BENDING_STIFFENING_ADVISED`].
+    /// bring its bending stiffening to [`super::body::BENDING_STIFFENING_ADVISED`].
     pub locking: f64,
     pub nodes_for_bending: usize,
 }
@@ -77,9 +71,6 @@ pub fn shear_frame_name(frame: ShearFrame) -> &'static str {
         .find(|(_, f)| *f == frame)
         .map_or("vertex", |(name, _)| name)
 }
-
-/// The bending stiffening from shear locking that a run's advice aims at: 1 %.
-pub const BENDING_STIFFENING_ADVISED: f64 = 0.01;
 
 /// The vector key `key` (zero when not given): 3 finite numbers.
 fn vector(path: &Path, key: &str, v: &Option<Array<f64, 3>>) -> Result<Vector3<f64>, CliError> {
@@ -124,15 +115,17 @@ impl RodSetup {
             dt_limit,
             dt,
             requested,
-            steps,
+            levels,
+            half_steps,
             lattice,
             courant,
         } = steps(path, &scenario, &body)?;
-        let every = scenario.output.rows_every(path, steps)?;
-        let i = &scenario.initial;
-        let shape = shape(path, i, m.nodes, &lattice, body.length)?;
-        let ends = ends(path, &scenario.ends, &shape, body.length, dt)?;
-        let (gravity, loads, any_load) = loads(path, &scenario.loads, m.nodes, dt, &ends)?;
+        let every = scenario.output.rows_every(path, levels.div_ceil(2))?;
+        let initial = Initial::parse(path, &scenario.initial, &lattice)?;
+        // The lattice time of the run's t = 0.
+        let zero = lattice.time(initial.level_at_zero());
+        let ends = ends(path, &scenario.ends, &initial, body.length, zero)?;
+        let (gravity, loads, any_load) = loads(path, &scenario.loads, m.nodes, zero, &ends)?;
         let (symmetric, shear_frame, options) = method(path, &scenario.method, body.varying, &loads, any_load)?;
         let RodBody {
             varying,
@@ -145,8 +138,6 @@ impl RodSetup {
         } = body;
         Ok(Self {
             path: path.to_path_buf(),
-            velocity: vector(path, "initial.velocity", &i.velocity)?,
-            spin: vector(path, "initial.angular_velocity", &i.angular_velocity)?,
             scenario,
             parameters,
             profile: varying.then_some(profile),
@@ -155,11 +146,12 @@ impl RodSetup {
             ends,
             loads: any_load.then_some(loads),
             gravity,
-            shape,
+            initial,
             options,
             dt,
             dt_requested: requested,
-            steps,
+            levels,
+            half_steps,
             every,
             courant,
             dt_limit,
@@ -170,119 +162,18 @@ impl RodSetup {
         })
     }
 
-    /// The initial motion (s, t) ↦ (r, R) in lattice time: the shape moved
-    /// rigidly, r = exp(τω̂)r₀(s) + vτ, R = exp(τω̂)R₀(s), τ = t − Δt, so that
-    /// the march's first cut (level 2, lattice time Δt) is the run's t = 0.
+    /// The initial motion (s, t) ↦ (r, R) in lattice time (level w at
+    /// wΔt/2), sampled as the march's Cauchy data ([`Initial::pose`]).
     pub fn motion(&self) -> impl Fn(f64, f64) -> Pose<f64> + '_ {
-        move |s, t| {
-            let t = t - self.dt;
-            let q = so3::exp(&(self.spin * t));
-            let p = self.shape.pose(s);
-            Pose::new(q.act(&p.position) + self.velocity * t, q.compose(&p.rotation))
-        }
+        move |s, t| self.initial.pose(s, t, self.dt)
     }
-}
 
-/// `[model]`: the rod's length, its material points and the parameters there.
-struct RodBody {
-    length: f64,
-    /// The material points s_k = kL/(N − 1).
-    points: Vec<f64>,
-    /// Whether any key is an expression in s.
-    varying: bool,
-    /// The parameters at each material point.
-    profile: Vec<RodParameters>,
-    /// The parameters at s = 0.
-    parameters: RodParameters,
-    mass: f64,
-    /// The worst shear-locking number and the material points advised for bending.
-    locking: f64,
-    nodes_for_bending: usize,
-}
-
-/// `[model]`: the material and section at every material point, the mass
-/// and the resolution of bending.
-fn body(path: &Path, m: &RodModelSpec) -> Result<RodBody, CliError> {
-    let key = |k: &str, m: String| key_error(path, k, m);
-    if m.name != ROD_MODEL {
-        return Err(key("model.name", format!("expected \"{ROD_MODEL}\", got `{}`", m.name)));
+    /// The run's time at marcher level `level` (the time of the cut below
+    /// it): (level − level_at_zero)·Δt/2, level_at_zero that of
+    /// [`Initial::level_at_zero`].
+    pub fn time_at(&self, level: i64) -> f64 {
+        (level - self.initial.level_at_zero()) as f64 * 0.5 * self.dt
     }
-    if !(3..=MAX_NODES).contains(&m.nodes) {
-        return Err(key(
-            "model.nodes",
-            format!("expected 3..={MAX_NODES} material points, got {}", m.nodes),
-        ));
-    }
-    let length = positive_value(path, "model.length", m.length)?;
-    // Material points s_k = kL/(N − 1): each key a number or an
-    // expression in s, evaluated there.
-    let points: Vec<f64> = (0..m.nodes).map(|k| length * k as f64 / (m.nodes - 1) as f64).collect();
-    let varying = [&m.radius, &m.width, &m.height]
-        .into_iter()
-        .flatten()
-        .chain([&m.density, &m.young])
-        .any(|v| matches!(v, Along::Expression(_)));
-    let along = |k: &str, v: &Along| v.at(path, k, &points);
-    let sections: Vec<CrossSection> = match (&m.radius, &m.width, &m.height) {
-        (Some(r), None, None) => along("model.radius", r)?
-            .into_iter()
-            .map(|radius| CrossSection::Circle { radius })
-            .collect(),
-        (None, Some(w), Some(h)) => along("model.width", w)?
-            .into_iter()
-            .zip(along("model.height", h)?)
-            .map(|(width, height)| CrossSection::Rectangle { width, height })
-            .collect(),
-        _ => {
-            return Err(key(
-                "model.radius",
-                "give the cross-section as `radius` (circle) or `width` and `height` (rectangle)".into(),
-            ));
-        }
-    };
-    let (densities, youngs) = (along("model.density", &m.density)?, along("model.young", &m.young)?);
-    let shear = shear_from_keys(path, m.poisson, m.shear_modulus)?;
-    let given_kappa = match m.shear_coefficient {
-        Some(k) => Some(positive_value(path, "model.shear_coefficient", k)?),
-        None => None,
-    };
-    let profile = (0..m.nodes)
-        .map(|k| {
-            let young = youngs[k];
-            let kappa = given_kappa.unwrap_or_else(|| sections[k].cowper_shear_coefficient(shear.poisson_ratio(young)));
-            let material = Material {
-                density: densities[k],
-                young,
-                shear,
-                shear_coefficient: kappa,
-            };
-            rod_parameters(&sections[k], &material).map_err(|e| key("model", format!("at s = {}: {e}", points[k])))
-        })
-        .collect::<Result<Vec<RodParameters>, CliError>>()?;
-    let parameters = profile[0];
-    // Mass by the trapezoidal rule over the material points.
-    let spacing = length / (m.nodes - 1) as f64;
-    let mass = profile
-        .windows(2)
-        .map(|w| 0.5 * (w[0].rho() + w[1].rho()) * spacing)
-        .sum();
-    let locking = profile.iter().map(|q| locking_number(q, spacing)).fold(0.0, f64::max);
-    let resolved = profile
-        .iter()
-        .map(|q| spacing_for_locking(q, BENDING_STIFFENING_ADVISED / BENDING_STIFFENING_PER_LOCKING))
-        .fold(f64::INFINITY, f64::min);
-    // Saturating: a huge count is advice, not an allocation.
-    let nodes_for_bending = (length / resolved).ceil().min(u32::MAX as f64) as usize + 1;
-    Ok(RodBody {
-        length,
-        points,
-        varying,
-        profile,
-        parameters,
-        mass,
-        locking,
-        nodes_for_bending,
-    })
 }
 
 /// The step of a rod run, and its lattice.
@@ -292,7 +183,9 @@ struct Steps {
     dt: f64,
     /// The `[time] dt` given, if any.
     requested: Option<f64>,
-    steps: u64,
+    /// Levels marched from the first cut, and half steps from level 0, to t_end.
+    levels: u64,
+    half_steps: u64,
     lattice: RodLattice,
     /// The largest step number along the rod.
     courant: f64,
@@ -310,11 +203,19 @@ fn steps(path: &Path, scenario: &RodScenario, body: &RodBody) -> Result<Steps, C
         let limit = largest_step(q, probe.ds()).map_err(|e| key("model", format!("at s = {}: {e}", points[k])))?;
         dt_limit = dt_limit.min(limit);
     }
-    // The step count is round(t_end/dt) (at least 1) and dt = t_end/count,
-    // so that the run ends at t_end exactly; without `dt`, the fewest
-    // steps with a step number at most `step_number` (dt at most that
-    // fraction of the stability limit; half of it by default).
+    // The lattice's levels are half a step apart and level w is at lattice
+    // time wΔt/2; the run's clock reads 0 at level z (2, the first cut, for
+    // a shape; 0 for expressions in s and t), so its last cut, at t_end, is
+    // level n + z with n = 2·t_end/dt half steps. The count is
+    // round(2·t_end/dt) (at least one whole step of the march, 2 levels, from
+    // the first cut) and dt = 2·t_end/n, so that the run ends at t_end
+    // exactly and a t_end of a whole number of half steps keeps the dt
+    // asked for; without `dt`, the fewest whole steps with a step number at
+    // most `step_number` (dt at most that fraction of the stability limit;
+    // half of it by default).
     let t_end = positive_value(path, "time.t_end", scenario.time.t_end)?;
+    let zero = level_at_zero(&scenario.initial);
+    let fewest = (FIRST_CUT + 2 - zero) as f64;
     // Whether `step_number` sets the step: the errors about it name that key.
     let by_number = scenario.time.step_number.is_some();
     if by_number && scenario.time.dt.is_some() {
@@ -327,22 +228,23 @@ fn steps(path: &Path, scenario: &RodScenario, body: &RodBody) -> Result<Steps, C
         Some(dt) => Some(positive_value(path, "time.dt", dt)?),
         None => None,
     };
-    let steps = match requested {
-        Some(dt) => (t_end / dt).round().max(1.0),
+    let half_steps = match requested {
+        Some(dt) => (2.0 * t_end / dt).round().max(fewest),
         None => {
             let number = match scenario.time.step_number {
                 Some(x) => positive_value(path, "time.step_number", x)?,
                 None => DEFAULT_STEP_NUMBER,
             };
-            (t_end / (number * dt_limit)).ceil().max(1.0)
+            (2.0 * (t_end / (number * dt_limit)).ceil()).max(fewest)
         }
     };
-    if steps > 1e12 {
+    if half_steps > 2e12 {
         let name = if by_number { "time.step_number" } else { "time.t_end" };
-        return Err(key(name, format!("{steps:e} time steps are too many")));
+        return Err(key(name, format!("{:e} time steps are too many", half_steps / 2.0)));
     }
-    let dt = t_end / steps;
-    let steps = steps as u64;
+    let dt = 2.0 * t_end / half_steps;
+    let half_steps = half_steps as u64;
+    let levels = half_steps - (FIRST_CUT - zero) as u64;
     let lattice = RodLattice::new(m.nodes, length, dt).map_err(|e| key("time.dt", e.to_string()))?;
     let mut courant: f64 = 0.0;
     for q in profile {
@@ -371,70 +273,18 @@ fn steps(path: &Path, scenario: &RodScenario, body: &RodBody) -> Result<Steps, C
         dt_limit,
         dt,
         requested,
-        steps,
+        levels,
+        half_steps,
         lattice,
         courant,
     })
 }
 
-/// `[initial]`: the shape of the rod of `nodes` material points over
-/// `length` on `lattice`.
-fn shape(path: &Path, i: &RodInitialSpec, nodes: usize, lattice: &RodLattice, length: f64) -> Result<Shape, CliError> {
+/// `[ends]`: free, clamped at the pose of the `initial` motion there at the
+/// run's t = 0, or driven from it (the march's lattice time `zero` is the
+/// run's t = 0).
+fn ends(path: &Path, e: &EndsSpec, initial: &Initial, length: f64, zero: f64) -> Result<RodEnds, CliError> {
     let key = |k: &str, m: String| key_error(path, k, m);
-    let shape = match i.shape.as_deref().unwrap_or("straight") {
-        "straight" => Shape::Straight,
-        "bent" => Shape::Bent {
-            curvature: finite_value(path, "initial.curvature", i.curvature.unwrap_or(1.0))?,
-        },
-        "helix" => Shape::Helix {
-            radius: positive_value(path, "initial.helix_radius", i.helix_radius.unwrap_or(0.0))?,
-            pitch: finite_value(path, "initial.helix_pitch", i.helix_pitch.unwrap_or(0.0))?,
-        },
-        "curve" => {
-            let Some(sources) = &i.position else {
-                return Err(key(
-                    "initial.position",
-                    "shape = \"curve\" needs three expressions in s".into(),
-                ));
-            };
-            let points: Vec<f64> = (0..nodes)
-                .map(|k| lattice.length() * k as f64 / (nodes - 1) as f64)
-                .collect();
-            Shape::Curve(Centreline::new(path, "initial.position", sources, &points)?)
-        }
-        other => {
-            return Err(key(
-                "initial.shape",
-                format!("unknown shape `{other}` (straight | bent | helix | curve)"),
-            ));
-        }
-    };
-    if i.position.is_some() && !matches!(shape, Shape::Curve(_)) {
-        return Err(key(
-            "initial.position",
-            "given, but `initial.shape` is not \"curve\"".into(),
-        ));
-    }
-    if let Shape::Bent { curvature } = &shape
-        && (curvature * length).abs() >= std::f64::consts::PI
-    {
-        return Err(key(
-            "initial.curvature",
-            format!(
-                "|curvature|·length = {:e} must stay below π",
-                (curvature * length).abs()
-            ),
-        ));
-    }
-    Ok(shape)
-}
-
-/// `[ends]`: free, clamped at the pose of `shape` there, or driven from it
-/// (the march's lattice time `dt` is the run's t = 0).
-fn ends(path: &Path, e: &EndsSpec, shape: &Shape, length: f64, dt: f64) -> Result<RodEnds, CliError> {
-    let key = |k: &str, m: String| key_error(path, k, m);
-    // A clamped end holds the initial shape's pose there; a driven one
-    // moves from it (the march's lattice time Δt is the run's t = 0).
     let end = |which: &str, v: &Option<String>, motion: &Option<MotionSpec>, at: f64| {
         let k = format!("ends.{which}");
         if motion.is_some() && v.as_deref() != Some("driven") {
@@ -445,8 +295,8 @@ fn ends(path: &Path, e: &EndsSpec, shape: &Shape, length: f64, dt: f64) -> Resul
         }
         match v.as_deref().unwrap_or("free") {
             "free" => Ok(EndCondition::Free),
-            "clamped" => Ok(EndCondition::Clamped(shape.pose(at))),
-            "driven" => driven_end(path, which, &motion.clone().unwrap_or_default(), shape.pose(at), dt),
+            "clamped" => Ok(EndCondition::Clamped(initial.rest(at))),
+            "driven" => driven_end(path, which, &motion.clone().unwrap_or_default(), initial.rest(at), zero),
             other => Err(key(
                 &k,
                 format!("unknown end condition `{other}` (free | clamped | driven)"),
@@ -460,12 +310,13 @@ fn ends(path: &Path, e: &EndsSpec, shape: &Shape, length: f64, dt: f64) -> Resul
 }
 
 /// `[loads]`: gravity, and the damping and end load of a rod of `nodes`
-/// material points (whether any of them acts), which need a free end.
+/// material points (whether any of them acts), which need a free end; the
+/// end load is switched on at the run's t = 0, lattice time `zero`.
 fn loads(
     path: &Path,
     l: &LoadsSpec,
     nodes: usize,
-    dt: f64,
+    zero: f64,
     ends: &RodEnds,
 ) -> Result<(Vector3<f64>, RodLoads, bool), CliError> {
     let key = |k: &str, m: String| key_error(path, k, m);
@@ -477,8 +328,7 @@ fn loads(
         end_torque: vector(path, "loads.end_torque", &l.end_torque)?,
         tip: nodes as i64 - 1,
         ramp: non_negative(path, "loads.ramp", l.ramp)?,
-        // Lattice time Δt is the run's t = 0 (see `motion`).
-        start: dt,
+        start: zero,
     };
     let end_loaded = loads.end_force != Vector3::zeros() || loads.end_torque != Vector3::zeros();
     let any_load = loads.damped() || end_loaded;
