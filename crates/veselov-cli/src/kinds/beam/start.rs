@@ -17,7 +17,7 @@
 use std::path::Path;
 
 use nalgebra::{SVector, Vector3};
-use veselov::expr::{Expr, SymbolTable};
+use veselov::expr::Expr;
 use veselov::field::fibre::Pose;
 use veselov::lie::{LieGroup, Retraction, SE3, so3};
 use veselov::models::beam::paper::{DS, DT, LAST_TIME_NODE, XI0, prescribed_columns};
@@ -26,6 +26,7 @@ use veselov::models::beam::{BeamLagrangian, straight};
 use super::schema::BeamInitialSpec;
 use super::setup::{BeamEnd, BeamSetup};
 use crate::error::CliError;
+use crate::kinds::rod::motion::parse_in;
 use crate::scenario::{Array, finite_value, key_error};
 
 /// The initial data.
@@ -109,9 +110,9 @@ pub(super) fn parse(
             ));
         };
         let motion = InitialMotion {
-            position: parse_in_s_and_t(path, "initial.position", position)?,
+            position: parse_in(path, "initial.position", position, &["s", "t"])?,
             rotation: match &initial.rotation_vector {
-                Some(r) => Some(parse_in_s_and_t(path, "initial.rotation_vector", r)?),
+                Some(r) => Some(parse_in(path, "initial.rotation_vector", r, &["s", "t"])?),
                 None => None,
             },
         };
@@ -177,22 +178,6 @@ pub(super) fn parse(
         motion: None,
         velocity: v.into_iter().zip(w).map(|(v, w)| [v, w]).collect(),
     })
-}
-
-/// Three expressions in `s` and `t`, their errors naming `key[i]`.
-fn parse_in_s_and_t(path: &Path, key: &str, sources: &Array<String, 3>) -> Result<[Expr; 3], CliError> {
-    let sources = sources.values(path, key)?;
-    let parse = |i: usize| {
-        let k = format!("{key}[{i}]");
-        let mut table = SymbolTable::new();
-        for variable in ["s", "t"] {
-            table
-                .variable(variable)
-                .map_err(|e| key_error(path, &k, e.to_string()))?;
-        }
-        Expr::parse(&sources[i], &table).map_err(|e| key_error(path, &k, format!("\n{e}")))
-    };
-    Ok([parse(0)?, parse(1)?, parse(2)?])
 }
 
 /// The shape at t = 0 of a time evolution started from a named shape.

@@ -263,7 +263,7 @@ impl Along {
         let values = match self {
             Along::Value(v) => vec![*v; points.len()],
             Along::Expression(source) => {
-                let e = parse_expression(path, key, source, "s")?;
+                let e = parse_expression(path, key, source, &["s"])?;
                 points.iter().map(|&s| e.eval(&[s])).collect()
             }
         };
