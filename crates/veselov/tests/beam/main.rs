@@ -18,6 +18,7 @@ mod beam_evolution;
 mod beam_forces;
 mod beam_increment_solve;
 mod beam_lagrangian;
+mod beam_multisymplectic;
 mod beam_paper;
 mod beam_symplectic;
 mod beam_vibration;
