@@ -19,6 +19,8 @@ mod beam_forces;
 mod beam_increment_solve;
 mod beam_lagrangian;
 mod beam_multisymplectic;
+mod beam_noether_forced;
 mod beam_paper;
+mod beam_space_time;
 mod beam_symplectic;
 mod beam_vibration;
