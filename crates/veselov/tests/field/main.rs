@@ -27,6 +27,7 @@ mod field_errors;
 mod field_flows;
 mod field_generic;
 mod field_initial;
+mod field_karcher;
 mod field_level;
 mod field_noether;
 mod field_noether_cells;
