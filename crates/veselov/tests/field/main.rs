@@ -19,6 +19,7 @@ mod field_affine_chain;
 mod field_complex;
 mod field_complex_stokes;
 mod field_core;
+mod field_cubic_induced;
 mod field_density;
 mod field_density_run;
 mod field_discretize;
