@@ -246,7 +246,7 @@ impl FormBalance {
 ///
 /// Σ_{β ∈ A} Σ_{l: v_l ∈ fr A} Ω^l_β(V, W),
 /// Ω^l_β(V, W) = Σ_{m ≠ l} (V_lᵀ H_lm W_m − W_lᵀ H_lm V_m),
-/// H_lm = ∂²L_β/∂y_l∂y_m ([`mixed_block`](super::cell::mixed_block)),
+/// H_lm = ∂²L_β/∂y_l∂y_m ([`mixed_block`]),
 ///
 /// vanishes when y solves the Euler–Lagrange equations on the interior of
 /// A and V, W are first variations (solutions of the linearised

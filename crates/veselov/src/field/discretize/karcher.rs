@@ -79,7 +79,7 @@ pub(crate) fn weighted_mean<F: RiemannianFibre<M>, D: Scalar, const M: usize>(
         return Err(format!("{} points and {} weights", points.len(), weights.len()));
     }
     let total = weights.iter().fold(D::zero(), |a, &w| a + w);
-    if !weights.iter().all(|w| w.re().is_finite() && w.re() >= 0.0) || !(total.re() > 0.0) {
+    if !weights.iter().all(|w| w.re().is_finite() && w.re() >= 0.0) || total.re() <= 0.0 {
         return Err("the weights must be finite and non-negative with a positive sum".into());
     }
     let start = (0..weights.len())
@@ -110,7 +110,7 @@ pub(crate) fn weighted_mean<F: RiemannianFibre<M>, D: Scalar, const M: usize>(
         match converged_at {
             // The derivative parts contract at the value's rate: as many
             // sweeps again as the value needed converge them as well.
-            Some(k) if sweep >= 2 * k + 1 => return Ok(y),
+            Some(k) if sweep > 2 * k => return Ok(y),
             None if small || stalled => converged_at = Some(sweep),
             _ => {}
         }
@@ -151,7 +151,7 @@ pub fn karcher_mean<F: RiemannianFibre<M>, const M: usize>(
             ),
         ));
     }
-    if !weights.iter().all(|w| w.is_finite() && *w >= 0.0) || !(weights.iter().sum::<f64>() > 0.0) {
+    if !weights.iter().all(|w| w.is_finite() && *w >= 0.0) || weights.iter().sum::<f64>() <= 0.0 {
         return Err(bad(
             "weights",
             "the weights must be finite and non-negative with a positive sum".into(),
