@@ -28,6 +28,9 @@
 //!   new vertices (the rectangles of the 1+1 front end);
 //! * [`stepping`] — the CFK marcher as a stepper of the one run driver
 //!   ([`crate::run::drive`]);
+//! * [`induced`] — the Lagrangian induced on the cubic lattice by the CFK →
+//!   cubic map (3.4), whose equations, currents and Legendre maps are the
+//!   CFK ones (Props. 3.17–3.19, Remark 4.8);
 //! * [`discretize`] — quadrature rules that turn a smooth density over a
 //!   fibre into discrete Lagrangians on cells (§5: node maps, Lemma 5.15's
 //!   vertex rules, Prop. 5.20's midpoint rule, suitability).
@@ -37,6 +40,7 @@ pub mod cell;
 pub mod discretize;
 pub mod fibre;
 pub mod flow;
+pub mod induced;
 pub mod legendre;
 pub mod level_solve;
 pub mod stepping;

@@ -17,22 +17,22 @@ use veselov::models::beam::{
     BeamDensity, BeamProperties, CayleyBeam, StepLimit, beam_lagrangian, left_generators, straight,
 };
 
-type Beam = Evolution000<RigidMotions, CayleyBeam, 6>;
+pub(crate) type Beam = Evolution000<RigidMotions, CayleyBeam, 6>;
 
-const DT: f64 = 0.05;
-const DS: f64 = 0.1;
+pub(crate) const DT: f64 = 0.05;
+pub(crate) const DS: f64 = 0.1;
 
 /// Wave speeds 1, 1, 0.77, 1, 1, 1 (time Courant number ≈ 0.5 at DT, DS; the
 /// shear–rotation term raises it from 0.500 to 0.501).
-fn properties() -> BeamProperties {
+pub(crate) fn properties() -> BeamProperties {
     BeamProperties::from_diagonals([0.5, 0.5, 1.0, 1.0, 1.0, 1.0], [0.5, 0.5, 0.6, 1.0, 1.0, 1.0]).expect("positive")
 }
 
-fn lagrangian(dt: f64, ds: f64) -> CayleyBeam {
+pub(crate) fn lagrangian(dt: f64, ds: f64) -> CayleyBeam {
     beam_lagrangian(BeamDensity::new(properties()), dt, ds).expect("lagrangian")
 }
 
-fn wave(a: usize, phase: f64) -> SVector<f64, 6> {
+pub(crate) fn wave(a: usize, phase: f64) -> SVector<f64, 6> {
     let s = a as f64;
     SVector::from([
         0.3 * (0.7 * s + phase).sin(),
@@ -45,7 +45,7 @@ fn wave(a: usize, phase: f64) -> SVector<f64, 6> {
 }
 
 /// A bent, twisted, moving beam: g_a^0 = straight·exp(0.1 w_a), g_a^1 = g_a^0·cay(Δt ξ_a).
-fn initial_rows(a_max: usize) -> (Vec<SE3<f64>>, Vec<SE3<f64>>) {
+pub(crate) fn initial_rows(a_max: usize) -> (Vec<SE3<f64>>, Vec<SE3<f64>>) {
     let g0: Vec<_> = (0..=a_max)
         .map(|a| straight(DS, a).compose(&se3::exp(&(wave(a, 0.0) * 0.1))))
         .collect();
@@ -59,7 +59,7 @@ fn initial_rows(a_max: usize) -> (Vec<SE3<f64>>, Vec<SE3<f64>>) {
 
 /// The free–free beam in time evolution (zero traction at both ends) from
 /// the rows `g0`, `g1`, at Δt = DT, Δs = DS.
-fn free_beam(g0: &[SE3<f64>], g1: &[SE3<f64>]) -> veselov::Result<Beam> {
+pub(crate) fn free_beam(g0: &[SE3<f64>], g1: &[SE3<f64>]) -> veselov::Result<Beam> {
     Beam::new(
         Direction::Time,
         lagrangian(DT, DS),
@@ -71,13 +71,13 @@ fn free_beam(g0: &[SE3<f64>], g1: &[SE3<f64>]) -> veselov::Result<Beam> {
     )
 }
 
-fn basis(k: usize) -> SVector<f64, 6> {
+pub(crate) fn basis(k: usize) -> SVector<f64, 6> {
     SVector::from_fn(|i, _| if i == k { 1.0 } else { 0.0 })
 }
 
 /// Runs an evolution for `levels` steps, recording every level (c = 0..=C)
 /// and 𝖩⁺, 𝖩⁻ of every cell level.
-fn run(mut evo: Beam, levels: usize) -> (Vec<Vec<SE3<f64>>>, Vec<EvolutionMomentum<6>>) {
+pub(crate) fn run(mut evo: Beam, levels: usize) -> (Vec<Vec<SE3<f64>>>, Vec<EvolutionMomentum<6>>) {
     let c = evo.cross();
     let mut rows = vec![vec![SE3::identity(); c + 1]; 2];
     evo.copy_level(1, &mut rows[0]);
@@ -97,7 +97,7 @@ fn run(mut evo: Beam, levels: usize) -> (Vec<Vec<SE3<f64>>>, Vec<EvolutionMoment
 }
 
 /// The recorded levels as a field on seed000(N, A) (vertex j·(A + 1) + a).
-fn full_field(direction: Direction, rows: &[Vec<SE3<f64>>]) -> (SpacetimeLattice, Vec<SE3<f64>>) {
+pub(crate) fn full_field(direction: Direction, rows: &[Vec<SE3<f64>>]) -> (SpacetimeLattice, Vec<SE3<f64>>) {
     let (levels, cross) = (rows.len() - 1, rows[0].len() - 1);
     let lat = match direction {
         Direction::Time => SpacetimeLattice::seed000(levels, cross),

@@ -16,6 +16,8 @@
 //! * [`MidpointRule`] — Q_mid for the Euclidean fibre (affine bundle,
 //!   Prop. 5.20, (5.6));
 //! * [`CubeCentreRule`] — the multilinear centre rule on cubes;
+//! * [`KarcherMidpointRule`] — Q_mid on curved fibres (SO(3), ℝ³ × SO(3))
+//!   at the weighted Karcher mean of Def. 5.4 ([`karcher_mean`]);
 //! * the rod's [`CosseratCell`](crate::models::rod::CosseratCell) —
 //!   Prop. 6.5's closed form for its density (6.1), with the §3.5 gradients.
 //!
@@ -31,7 +33,8 @@
 //! Files: [`nodes`] (node maps, [`permutation`]), [`smooth`] (density trait,
 //! the 1+1 adapter is [`crate::spacetime::SpaceTime`]), [`rules`] (Lemma 5.15, vertex
 //! quadratures), [`affine`] (Prop. 5.20, Q_mid, cube centre; its exact
-//! derivatives by the interpolant's chain rule in [`affine_chain`]), [`suitability`]
+//! derivatives by the interpolant's chain rule in [`affine_chain`]),
+//! [`karcher`] (Def. 5.4 at interior nodes, Q_mid on curved fibres), [`suitability`]
 //! (Def. 5.9, Lemma 5.5, Cor. 6.3), [`error`].
 //!
 //! [`DiscreteLagrangian::cell_lagrangian`]: crate::field::cell::DiscreteLagrangian::cell_lagrangian
@@ -40,6 +43,7 @@ pub mod affine;
 pub mod affine_chain;
 mod affine_frame;
 pub mod error;
+pub mod karcher;
 mod metric_lanes;
 mod metric_run;
 mod metric_star;
@@ -51,6 +55,7 @@ pub mod suitability;
 
 pub use affine::{AffineJet, CubeCentreRule, MidpointRule, affine_jet, cube_centre_jet};
 pub use error::CellError;
+pub use karcher::{KarcherMidpointRule, RiemannianFibre, karcher_mean};
 pub use nodes::{CfkNodes, CubeNodes, NodeMap, SINGULAR_NODES, cube_corner, factorial, invert, permutation};
 pub use rules::{VertexQuadrature, VertexRule, vertex_jet};
 pub use smooth::{SmoothDensity, energy_density, energy_momentum_density, momentum_density, time_flux};
