@@ -3,6 +3,8 @@
 //! back, the step limit and errors naming the key.
 
 mod common;
+#[path = "beam_cli/engineering.rs"]
+mod engineering;
 use common::{csv, example, npy_data, npy_shape, run, set, summary};
 
 #[test]
@@ -67,17 +69,15 @@ fn paper_space_evolution_well_posed_reaches_the_end_and_literal_stops_cleanly() 
 
 #[test]
 fn step_limit_is_enforced_unless_overridden() {
-    let text = set(&example("beam_free_free.toml"), "t_end", "0.05\ndt = 0.01");
+    let short = set(&example("beam_free_free.toml"), "t_end", "0.05");
+    let text = set(&short, "dt", "0.01");
     let (ok, err, _) = run("fast", &text);
     assert!(
         !ok && err.contains("time.dt") && err.contains("allow_unstable"),
         "{err}"
     );
     // A dt changed to land on t_end: the value asked for is quoted too.
-    let (ok, err, _) = run(
-        "adjusted",
-        &set(&example("beam_free_free.toml"), "t_end", "0.05\ndt = 0.03"),
-    );
+    let (ok, err, _) = run("adjusted", &set(&short, "dt", "0.03"));
     assert!(
         !ok && err.contains("(the 0.03 asked for, adjusted to land on t_end = 0.05)"),
         "{err}"

@@ -21,7 +21,7 @@ mod beam_lagrangian;
 mod beam_multisymplectic;
 mod beam_noether_forced;
 mod beam_paper;
-mod beam_start;
 mod beam_space_time;
+mod beam_start;
 mod beam_symplectic;
 mod beam_vibration;
