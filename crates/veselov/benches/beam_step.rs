@@ -5,7 +5,8 @@
 //! from level to level, refreshed when an iteration contracts less than
 //! fourfold; the slaved node likewise, through the stored value) for time
 //! evolution (a free–free beam, A = 16 space cells: 16 updates per level,
-//! the slaved node included) and space evolution (zero momentum, N = 16
+//! the slaved node included; `time_trapezoid`, the command's time evolution
+//! with the trapezoid rule in s, 17 ordinary updates per level) and space evolution (zero momentum, N = 16
 //! time cells: 16 updates per column). One sample steps 4 levels: divide
 //! its time by 64. `step` times the first 4 levels of a run (every node
 //! evaluates its first Jacobian on the first level); `step_after_4_levels`
@@ -19,6 +20,7 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::SVector;
 use veselov::evolution::marcher::{Direction, EndCondition, Evolution000};
+use veselov::evolution::split::KineticQuadrature;
 use veselov::field::cauchy::CauchyOptions;
 use veselov::field::fibre::RigidMotions;
 use veselov::lie::{CayleyMap, Retraction, SE3, se3};
@@ -45,6 +47,17 @@ fn wave(k: usize) -> SVector<f64, 6> {
 }
 
 fn time_evolution() -> Beam {
+    time_evolution_with(false)
+}
+
+/// The time evolution with the trapezoid rule in s and an end cell (the
+/// command's time evolution): 17 updates per level, the free end's node an
+/// ordinary one.
+fn trapezoid_time_evolution() -> Beam {
+    time_evolution_with(true)
+}
+
+fn time_evolution_with(trapezoid: bool) -> Beam {
     let (dt, ds) = (0.05, 0.1);
     let g0: Vec<SE3<f64>> = (0..=CELLS)
         .map(|a| straight(ds, a).compose(&se3::exp(&wave(a))))
@@ -54,13 +67,21 @@ fn time_evolution() -> Beam {
         .enumerate()
         .map(|(a, g)| g.compose(&CayleyMap::tau(&(wave(a + 3) * dt))))
         .collect();
+    let (lag, far) = if trapezoid {
+        (
+            beam(dt, ds).with_quadrature(KineticQuadrature::Trapezoid { last: CELLS }),
+            EndCondition::EndCell,
+        )
+    } else {
+        (beam(dt, ds), EndCondition::Natural)
+    };
     Evolution000::new(
         Direction::Time,
-        beam(dt, ds),
+        lag,
         &g0,
         &g1,
         EndCondition::Natural,
-        EndCondition::Natural,
+        far,
         CauchyOptions::default(),
     )
     .expect("evolution")
@@ -92,7 +113,11 @@ type Beam = Evolution000<RigidMotions, CayleyBeam, 6>;
 type Run = (&'static str, fn() -> Beam, usize);
 
 fn bench(c: &mut Criterion) {
-    let runs: [Run; 2] = [("time", time_evolution, 200), ("space", space_evolution, 8)];
+    let runs: [Run; 3] = [
+        ("time", time_evolution, 200),
+        ("time_trapezoid", trapezoid_time_evolution, 200),
+        ("space", space_evolution, 8),
+    ];
     for (name, make, levels) in runs {
         // Machine-independent counts over a short run.
         let mut evo = make();
@@ -102,7 +127,9 @@ fn bench(c: &mut Criterion) {
             iterations += r.iterations;
             jacobians += r.jacobians;
         }
-        let updates = (levels * CELLS) as f64;
+        // The trapezoid's end node is an ordinary node: one more per level.
+        let per_level = CELLS + usize::from(name == "time_trapezoid");
+        let updates = (levels * per_level) as f64;
         println!(
             "beam {name} evolution: {:.2} Newton iterations and {:.2} Jacobians per node update",
             iterations as f64 / updates,
