@@ -29,7 +29,7 @@ pub(crate) enum BeamEnd {
     /// Held at its initial pose.
     Clamped,
     /// Moved from its initial pose.
-    Driven(EndMotion),
+    Driven(Box<EndMotion>),
 }
 
 impl BeamEnd {
@@ -302,7 +302,7 @@ fn ends(path: &Path, ends: &BeamEndsSpec, space: bool) -> Result<[BeamEnd; 2], C
             ("free", _) => BeamEnd::Free,
             ("clamped", false) => BeamEnd::Clamped,
             ("driven", false) => match motion {
-                Some(m) => BeamEnd::Driven(EndMotion::parse(path, which, m)?),
+                Some(m) => BeamEnd::Driven(Box::new(EndMotion::parse(path, which, m)?)),
                 None => {
                     return Err(key(
                         &format!("ends.{which}_motion"),

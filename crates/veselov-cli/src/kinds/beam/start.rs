@@ -199,6 +199,9 @@ fn shape<R: Retraction<6, Family = veselov::lie::RigidMotions>>(
     }
 }
 
+/// The first two levels of a march.
+pub(super) type Band = (Vec<SE3<f64>>, Vec<SE3<f64>>);
+
 /// The pose of a frame.
 pub(super) fn pose(g: &SE3<f64>) -> Pose<f64> {
     Pose::new(*g.translation(), *g.rotation())
@@ -226,7 +229,7 @@ pub(super) fn held_value(end: &BeamEnd, rest: &SE3<f64>, t: f64) -> Option<SE3<f
 pub(super) fn band<R: Retraction<6, Family = veselov::lie::RigidMotions> + 'static>(
     setup: &BeamSetup,
     lag: &BeamLagrangian<R>,
-) -> Result<(Vec<SE3<f64>>, Vec<SE3<f64>>), CliError> {
+) -> Result<Band, CliError> {
     let nodes = setup.scenario.model.nodes;
     let initial = &setup.initial;
     match initial.start {
