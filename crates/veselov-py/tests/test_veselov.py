@@ -60,6 +60,7 @@ KINDS = [
     ("wave.toml", {"time.t_end": 5.0}),
     ("klein_gordon_complex.toml", {"time.t_end": 2.0}),
     ("beam_free_free.toml", {"time.t_end": 0.1}),
+    ("beam_end_force.toml", {"time.t_end": 0.1}),
     ("rod_timoshenko.toml", {"time.t_end": 10.0}),
 ]
 

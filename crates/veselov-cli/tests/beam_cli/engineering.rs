@@ -219,3 +219,41 @@ fn bad_engineering_input_names_the_key() {
     );
     assert!(!ok && err.contains("loads.end_force"), "{err}");
 }
+
+/// Under an end torque M about E1 alone the bending moment is M along the
+/// whole beam: the settled beam is an arc of curvature M/EI, its tip turned
+/// by ML/EI (0.2 rad here) for any size of M. The Cayley increment and its
+/// pulled-back moments err at second order in κΔs = 0.02 (each cell turns
+/// by 2 atan(κΔs/2), and the moment balance carries dcay⁻¹, 1 + O((κΔs)²)):
+/// measured 1.3e-4 relative, within (κΔs)²/2 = 2e-4. The clamp's reaction
+/// moment is −M and its force zero.
+#[test]
+fn a_cantilever_under_an_end_torque_settles_to_a_circular_arc() {
+    let ei = 1.18e8 * 0.05_f64.powi(4) / 12.0;
+    let torque = 0.2 * ei;
+    let text = example("beam_end_force.toml")
+        .replace("end_force = [0.0, -5.0, 0.0]", "end_force = [0.0, 0.0, 0.0]")
+        .replace(
+            "end_torque = [0.0, 0.0, 0.0]",
+            &format!("end_torque = [{torque:?}, 0.0, 0.0]"),
+        );
+    assert!(text.contains(&format!("{torque:?}")));
+    let (ok, err, out) = run("end-torque", &text);
+    assert!(ok, "{err}");
+    let s = summary(&out);
+    let angle = s["tip_rotation_vector"][0].as_f64().expect("angle");
+    let kappa_ds = 0.2 / 10.0;
+    assert!(
+        (angle / 0.2 - 1.0).abs() < 0.5 * kappa_ds * kappa_ds,
+        "tip rotation {angle} against ML/EI = 0.2"
+    );
+    let moment = s["reaction_moment"][0].as_f64().expect("M");
+    assert!(
+        (moment + torque).abs() < 1e-6 * torque,
+        "M_R = {moment} against −{torque}"
+    );
+    let force = (0..3)
+        .map(|i| s["reaction_force"][i].as_f64().expect("F").abs())
+        .fold(0.0, f64::max);
+    assert!(force < 1e-6 * torque, "F_R = {force:e}");
+}

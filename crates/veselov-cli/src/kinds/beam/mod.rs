@@ -7,6 +7,7 @@
 //! the beam; [`run`] marches it with the observer of [`observer`];
 //! [`figures`] draws the centreline, the momentum map and the energy.
 
+pub mod band;
 pub mod figures;
 pub mod observer;
 pub mod run;

@@ -26,10 +26,10 @@ use veselov::lie::{CayleyMap, ExpMap, Retraction, SE3};
 use veselov::models::beam::{BeamDensity, BeamLagrangian, beam_lagrangian};
 use veselov::run::{Outcome, Status, StopWhen};
 
+use super::band::{band, held_value};
 use super::figures::draw_beam;
 use super::observer::{Beam, BeamObserver, DomainCurrent, SupportImpulse};
 use super::setup::{BeamEnd, BeamSetup};
-use super::start::{band, held_value};
 use crate::centerline::{Reaction, ShapeChange, centerline_stream, single_support};
 use crate::error::CliError;
 use crate::pipeline::finish::{Ending, close_run};
