@@ -171,5 +171,60 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, bench_boundary_value);
 criterion_main!(benches);
+
+/// The global space–time boundary-value solve: a free beam of 16 cells over
+/// 16 levels of a time march, given its first and last levels, recovered
+/// from the marched field moved by 10⁻³ (15 inner levels × 17 nodes: 255
+/// unknown frames, 1530 unknowns). The Newton iterations are printed once.
+fn bench_boundary_value(c: &mut Criterion) {
+    use veselov::complex::{SpacetimeLattice, TopCells};
+    use veselov::field::boundary_value::solve_boundary_value;
+    let levels = 16;
+    let mut evo = time_evolution();
+    let mut field = vec![(0..=CELLS).map(|a| evo.value(1, a)).collect::<Vec<_>>()];
+    field.push((0..=CELLS).map(|a| evo.value(0, a)).collect());
+    for _ in 1..levels {
+        evo.step().expect("step");
+        field.push((0..=CELLS).map(|a| evo.value(0, a)).collect());
+    }
+    let lattice = SpacetimeLattice::seed000(levels, CELLS).expect("lattice");
+    let mut guess = vec![SE3::identity(); lattice.vertex_count()];
+    let mut known = vec![false; lattice.vertex_count()];
+    for (j, level) in field.iter().enumerate() {
+        for (a, g) in level.iter().enumerate() {
+            let v = lattice.vertex_at(a as i64, j as i64).expect("vertex");
+            known[v] = j == 0 || j == levels;
+            guess[v] = if known[v] {
+                *g
+            } else {
+                g.compose(&se3::exp(&(wave(j + a) * 0.03)))
+            };
+        }
+    }
+    let options = CauchyOptions::default();
+    let lag = beam(0.05, 0.1);
+    let mut values = guess.clone();
+    let report =
+        solve_boundary_value::<RigidMotions, _, 6>(&lattice, &lag, &mut values, &known, &options).expect("solve");
+    println!(
+        "beam boundary-value solve: {} unknown frames, {} Newton iterations",
+        report.unknowns, report.iterations
+    );
+    let mut group = c.benchmark_group("beam_boundary_value_16_levels_17_nodes");
+    group.sample_size(10);
+    group.bench_function("solve", |b| {
+        b.iter_batched_ref(
+            || guess.clone(),
+            |values| {
+                black_box(
+                    solve_boundary_value::<RigidMotions, _, 6>(&lattice, &lag, values, &known, &options)
+                        .expect("solve"),
+                )
+            },
+            criterion::BatchSize::LargeInput,
+        )
+    });
+    group.finish();
+}

@@ -26,6 +26,8 @@
 //!   first-order flow Δ (note 003 §2.4);
 //! * [`level_solve`] — whole-level Newton solves where one cell holds several
 //!   new vertices (the rectangles of the 1+1 front end);
+//! * [`boundary_value`] — a global Newton solve on a whole 1+1 space–time
+//!   domain, for data where marching cannot apply (both time ends);
 //! * [`stepping`] — the CFK marcher as a stepper of the one run driver
 //!   ([`crate::run::drive`]);
 //! * [`induced`] — the Lagrangian induced on the cubic lattice by the CFK →
@@ -35,6 +37,7 @@
 //!   fibre into discrete Lagrangians on cells (§5: node maps, Lemma 5.15's
 //!   vertex rules, Prop. 5.20's midpoint rule, suitability).
 
+pub mod boundary_value;
 pub mod cauchy;
 pub mod cell;
 pub mod discretize;

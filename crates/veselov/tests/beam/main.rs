@@ -14,6 +14,7 @@ mod rk4;
 #[path = "../support/timoshenko.rs"]
 mod timoshenko;
 
+mod beam_boundary_value;
 mod beam_evolution;
 mod beam_forces;
 mod beam_increment_solve;
