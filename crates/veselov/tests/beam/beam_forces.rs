@@ -122,6 +122,38 @@ fn damping_dissipates_and_the_forced_dcel_holds() {
     );
 }
 
+/// The cantilever of `lag` (clamped at a = 0, straight at rest, the far end
+/// `far`) marched for `duration` and one more level: the tip's deflection
+/// y, asserted settled (its last step moved it by less than 1e-9 of it).
+fn settled_tip(lag: CayleyBeam, far: EndCondition<SE3<f64>>, cells: usize, duration: f64) -> f64 {
+    let (dt, ds) = (lag.dt(), lag.ds());
+    let rest: Vec<SE3<f64>> = (0..=cells).map(|a| straight(ds, a)).collect();
+    let mut evo = Beam::new(
+        Direction::Time,
+        lag,
+        &rest,
+        &rest,
+        EndCondition::Prescribed(Box::new(|_| SE3::identity())),
+        far,
+        CauchyOptions::default(),
+    )
+    .expect("evolution");
+    assert_eq!(evo.cross(), cells, "the end cell's placeholder is not a node");
+    let levels = (duration / dt) as usize;
+    let mut previous = 0.0;
+    for _ in 0..levels {
+        evo.step().expect("step");
+        previous = evo.value(0, cells).translation()[1];
+    }
+    evo.step().expect("step");
+    let tip = evo.value(0, cells).translation()[1];
+    assert!(
+        (tip - previous).abs() <= 1e-9 * tip.abs(),
+        "not settled: {previous} → {tip}"
+    );
+    tip
+}
+
 /// Tip deflection of the discrete cantilever (clamped at a = 0, free end
 /// slaved) after settling under gravity with damping, relative to Timoshenko.
 fn cantilever_tip(cells: usize) -> f64 {
@@ -137,29 +169,7 @@ fn cantilever_tip(cells: usize) -> f64 {
         .with_damping(p.inertia.map(|m| 7.0 * m))
         .expect("non-negative");
     let lag = beam_lagrangian(density, dt, ds).expect("lagrangian");
-    let rest: Vec<SE3<f64>> = (0..=cells).map(|a| straight(ds, a)).collect();
-    let mut evo = Beam::new(
-        Direction::Time,
-        lag,
-        &rest,
-        &rest,
-        EndCondition::Prescribed(Box::new(|_| SE3::identity())),
-        EndCondition::Natural,
-        CauchyOptions::default(),
-    )
-    .expect("evolution");
-    let levels = (8.0 / dt) as usize;
-    let mut previous = 0.0;
-    for _ in 0..levels {
-        evo.step().expect("step");
-        previous = evo.value(0, cells).translation()[1];
-    }
-    evo.step().expect("step");
-    let tip = evo.value(0, cells).translation()[1];
-    assert!(
-        (tip - previous).abs() <= 1e-9 * tip.abs(),
-        "not settled: {previous} → {tip}"
-    );
+    let tip = settled_tip(lag, EndCondition::Natural, cells, 8.0);
     let reference = -(q * length.powi(4) / 8.0 + q * length * length / (2.0 * 100.0));
     tip / reference
 }
@@ -207,30 +217,7 @@ fn end_loaded_tip(cells: usize, force: f64) -> f64 {
     let lag = beam_lagrangian(density, dt, ds)
         .expect("lagrangian")
         .with_quadrature(KineticQuadrature::Trapezoid { last: cells });
-    let rest: Vec<SE3<f64>> = (0..=cells).map(|a| straight(ds, a)).collect();
-    let mut evo = Beam::new(
-        Direction::Time,
-        lag,
-        &rest,
-        &rest,
-        EndCondition::Prescribed(Box::new(|_| SE3::identity())),
-        EndCondition::EndCell,
-        CauchyOptions::default(),
-    )
-    .expect("evolution");
-    assert_eq!(evo.cross(), cells, "the end cell's placeholder is not a node");
-    let levels = (9.0 / dt) as usize;
-    let mut previous = 0.0;
-    for _ in 0..levels {
-        evo.step().expect("step");
-        previous = evo.value(0, cells).translation()[1];
-    }
-    evo.step().expect("step");
-    let tip = evo.value(0, cells).translation()[1];
-    assert!(
-        (tip - previous).abs() <= 1e-9 * tip.abs(),
-        "not settled: {previous} → {tip}"
-    );
+    let tip = settled_tip(lag, EndCondition::EndCell, cells, 9.0);
     let reference = -(force * length.powi(3) / 3.0 + force * length / 100.0);
     tip / reference
 }
