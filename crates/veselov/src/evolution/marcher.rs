@@ -157,9 +157,16 @@ where
             });
         }
         let end_cell = matches!(far, EndCondition::EndCell);
-        if end_cell && (direction != Direction::Time || matches!(near, EndCondition::EndCell)) {
+        let misplaced = if matches!(near, EndCondition::EndCell) {
+            Some("near end")
+        } else if end_cell && direction != Direction::Time {
+            Some("far end")
+        } else {
+            None
+        };
+        if let Some(name) = misplaced {
             return Err(Error::InvalidParameter {
-                name: "far end".into(),
+                name: name.into(),
                 value: "end cell".into(),
                 reason: "an end cell closes the far end of a time evolution only".into(),
             });

@@ -141,3 +141,50 @@ fn the_consistent_start_is_second_order_in_time() {
         );
     }
 }
+
+/// An end cell closes only the far end of a time evolution: at the near end
+/// or in space evolution it is refused, naming the end.
+#[test]
+fn an_end_cell_is_refused_where_it_cannot_close_the_march() {
+    let ds = 1.0 / CELLS as f64;
+    let g = bent(0.5, ds);
+    let lag = || -> CayleyBeam {
+        beam_lagrangian(BeamDensity::new(properties()), 0.001, ds)
+            .expect("lagrangian")
+            .with_quadrature(KineticQuadrature::Trapezoid { last: CELLS })
+    };
+    let cases = [
+        (
+            Direction::Time,
+            EndCondition::EndCell,
+            EndCondition::Natural,
+            "near end",
+        ),
+        (
+            Direction::Space,
+            EndCondition::Natural,
+            EndCondition::EndCell,
+            "far end",
+        ),
+    ];
+    for (direction, near, far, name) in cases {
+        let e = Beam::new(direction, lag(), &g, &g, near, far, CauchyOptions::default())
+            .err()
+            .expect("refused");
+        assert!(e.to_string().contains(name), "{e}");
+    }
+    // Seed 000's rule has no end cell: its last cell depends on its third vertex.
+    let seed000 = beam_lagrangian(BeamDensity::new(properties()), 0.001, ds).expect("lagrangian");
+    let e = Beam::new(
+        Direction::Time,
+        seed000,
+        &g,
+        &g,
+        EndCondition::Natural,
+        EndCondition::EndCell,
+        CauchyOptions::default(),
+    )
+    .err()
+    .expect("refused");
+    assert!(e.to_string().contains("no end cell"), "{e}");
+}
