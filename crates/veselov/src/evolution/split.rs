@@ -267,6 +267,18 @@ impl<I, S> SplitLagrangian<I, S> {
             ..self
         }
     }
+    /// The density.
+    pub fn density(&self) -> &S {
+        &self.density
+    }
+    /// Δt.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+    /// Δs.
+    pub fn ds(&self) -> f64 {
+        self.ds
+    }
     /// The kinetic quadrature.
     pub fn quadrature(&self) -> KineticQuadrature {
         self.quadrature

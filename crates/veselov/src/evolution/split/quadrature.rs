@@ -72,18 +72,6 @@ impl<I, S> SplitLagrangian<I, S> {
             }
         }
     }
-    /// The density.
-    pub fn density(&self) -> &S {
-        &self.density
-    }
-    /// Δt.
-    pub fn dt(&self) -> f64 {
-        self.dt
-    }
-    /// Δs.
-    pub fn ds(&self) -> f64 {
-        self.ds
-    }
 }
 
 #[cfg(test)]
