@@ -1,4 +1,4 @@
-//! `[model]` of a rod scenario ([`super::schema::RodModelSpec`]): the rod's
+//! `[model]` of a rod scenario (`RodModelSpec`): the rod's
 //! parameters of (6.1) — mass per length ρ, inertia J, stiffnesses C₁ and
 //! C₂, unstressed strain e = e₃ — at its material points, from a
 //! cross-section and a material ([`rod_parameters`], possibly varying

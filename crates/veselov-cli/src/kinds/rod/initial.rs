@@ -1,4 +1,4 @@
-//! `[initial]` of a rod scenario ([`super::schema::RodInitialSpec`]): the
+//! `[initial]` of a rod scenario (`RodInitialSpec`): the
 //! motion (s, t) ↦ (r, R) whose samples y_v = (r, R)(x(v)) (6.4) at the
 //! nodes x(i, j) = ((i − j)Δs/2, (i + j)Δt/2) (6.2) of the first four levels
 //! w = i + j = 0 … 3 of the rod's lattice are the march's Cauchy data (note
