@@ -8,6 +8,7 @@ pub mod lattice;
 pub mod mechanics;
 pub mod rigid;
 pub mod rod;
+pub mod structure;
 
 use std::path::Path;
 

@@ -49,8 +49,7 @@
 
 use serde::Deserialize;
 
-use crate::kinds::rod::motion::MotionSpec;
-use crate::kinds::rod::schema::Along;
+use crate::kinds::structure::{Along, MotionSpec};
 use crate::scenario::{Array, RowsOutputSpec};
 
 /// The model name of the beam kind.

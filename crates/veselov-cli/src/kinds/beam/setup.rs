@@ -15,7 +15,7 @@ use super::schema::{
 };
 use super::start::BeamInitial;
 use crate::error::CliError;
-use crate::kinds::rod::motion::{EndMotion, MotionSpec};
+use crate::kinds::structure::{EndMotion, MotionSpec};
 use crate::scenario::{Array, adjusted_step_note, key_error, parse_toml, positive_value, shear_from_keys};
 
 /// Largest number of nodes across a level.

@@ -23,7 +23,7 @@ use veselov::lie::{SE3, so3};
 
 use super::schema::BeamInitialSpec;
 use crate::error::CliError;
-use crate::kinds::rod::motion::parse_in;
+use crate::kinds::structure::{Along, parse_in};
 use crate::scenario::{Array, finite_value, key_error};
 
 /// The initial data.
@@ -154,20 +154,19 @@ pub(super) fn parse(
             ),
         ));
     }
-    let field =
-        |k: &str, v: &Option<Array<crate::kinds::rod::schema::Along, 3>>| -> Result<Vec<Vector3<f64>>, CliError> {
-            let Some(v) = v else {
-                return Ok(vec![Vector3::zeros(); nodes]);
-            };
-            let parts = v.values(path, k)?;
-            let mut columns = Vec::with_capacity(3);
-            for (i, part) in parts.iter().enumerate() {
-                columns.push(part.finite_at(path, &format!("{k}[{i}]"), &points)?);
-            }
-            Ok((0..nodes)
-                .map(|a| Vector3::new(columns[0][a], columns[1][a], columns[2][a]))
-                .collect())
+    let field = |k: &str, v: &Option<Array<Along, 3>>| -> Result<Vec<Vector3<f64>>, CliError> {
+        let Some(v) = v else {
+            return Ok(vec![Vector3::zeros(); nodes]);
         };
+        let parts = v.values(path, k)?;
+        let mut columns = Vec::with_capacity(3);
+        for (i, part) in parts.iter().enumerate() {
+            columns.push(part.finite_at(path, &format!("{k}[{i}]"), &points)?);
+        }
+        Ok((0..nodes)
+            .map(|a| Vector3::new(columns[0][a], columns[1][a], columns[2][a]))
+            .collect())
+    };
     let v = field("initial.velocity", &initial.velocity)?;
     let w = field("initial.angular_velocity", &initial.angular_velocity)?;
     Ok(BeamInitial {

@@ -25,10 +25,11 @@ use veselov::field::fibre::Pose;
 use veselov::lie::so3;
 use veselov::models::rod::RodLattice;
 
-use super::motion::{Centreline, parse_in};
+use super::motion::Centreline;
 use super::schema::RodInitialSpec;
 use super::shape::Shape;
 use crate::error::CliError;
+use crate::kinds::structure::parse_in;
 use crate::scenario::{Array, finite_value, key_error, positive_value};
 
 /// The level of the first cut of the march (Cauchy data on levels 0 … 3).

@@ -54,13 +54,11 @@
 //! every = 10                    # time steps between output rows (default: ~500 rows)
 //! ```
 
-use std::path::Path;
-
 use serde::Deserialize;
 
-use super::motion::{MotionSpec, parse_expression};
-use crate::error::CliError;
-use crate::scenario::{Array, List, RowsOutputSpec, key_error, positive_value};
+pub(crate) use crate::kinds::structure::Along;
+use crate::kinds::structure::MotionSpec;
+use crate::scenario::{Array, List, RowsOutputSpec};
 
 /// The model name of the rod kind.
 pub const ROD_MODEL: &str = "cosserat-rod";
@@ -166,112 +164,6 @@ pub(crate) struct RodModelSpec {
     /// (EI₁, EI₂, GK for a section). With `mass_per_length`.
     #[schemars(extend("unit" = "N·m²"))]
     pub bending_stiffness: Option<Array<f64, 3>>,
-}
-
-/// A material quantity: one number for the whole rod, or an expression in
-/// the material coordinate `s` (0 … length).
-#[derive(Debug, Clone)]
-pub(crate) enum Along {
-    Value(f64),
-    Expression(String),
-}
-
-impl<'de> Deserialize<'de> for Along {
-    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct Visitor;
-        impl serde::de::Visitor<'_> for Visitor {
-            type Value = Along;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a number, or an expression in s as a string (e.g. \"0.02*(1 - 0.3*s)\")")
-            }
-            fn visit_f64<E>(self, v: f64) -> Result<Along, E> {
-                Ok(Along::Value(v))
-            }
-            fn visit_i64<E>(self, v: i64) -> Result<Along, E> {
-                Ok(Along::Value(v as f64))
-            }
-            fn visit_u64<E>(self, v: u64) -> Result<Along, E> {
-                Ok(Along::Value(v as f64))
-            }
-            fn visit_str<E>(self, v: &str) -> Result<Along, E> {
-                Ok(Along::Expression(v.to_string()))
-            }
-        }
-        deserializer.deserialize_any(Visitor)
-    }
-}
-
-/// An entry of an array of `Along` values (the beam's velocity fields).
-impl crate::scenario::Entry for Along {
-    const PLURAL: &'static str = "numbers or expressions in s";
-    fn entry_schema() -> serde_json::Value {
-        serde_json::json!({ "anyOf": [{ "type": "number" }, { "type": "string" }] })
-    }
-    fn entry(v: &toml::Value) -> Result<Self, String> {
-        match v {
-            toml::Value::Integer(i) => Ok(Along::Value(*i as f64)),
-            toml::Value::Float(x) if x.is_finite() => Ok(Along::Value(*x)),
-            toml::Value::String(s) => Ok(Along::Expression(s.clone())),
-            other => Err(format!("expected a number or an expression in s, got {other}")),
-        }
-    }
-}
-
-/// A number, or an expression in the material coordinate s.
-impl schemars::JsonSchema for Along {
-    fn schema_name() -> std::borrow::Cow<'static, str> {
-        "Along".into()
-    }
-    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
-        schemars::json_schema!({
-            "anyOf": [{ "type": "number" }, { "type": "string" }],
-            "x-type": "float, or an expression in s (string)"
-        })
-    }
-}
-
-impl Along {
-    /// The values at the material points `points`, each positive and
-    /// finite, or an error naming `key` (and the point).
-    pub(super) fn at(&self, path: &Path, key: &str, points: &[f64]) -> Result<Vec<f64>, CliError> {
-        match self {
-            Along::Value(v) => Ok(vec![positive_value(path, key, *v)?; points.len()]),
-            Along::Expression(source) => {
-                let e = parse_expression(path, key, source, &["s"])?;
-                points
-                    .iter()
-                    .map(|&s| {
-                        let v = e.eval(&[s]);
-                        if v.is_finite() && v > 0.0 {
-                            Ok(v)
-                        } else {
-                            Err(key_error(
-                                path,
-                                key,
-                                format!("at s = {s}: {v}, must be positive and finite"),
-                            ))
-                        }
-                    })
-                    .collect()
-            }
-        }
-    }
-
-    /// The values at the points `points` (positive or not), each finite, or
-    /// an error naming `key` (and the point).
-    pub(crate) fn finite_at(&self, path: &Path, key: &str, points: &[f64]) -> Result<Vec<f64>, CliError> {
-        let values = match self {
-            Along::Value(v) => vec![*v; points.len()],
-            Along::Expression(source) => {
-                let e = parse_expression(path, key, source, &["s"])?;
-                points.iter().map(|&s| e.eval(&[s])).collect()
-            }
-        };
-        match values.iter().zip(points).find(|(v, _)| !v.is_finite()) {
-            Some((v, s)) => Err(key_error(path, key, format!("at s = {s}: {v}, must be finite"))),
-            None => Ok(values),
-        }
-    }
 }
 
 /// How the rod is held at its start (s = 0) and at its end

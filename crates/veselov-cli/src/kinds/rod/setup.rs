@@ -14,9 +14,10 @@ use veselov::models::rod::{RodLoads, RodParameters, ShearFrame};
 
 use super::body::{RodBody, body};
 use super::initial::{FIRST_CUT, Initial, level_at_zero};
-use super::motion::{MotionSpec, driven_end};
+use super::motion::driven_end;
 use super::schema::{DEFAULT_STEP_NUMBER, EndsSpec, LoadsSpec, RodMethodSpec, RodScenario};
 use crate::error::CliError;
+use crate::kinds::structure::MotionSpec;
 use crate::scenario::{Array, adjusted_step_note, finite_value, key_error, parse_toml, positive_value};
 
 /// The validated rod scenario.
